@@ -1,0 +1,77 @@
+"""The ``massline`` command: argument parsing and error reporting only.
+
+Exit codes: 0 success, 2 bad input (a one-line message, no traceback),
+1 internal error.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from rich.console import Console
+
+from massline import __version__
+from massline.placement.errors import MasslineError
+
+from . import demo
+from .meshargs import add_mesh_arguments, body_from_arguments
+from .output import claim_output, to_json, write_atomic
+from .tables import body_table
+
+
+def cmd_props(args: argparse.Namespace, console: Console) -> None:
+    """Nominal mass, CoG and inertia of a mesh."""
+    if args.json:
+        claim_output(args.json, args.force)
+    body = body_from_arguments(args)
+    nominal = body.nominal
+    console.print(body_table(nominal, f"{body.name}: nominal properties ({body.density:g} kg/m³, frame of the mesh)"))
+    if args.json:
+        payload = {**nominal.as_dict(), "std": None, "band_hz": None, "planar": False}
+        write_atomic(args.json, to_json(payload), args.force)
+        console.print(f"wrote {args.json}")
+
+
+def cmd_demo(args: argparse.Namespace, console: Console) -> None:
+    demo.run(console)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="massline", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"massline {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    props = sub.add_parser("props", help="nominal mass, CoG and inertia of a mesh")
+    add_mesh_arguments(props)
+    props.add_argument("--json", metavar="OUT", help="also write the properties as JSON (identify's keys)")
+    props.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
+    props.set_defaults(run=cmd_props)
+
+    demo_parser = sub.add_parser("demo", help="the paper's methods on the bundled bodies")
+    demo_parser.set_defaults(run=cmd_demo)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    console = Console()
+    try:
+        args.run(args, console)
+    except MasslineError as err:
+        print(f"massline: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("massline: interrupted", file=sys.stderr)
+        return 130
+    except Exception as err:  # an internal error: say so, keep the traceback for debugging
+        if os.environ.get("MASSLINE_DEBUG"):
+            raise
+        print(f"massline: internal error: {type(err).__name__}: {err} (set MASSLINE_DEBUG=1 for the traceback)",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,37 @@
+"""Every method of the paper, by name, as one pipeline over masslines.
+
+    identify(data, kinematics="method2", dynamics="method3")
+
+Kinematics: ``method1`` (eq. 5), ``method2`` (eq. 6), ``method2-difference``
+(eq. 7). Dynamics: ``method1`` (eq. 8 + differences, no mass), ``method2``
+(mass among the unknowns), ``method3`` (the paper's choice). ``plate`` runs
+§2.3 (eqs. 10–13) on its own.
+"""
+from __future__ import annotations
+
+from . import dynamics, kinematics
+from .dynamics import Identification
+from .errors import MasslineError
+from .masslines import Masslines
+from .plate import identify_plate
+
+KINEMATICS = {
+    "method1": kinematics.method1,
+    "method2": kinematics.method2,
+    "method2-difference": kinematics.method2_difference,
+}
+DYNAMICS = {"method1": dynamics.method1, "method2": dynamics.method2, "method3": dynamics.method3}
+
+
+def identify(data: Masslines, kinematics: str = "method2", dynamics: str = "method3") -> Identification:
+    """Mass, CoG and inertia about the CoG from masslines by the paper's methods."""
+    if kinematics == "plate" or dynamics == "plate":
+        return identify_plate(data)
+    try:
+        kin, dyn = KINEMATICS[kinematics], DYNAMICS[dynamics]
+    except KeyError as missing:
+        raise MasslineError(
+            f"unknown method {missing}: kinematics is one of {sorted(KINEMATICS)}, "
+            f"dynamics one of {sorted(DYNAMICS)} (or 'plate')"
+        ) from None
+    return dyn(data, kin(data))

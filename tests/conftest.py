@@ -1,0 +1,38 @@
+"""Shared bodies and paths for the tests."""
+from pathlib import Path
+
+import pytest
+
+from massline.meshes import BUNDLED
+from massline.placement.mesh import load_body
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+FIXTURE_MESHES = SHARED / "fixtures" / "meshes"
+
+
+def bundled(name: str):
+    return load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
+
+
+@pytest.fixture(scope="session")
+def plate():
+    return bundled("plate").nominal
+
+
+@pytest.fixture(scope="session")
+def structure():
+    return bundled("structure").nominal
+
+
+@pytest.fixture(scope="session")
+def bracket():
+    return bundled("bracket").nominal
+
+
+def assert_body_close(found, expected, rtol=1e-9):
+    """Mass, CoG (against the radius of gyration) and J_G (against its largest entry)."""
+    import numpy as np
+
+    assert abs(found.mass - expected.mass) <= rtol * expected.mass
+    assert np.abs(found.cog - expected.cog).max() <= rtol * expected.radius_of_gyration
+    assert np.abs(found.inertia_cog - expected.inertia_cog).max() <= rtol * np.abs(expected.inertia_cog).max()
