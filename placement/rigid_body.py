@@ -89,15 +89,16 @@ def mass_matrix_regressor(q: np.ndarray) -> np.ndarray:
 def principal(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Principal moments (ascending, kg·m²) and axes (columns, right-handed).
 
-    Each of the first two axes is signed so that its largest component is
-    positive; the third is their cross product. The choice is arbitrary but
+    Each axis but the last is signed so that its largest component is
+    positive; the last is signed to make the basis right-handed. The choice is arbitrary but
     deterministic, so that two tools report the same axes.
     """
     moments, axes = np.linalg.eigh(inertia)
-    for k in (0, 1):
+    n = len(moments)
+    for k in range(n - 1):
         if axes[np.argmax(np.abs(axes[:, k])), k] < 0:
             axes[:, k] *= -1
-    axes[:, 2] = np.cross(axes[:, 0], axes[:, 1])
+    axes[:, -1] *= np.sign(np.linalg.det(axes))
     return moments, axes
 
 

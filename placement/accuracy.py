@@ -1,0 +1,76 @@
+"""Predicted accuracy of a layout: Cramér–Rao bounds on every property.
+
+The covariance of the scaled parameters is F⁻¹; it is carried to mass, CoG,
+inertia about the CoG and the principal moments and axes through the Jacobian
+of the map θ → properties (central differences, linearisation at the nominal
+body). The keys match identify's ``std`` (DESIGN.md). For the plate only the
+in-plane quantities are observable; the others are NaN.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .model import RigidModel
+from .rigid_body import RigidBody, principal
+
+STEP = 1e-6  # relative step of the central differences, in scaled parameters
+
+
+def in_plane_principal(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A plate's in-plane principal moments (two, ascending, then NaN) and axes (z third)."""
+    moments, axes = principal(inertia[:2, :2])
+    return np.append(moments, np.nan), np.block([[axes, np.zeros((2, 1))], [np.zeros((1, 2)), np.ones((1, 1))]])
+
+
+def property_vector(body: RigidBody, planar: bool) -> np.ndarray:
+    """mass, cog (3), J_G (9), principal moments (3), axes (9, columns) as one vector."""
+    J = body.inertia_cog
+    moments, axes = in_plane_principal(J) if planar else (body.principal_moments, body.principal_axes)
+    return np.concatenate([[body.mass], body.cog, J.reshape(-1), moments, axes.T.reshape(-1)])
+
+
+def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.ndarray:
+    """Covariance of ``property_vector`` from that of the scaled parameters."""
+    theta0 = model.theta
+    columns = []
+    for k in range(model.p):
+        step = np.zeros(model.p)
+        step[k] = STEP * model.scale[k]
+        plus = property_vector(model.body(theta0 + step), model.planar)
+        minus = property_vector(model.body(theta0 - step), model.planar)
+        columns.append((plus - minus) / (2 * STEP))
+    jac = np.array(columns).T
+    return jac @ covariance_scaled @ jac.T
+
+
+def predicted_std(model: RigidModel, F: np.ndarray) -> dict:
+    """1-σ of every property (identify's std keys) for information F (scaled)."""
+    C = property_covariance(model, np.linalg.inv(F))
+    s = np.sqrt(np.clip(np.diag(C), 0, None))
+    axes_cov = [C[16 + 3 * k: 19 + 3 * k, 16 + 3 * k: 19 + 3 * k] for k in range(3)]
+    std = {
+        "mass": s[0],
+        "cog": s[1:4].copy(),
+        "inertia_cog": s[4:13].reshape(3, 3).copy(),
+        "principal_moments": s[13:16].copy(),
+        "principal_axes": s[16:25].reshape(3, 3).T.copy(),
+        "principal_axes_deg": np.degrees(np.sqrt([np.trace(c) for c in axes_cov])),
+    }
+    if model.planar:
+        std["cog"][2] = np.nan
+        std["inertia_cog"][2, :] = std["inertia_cog"][:, 2] = np.nan
+        std["principal_moments"][2] = np.nan
+        std["principal_axes"][:, 2] = np.nan
+        std["principal_axes_deg"][2] = np.nan
+    return std
+
+
+def worst_relative_std(model: RigidModel, std: dict) -> float:
+    """max(σ_m / m, σ_c / L, σ_λ / λ): the figure a layout is judged by.
+
+    L is the radius of gyration, so CoG errors compare with the body's size.
+    """
+    b = model.nominal
+    moments = property_vector(b, model.planar)[13:16]
+    terms = [std["mass"] / b.mass, *(std["cog"] / b.radius_of_gyration), *(std["principal_moments"] / moments)]
+    return float(np.nanmax(terms))

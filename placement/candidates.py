@@ -1,0 +1,124 @@
+"""Candidate points and lines on a body's surface, as a technician can use them.
+
+Points: area-uniform samples (``n_samples``), the mesh vertices and the face
+centres, each with its outward surface normal and the face it lies on. Lines
+at each point: the surface normal (a hammer hit, a uniaxial accelerometer
+glued on the face) and, optionally, the three global axes (mounting blocks).
+A triaxial accelerometer is one candidate of three global-axis lines through a
+point. Regions can be excluded (boxes, faces, a keep-out distance from sharp
+edges).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+
+from .errors import MasslineError
+from .lines import AXES, Lines
+
+SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor should keep away from
+
+
+@dataclass(frozen=True)
+class CandidateOptions:
+    """What may be used, in metres in the mesh frame.
+
+    ``exclude_boxes``: ((lo, hi), ...) regions with no candidate;
+    ``exclude_faces``: face indices with no candidate;
+    ``edge_keepout``: distance (m) to keep from sharp edges;
+    ``axes``: add the global axes as line directions (mounting blocks).
+    """
+
+    n_samples: int = 400
+    axes: bool = False
+    exclude_boxes: tuple = ()
+    exclude_faces: tuple = ()
+    edge_keepout: float = 0.0
+    seed: int = 0
+
+
+@dataclass(frozen=True, eq=False)
+class CandidatePoints:
+    """Points (n, 3) m, outward normals (n, 3), the face each lies on (n,)."""
+
+    points: np.ndarray
+    normals: np.ndarray
+    faces: np.ndarray
+    excluded: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    def normal_lines(self) -> tuple[Lines, np.ndarray]:
+        """One line per point along its normal, and the point index of each line."""
+        return Lines(self.points, self.normals), np.arange(len(self))
+
+    def lines(self, axes: bool) -> tuple[Lines, np.ndarray]:
+        """Normal lines plus, with ``axes``, global-axis lines not parallel to the normal."""
+        lines, node = self.normal_lines()
+        if not axes:
+            return lines, node
+        extra_points, extra_dirs, extra_node = [], [], []
+        for k, axis in enumerate(AXES):
+            off_normal = np.abs(self.normals @ axis) < 1 - 1e-6
+            extra_points.append(self.points[off_normal])
+            extra_dirs.append(np.tile(axis, (off_normal.sum(), 1)))
+            extra_node.append(np.flatnonzero(off_normal))
+        extra = Lines(np.vstack(extra_points), np.vstack(extra_dirs))
+        return lines + extra, np.concatenate([node, *extra_node])
+
+    def triaxial_lines(self) -> tuple[Lines, np.ndarray]:
+        """Three global-axis lines through every point; the point index of each line."""
+        return Lines.triaxials(self.points), np.repeat(np.arange(len(self)), 3)
+
+
+def sharp_edges(mesh: trimesh.Trimesh, degrees: float = SHARP_EDGE_DEG) -> np.ndarray:
+    """End points (k, 2, 3) of the edges where the surface creases more than ``degrees``."""
+    sharp = mesh.face_adjacency_angles > np.radians(degrees)
+    return mesh.vertices[mesh.face_adjacency_edges[sharp]]
+
+
+def distance_to_segments(points: np.ndarray, segments: np.ndarray, chunk: int = 2048) -> np.ndarray:
+    """Distance from each point to the nearest of the segments (k, 2, 3)."""
+    if len(segments) == 0:
+        return np.full(len(points), np.inf)
+    a, b = segments[:, 0], segments[:, 1]
+    ab = b - a
+    length2 = np.maximum(np.einsum("kd,kd->k", ab, ab), 1e-300)
+    out = np.empty(len(points))
+    for start in range(0, len(points), chunk):
+        p = points[start:start + chunk, None, :]
+        t = np.clip(np.einsum("nkd,kd->nk", p - a, ab) / length2, 0, 1)
+        nearest = a + t[..., None] * ab
+        out[start:start + chunk] = np.linalg.norm(p - nearest, axis=2).min(axis=1)
+    return out
+
+
+def candidate_points(mesh: trimesh.Trimesh, options: CandidateOptions = CandidateOptions()) -> CandidatePoints:
+    """Samples, vertices and face centres of a closed mesh in metres, after exclusions."""
+    samples, sample_faces = trimesh.sample.sample_surface(mesh, options.n_samples, seed=options.seed)
+    vertex_faces = mesh.vertex_faces[:, 0]
+    points = np.vstack([samples, mesh.vertices, mesh.triangles_center])
+    faces = np.concatenate([sample_faces, vertex_faces, np.arange(len(mesh.faces))])
+    normals = np.vstack([mesh.face_normals[sample_faces], mesh.vertex_normals, mesh.face_normals])
+    keep = np.ones(len(points), dtype=bool)
+    excluded = {}
+    for lo, hi in options.exclude_boxes:
+        inside = np.all((points >= np.asarray(lo)) & (points <= np.asarray(hi)), axis=1)
+        excluded[f"box {lo}–{hi}"] = int((inside & keep).sum())
+        keep &= ~inside
+    if options.exclude_faces:
+        on = np.isin(faces, np.asarray(options.exclude_faces, dtype=int))
+        excluded["faces"] = int((on & keep).sum())
+        keep &= ~on
+    if options.edge_keepout > 0:
+        near = distance_to_segments(points, sharp_edges(mesh)) < options.edge_keepout
+        excluded["edge keep-out"] = int((near & keep).sum())
+        keep &= ~near
+    if not keep.any():
+        raise MasslineError(
+            f"no candidate point is left on the surface after the exclusions ({excluded}); relax the keep-outs"
+        )
+    return CandidatePoints(points[keep], normals[keep], faces[keep], excluded)
