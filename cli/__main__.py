@@ -14,7 +14,7 @@ from rich.console import Console
 from massline import __version__
 from massline.placement.errors import MasslineError
 
-from . import demo
+from . import demo, plan
 from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
 from .tables import body_table
@@ -47,6 +47,10 @@ def build_parser() -> argparse.ArgumentParser:
     props.add_argument("--json", metavar="OUT", help="also write the properties as JSON (identify's keys)")
     props.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
     props.set_defaults(run=cmd_props)
+
+    plan_parser = sub.add_parser("plan", help="the best sensor and exciter layout on a mesh, certified")
+    plan.add_arguments(plan_parser)
+    plan_parser.set_defaults(run=plan.run)
 
     demo_parser = sub.add_parser("demo", help="the paper's methods on the bundled bodies")
     demo_parser.set_defaults(run=cmd_demo)

@@ -1,7 +1,8 @@
 """Candidate points and lines on a body's surface, as a technician can use them.
 
-Points: area-uniform samples (``n_samples``), the mesh vertices and the face
-centres, each with its outward surface normal and the face it lies on. Lines
+Points: the mesh vertices, the face centres and area-uniform samples, about
+``n_samples`` over the surface, thinned so that no two are closer than half the
+mean spacing; each with the outward normal of the face it lies on. Lines
 at each point: the surface normal (a hammer hit, a uniaxial accelerometer
 glued on the face) and, optionally, the three global axes (mounting blocks).
 A triaxial accelerometer is one candidate of three global-axis lines through a
@@ -14,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import trimesh
+from scipy.spatial import cKDTree
 
 from .errors import MasslineError
 from .lines import AXES, Lines
@@ -96,13 +98,38 @@ def distance_to_segments(points: np.ndarray, segments: np.ndarray, chunk: int = 
     return out
 
 
+def thin(points: np.ndarray, radius: float) -> np.ndarray:
+    """Indices of points kept, in order, so that no two kept ones are closer than ``radius``.
+
+    Near-duplicate candidates add nothing a test can use (an accelerometer is a
+    centimetre across) and slow the certificate's branch and bound.
+    """
+    tree = cKDTree(points)
+    kept = np.ones(len(points), dtype=bool)
+    for i in range(len(points)):
+        if kept[i]:
+            near = tree.query_ball_point(points[i], radius)
+            kept[[j for j in near if j > i]] = False
+    return np.flatnonzero(kept)
+
+
+def largest_adjacent_face(mesh: trimesh.Trimesh) -> np.ndarray:
+    """For each vertex, its largest adjacent face: a vertex candidate takes that face's
+    normal, a direction one can glue or hit along (an averaged corner normal is not)."""
+    adjacent = mesh.vertex_faces
+    area = np.where(adjacent >= 0, mesh.area_faces[np.maximum(adjacent, 0)], -1.0)
+    return adjacent[np.arange(len(adjacent)), np.argmax(area, axis=1)]
+
+
 def candidate_points(mesh: trimesh.Trimesh, options: CandidateOptions = CandidateOptions()) -> CandidatePoints:
     """Samples, vertices and face centres of a closed mesh in metres, after exclusions."""
-    samples, sample_faces = trimesh.sample.sample_surface(mesh, options.n_samples, seed=options.seed)
-    vertex_faces = mesh.vertex_faces[:, 0]
-    points = np.vstack([samples, mesh.vertices, mesh.triangles_center])
-    faces = np.concatenate([sample_faces, vertex_faces, np.arange(len(mesh.faces))])
-    normals = np.vstack([mesh.face_normals[sample_faces], mesh.vertex_normals, mesh.face_normals])
+    spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
+    samples, sample_faces = trimesh.sample.sample_surface(mesh, 4 * options.n_samples, seed=options.seed)
+    points = np.vstack([mesh.vertices, mesh.triangles_center, samples])
+    faces = np.concatenate([largest_adjacent_face(mesh), np.arange(len(mesh.faces)), sample_faces])
+    first = thin(points, 0.5 * spacing)
+    points, faces = points[first], faces[first]
+    normals = mesh.face_normals[faces]
     keep = np.ones(len(points), dtype=bool)
     excluded = {}
     for lo, hi in options.exclude_boxes:

@@ -11,7 +11,7 @@ equations can solve are admitted (rank S = 6, non-singular dynamic systems).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -25,7 +25,8 @@ from .masslines import synthesise
 from .mesh import BodyMesh
 from .methods import identify
 from .model import RigidModel
-from .relaxation import branch_and_bound, relax_cvxpy, relax_first_order
+from .certificate import certify_admissible
+from .relaxation import relax_cvxpy, relax_first_order
 from .selection import BlockProblem, greedy, swap
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
@@ -98,13 +99,21 @@ def is_plate(body: BodyMesh) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
-class _Side:
-    """Candidate lines of one side: coordinates (n, q), member lines per candidate, group, node."""
+class CandidateLines:
+    """Candidates of one side: their lines, the lines each candidate is made of
+    (one, or three for a triaxial), its budget group (0 uniaxial, 1 triaxial) and
+    the candidate point (node) of each line."""
 
     lines: Lines
-    members: list  # per candidate: indices into lines
+    members: list
     group: np.ndarray
     node: np.ndarray
+
+    @classmethod
+    def single(cls, lines: Lines) -> "CandidateLines":
+        """Every line a candidate of its own (group 0, node = its index)."""
+        n = len(lines)
+        return cls(lines, [[i] for i in range(n)], np.zeros(n, int), np.arange(n))
 
 
 def _compress(blocks: np.ndarray) -> np.ndarray:
@@ -120,18 +129,19 @@ def _compress(blocks: np.ndarray) -> np.ndarray:
 class Planner:
     """Alternating D-optimal selection of sensors and exciters on one model."""
 
-    def __init__(self, model: RigidModel, sensor_side: _Side, exciter_side: _Side, budget: Budget,
+    def __init__(self, model: RigidModel, sensor_side: CandidateLines, exciter_side: CandidateLines, budget: Budget,
                  noise: NoiseModel, fixed_sensors: Lines | None = None, fixed_exciters: Lines | None = None):
         self.model, self.budget, self.noise = model, budget, noise
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
         self.e_coords = model.coordinates(exciter_side.lines)
         empty = np.zeros((0, self.s_coords.shape[1]))
+        self.fixed_sensors, self.fixed_exciters = fixed_sensors, fixed_exciters
         self.fixed_s = empty if fixed_sensors is None else model.coordinates(fixed_sensors)
         self.fixed_e = empty if fixed_exciters is None else model.coordinates(fixed_exciters)
 
     # one side's selection problem, the other side fixed
-    def _problem(self, side: _Side, coords: np.ndarray, other: np.ndarray, fixed: np.ndarray,
+    def _problem(self, side: CandidateLines, coords: np.ndarray, other: np.ndarray, fixed: np.ndarray,
                  budgets: tuple, sensors_side: bool) -> BlockProblem:
         def sens(a, b):
             g = weighted_sensitivities(self.model, a, b, self.noise)
@@ -160,9 +170,30 @@ class Planner:
     def exciter_rows(self, chosen) -> np.ndarray:
         return self.e_coords[[self.e.members[c][0] for c in chosen]]
 
-    def lines(self, side: _Side, chosen) -> Lines:
+    def lines(self, side: CandidateLines, chosen) -> Lines:
         index = np.concatenate([side.members[c] for c in chosen])
         return side.lines[index]
+
+    def sensor_cover(self, exciters: list):
+        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen."""
+        def cover_for(sensors: list):
+            rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+            _, s, Vt = np.linalg.svd(rows)
+            if len(s) == rows.shape[1] and s[-1] > 1e-10 * s[0]:
+                return None  # all motions seen: the failure lies elsewhere, no cut known
+            q0 = Vt[-1]
+            sees = np.abs(self.s_coords @ q0) > 1e-9 * np.linalg.norm(self.s_coords, axis=1)
+            return np.array([sees[m].any() for m in self.s.members])
+        return cover_for
+
+    def exciter_cover(self, exciters: list):
+        """Cover set for the exciter side: when all hits are parallel, the hits that are not."""
+        lines = self.layout([], exciters)[1]
+        d = lines.directions[0]
+        if np.linalg.norm(np.cross(lines.directions, d), axis=1).max() > 1e-9:
+            return None
+        off = np.linalg.norm(np.cross(self.e.lines.directions, d), axis=1) > 1e-9
+        return np.array([off[m].any() for m in self.e.members])
 
     def regular(self, sensors: Lines, exciters: Lines) -> bool:
         """The paper's equations solve this layout (exact masslines identify the body)."""
@@ -172,18 +203,21 @@ class Planner:
             return False
         return True
 
-    def alternate(self, exciters: list, rounds: int = 12) -> tuple[list, list, float]:
+    def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
+        """All sensor and exciter lines of a selection, fixed ones first."""
+        S, E = self.lines(self.s, sensors), self.lines(self.e, exciters)
+        return (S if self.fixed_sensors is None else self.fixed_sensors + S,
+                E if self.fixed_exciters is None else self.fixed_exciters + E)
+
+    def alternate(self, exciters: list, sensors: list | None = None, rounds: int = 12) -> tuple[list, list, float]:
         """Sensors for the exciters, exciters for the sensors, … until both are stable."""
-        sensors: list = []
         value = -np.inf
         for _ in range(rounds):
-            E = self.lines(self.e, exciters)
             sp = self.sensor_problem(self.exciter_rows(exciters))
-            admissible_s = lambda c, E=E: self.regular(self.lines(self.s, c), E)  # noqa: E731
-            sensors = swap(sp, greedy(sp), admissible_s)
-            S = self.lines(self.s, sensors)
+            admissible_s = lambda c: self.regular(*self.layout(c, exciters))  # noqa: E731
+            sensors = swap(sp, sensors if sensors else greedy(sp), admissible_s)
             ep = self.exciter_problem(self.sensor_rows(sensors))
-            admissible_e = lambda c, S=S: self.regular(S, self.lines(self.e, c))  # noqa: E731
+            admissible_e = lambda c: self.regular(*self.layout(sensors, c))  # noqa: E731
             new_exciters = swap(ep, exciters if len(exciters) == self.budget.exciters else greedy(ep), admissible_e)
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
@@ -205,12 +239,13 @@ class Planner:
 TARGET_EFFICIENCY = 0.99  # branch and bound stops once the certificate reaches this
 
 
-def certify(problem: BlockProblem, chosen: list, relaxation: str = "first-order",
+def certify(problem: BlockProblem, chosen: list, relaxation: str = "first-order", admissible=None, cover_for=None,
             seconds: float = 10.0) -> tuple[float, list]:
-    """Upper bound U on ``problem`` over all selections, and the best selection met.
+    """Upper bound U on ``problem`` over the admissible selections, and the best one met.
 
     The relaxation's bound first; when it leaves the per-parameter D-efficiency
-    below TARGET_EFFICIENCY (small budgets), branch and bound tightens it.
+    below TARGET_EFFICIENCY (small budgets), branch and bound and admissibility
+    cuts tighten it (certificate.py).
     """
     if relaxation == "cvxpy":
         return relax_cvxpy(problem)[1], chosen
@@ -218,10 +253,11 @@ def certify(problem: BlockProblem, chosen: list, relaxation: str = "first-order"
     slack = problem.p * np.log(1 / TARGET_EFFICIENCY)
     if bound - problem.value(chosen) <= slack:
         return bound, chosen
-    return branch_and_bound(problem, chosen, slack, seconds=seconds)
+    return certify_admissible(problem, chosen, slack, admissible or (lambda c: True), cover_for or (lambda c: None),
+                              seconds)
 
 
-def _sides(points: CandidatePoints, axes: bool, planar: bool, triaxial: bool) -> tuple[_Side, _Side]:
+def candidate_lines(points: CandidatePoints, axes: bool, planar: bool, triaxial: bool) -> tuple[CandidateLines, CandidateLines]:
     if planar:
         on_faces = np.abs(points.normals[:, 2]) > 1 - 1e-6
         if on_faces.sum() < 3:
@@ -229,7 +265,7 @@ def _sides(points: CandidatePoints, axes: bool, planar: bool, triaxial: bool) ->
         pts = points.points[on_faces]
         lines = Lines(pts, np.tile([0.0, 0.0, 1.0], (len(pts), 1)))
         node = np.flatnonzero(on_faces)
-        side = _Side(lines, [[i] for i in range(len(lines))], np.zeros(len(lines), int), node)
+        side = CandidateLines(lines, [[i] for i in range(len(lines))], np.zeros(len(lines), int), node)
         return side, side
     lines, node = points.lines(axes)
     members = [[i] for i in range(len(lines))]
@@ -241,9 +277,60 @@ def _sides(points: CandidatePoints, axes: bool, planar: bool, triaxial: bool) ->
         members += [[offset + 3 * k, offset + 3 * k + 1, offset + 3 * k + 2] for k in range(len(points))]
         group = np.concatenate([group, np.ones(len(points), int)])
         sensor_lines, sensor_node = lines + tri, np.concatenate([node, tri_node])
-    sensors = _Side(sensor_lines, members, group, sensor_node)
-    exciters = _Side(lines, [[i] for i in range(len(lines))], np.zeros(len(lines), int), node)
+    sensors = CandidateLines(sensor_lines, members, group, sensor_node)
+    exciters = CandidateLines(lines, [[i] for i in range(len(lines))], np.zeros(len(lines), int), node)
     return sensors, exciters
+
+
+def plan_on_candidates(model: RigidModel, sensor_side: "CandidateLines", exciter_side: "CandidateLines",
+                       budget: Budget, noise: NoiseModel = NoiseModel(), fixed_sensors: Lines | None = None,
+                       fixed_exciters: Lines | None = None, relaxation: str = "first-order", starts: int = 3,
+                       seed: int = 0, progress: Callable[[str, float], None] = lambda stage, fraction: None) -> Plan:
+    """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ."""
+    budget.check(model.planar)
+    for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
+        if len(side.members) < need:
+            raise MasslineError(f"only {len(side.members)} {name} candidates for a budget of {need}: "
+                                "sample more points (--candidates) or relax the exclusions")
+    planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
+    best = None
+    start_sets = planner.starts(starts - 1, seed)
+    for k, start in enumerate(start_sets):
+        progress("alternating sensors and exciters", 0.8 * k / len(start_sets))
+        result = planner.alternate(start)
+        if best is None or result[2] > best[2]:
+            best = result
+    sensors, exciters, value = best
+
+    def self_regular(s, e):
+        return planner.regular(*planner.layout(s, e))
+
+    if not self_regular(sensors, exciters):
+        raise MasslineError("the candidates and keep-outs leave only degenerate layouts: allow points that are "
+                            "not all in one line or plane, and hits in several directions")
+    for _ in range(3):
+        progress("certifying", 0.85)
+        sp = planner.sensor_problem(planner.exciter_rows(exciters))
+        ep = planner.exciter_problem(planner.sensor_rows(sensors))
+        U_s, better_s = certify(sp, sensors, relaxation, lambda c: self_regular(c, exciters),
+                                planner.sensor_cover(exciters))
+        U_e, better_e = certify(ep, exciters, relaxation, lambda c: self_regular(sensors, c), planner.exciter_cover)
+        improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
+        improved = [c for c in improved if c[0] > value + 1e-9 and planner.regular(*planner.layout(c[1], c[2]))]
+        if not improved:
+            break
+        # the certificate's search met a better layout: adopt it and settle both sides again
+        _, start_s, start_e = max(improved, key=lambda c: c[0])
+        sensors, exciters, value = planner.alternate(start_e, start_s)
+    S_all, E_all = planner.layout(sensors, exciters)
+    F = ep.information(exciters)
+    found = identify(synthesise(model.nominal, S_all, E_all), "plate" if model.planar else "method2")
+    progress("done", 1.0)
+    return Plan(model, planner.lines(sensor_side, sensors),
+                sensor_side.node[np.concatenate([sensor_side.members[c] for c in sensors])],
+                planner.lines(exciter_side, exciters), exciter_side.node[[exciter_side.members[c][0] for c in exciters]],
+                log_det(F), {"sensors": U_s, "exciters": U_e}, found.condition, predicted_std(model, F), noise, None,
+                {"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)})
 
 
 def plan(body: BodyMesh, budget: Budget = Budget(), options: CandidateOptions = CandidateOptions(),
@@ -253,47 +340,9 @@ def plan(body: BodyMesh, budget: Budget = Budget(), options: CandidateOptions = 
     """The best layout of ``budget`` on the body's surface, certified and with predicted 1-σ."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
-    model = RigidModel(body.nominal, planar)
     progress("candidates", 0.0)
     points = candidate_points(body.mesh, options)
-    sensor_side, exciter_side = _sides(points, options.axes, planar, budget.triaxial > 0)
-    for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
-        if len(side.members) < need:
-            raise MasslineError(f"only {len(side.members)} {name} candidates for a budget of {need}: "
-                                "sample more points (--candidates) or relax the exclusions")
-    planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
-    best = None
-    start_sets = planner.starts(starts - 1, options.seed)
-    for k, start in enumerate(start_sets):
-        progress("alternating sensors and exciters", k / len(start_sets))
-        result = planner.alternate(start)
-        if best is None or result[2] > best[2]:
-            best = result
-    sensors, exciters, value = best
-    S, E = planner.lines(sensor_side, sensors), planner.lines(exciter_side, exciters)
-    S_all = S if fixed_sensors is None else fixed_sensors + S
-    E_all = E if fixed_exciters is None else fixed_exciters + E
-    if not planner.regular(S_all, E_all):
-        raise MasslineError("the candidates and keep-outs leave only degenerate layouts: allow points that are "
-                            "not all in one line or plane, and hits in several directions")
-    for _ in range(3):
-        progress("certifying", 0.9)
-        sp = planner.sensor_problem(planner.exciter_rows(exciters))
-        ep = planner.exciter_problem(planner.sensor_rows(sensors))
-        (U_s, better_s), (U_e, better_e) = (certify(sp, sensors, relaxation), certify(ep, exciters, relaxation))
-        if sp.value(better_s) <= value + 1e-9 and ep.value(better_e) <= value + 1e-9:
-            break
-        # the certificate's search found a better layout: adopt it and settle both sides again
-        start = better_e if ep.value(better_e) > value + 1e-9 else exciters
-        sensors, exciters, value = planner.alternate(start)
-    bounds = {"sensors": U_s, "exciters": U_e}
-    S, E = planner.lines(sensor_side, sensors), planner.lines(exciter_side, exciters)
-    S_all = S if fixed_sensors is None else fixed_sensors + S
-    E_all = E if fixed_exciters is None else fixed_exciters + E
-    F = ep.information(exciters)
-    found = identify(synthesise(model.nominal, S_all, E_all), "plate" if planar else "method2")
-    progress("done", 1.0)
-    return Plan(model, S, sensor_side.node[np.concatenate([sensor_side.members[c] for c in sensors])], E,
-                exciter_side.node[[exciter_side.members[c][0] for c in exciters]], log_det(F), bounds,
-                found.condition, predicted_std(model, F), noise, points,
-                {"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)})
+    sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
+    result = plan_on_candidates(RigidModel(body.nominal, planar), sensor_side, exciter_side, budget, noise,
+                                fixed_sensors, fixed_exciters, relaxation, starts, options.seed, progress)
+    return replace(result, candidates=points)

@@ -13,16 +13,15 @@ is an upper bound too (the dual with W = t M(z)⁻¹, t optimal; planning notes 
 tight at the relaxed optimum. Two solvers: cvxpy's generic conic ``log_det`` (the
 baseline, small sets), and a pairwise Frank–Wolfe (vertex exchange) with exact
 line search, warm-started at a good selection and run on a working set of the
-highest-leverage candidates, which scales to 1e5 candidates.
+highest-leverage candidates, which scales to 1e5 candidates. Small budgets leave
+the relaxation loose: certificate.py tightens it.
 """
 from __future__ import annotations
-
-import time
 
 import numpy as np
 
 from .information import log_det
-from .selection import BlockProblem, greedy
+from .selection import BlockProblem
 
 
 def leverages(blocks: np.ndarray, M_inv: np.ndarray) -> np.ndarray:
@@ -42,86 +41,118 @@ def upper_bound(problem: BlockProblem, M: np.ndarray, c: np.ndarray | None = Non
 
 
 def _line_search(M: np.ndarray, D: np.ndarray, alpha_max: float) -> float:
-    """argmax over [0, α_max] of log det(M + α D) (concave in α)."""
-    lam = np.linalg.eigvals(np.linalg.solve(M, D)).real  # those of M^-1/2 D M^-1/2
-    lam = lam[np.abs(lam) > 1e-14 * max(np.abs(lam).max(), 1e-300)]
+    """argmax over [0, α_max] of log det(M + α D) = log det M + Σ log(1 + α λ_k).
+
+    λ are the eigenvalues of M⁻¹ D (at most 2r are non-zero); the slope
+    Σ λ_k / (1 + α λ_k) decreases, so its root is found by safeguarded Newton.
+    """
+    lam = np.linalg.eigvals(np.linalg.solve(M, D)).real
+    lam = [float(v) for v in lam if abs(v) > 1e-14 * max(np.abs(lam).max(), 1e-300)]
+    shrinking = [v for v in lam if v < 0]
+    if shrinking and alpha_max >= -1 / min(shrinking):  # M + α_max D singular: stop short of it
+        alpha_max = (1 - 1e-9) * (-1 / min(shrinking))
 
     def slope(a):
-        return np.sum(lam / (1 + a * lam))
+        return sum(v / (1 + a * v) for v in lam)
 
     if slope(alpha_max) >= 0:
         return alpha_max
-    lo, hi = 0.0, alpha_max
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if slope(mid) > 0 else (lo, mid)
-    return lo
+    lo, hi, a = 0.0, alpha_max, 0.5 * alpha_max
+    for _ in range(50):
+        g = slope(a)
+        if abs(g) < 1e-12 * sum(abs(v) for v in lam) or hi - lo < 1e-15 * alpha_max:
+            break
+        lo, hi = (a, hi) if g > 0 else (lo, a)
+        curvature = sum(v * v / (1 + a * v) ** 2 for v in lam)
+        newton = a + g / curvature
+        a = newton if lo < newton < hi else 0.5 * (lo + hi)
+    return a
 
 
-def relax_first_order(problem: BlockProblem, start, tol: float = 1e-4, max_iter: int = 5000,
-                      working_size: int = 400, refresh: int = 25) -> tuple[np.ndarray, float]:
-    """Pairwise Frank–Wolfe on the relaxation, from the selection ``start``.
+def feasible_weights(problem: BlockProblem, z: np.ndarray) -> np.ndarray:
+    """Scale weights group by group (capped at 1) so that each group sums to its budget."""
+    z = np.clip(z, 0, 1).astype(float)
+    for g, k in enumerate(problem.budgets):
+        members = np.flatnonzero(problem.group == g)
+        w = z[members]
+        if k == 0 or len(members) == 0:
+            z[members] = 0.0
+            continue
+        if np.count_nonzero(w) < k:
+            w = w + k / len(members)
+        lo, hi = 0.0, k / max(w[w > 0].min(), 1e-300)
+        for _ in range(50):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if np.minimum(1, mid * w).sum() < k else (lo, mid)
+        z[members] = np.minimum(1, hi * w)
+    return z
+
+
+def relax_first_order(problem: BlockProblem, start=(), weights: np.ndarray | None = None, tol: float = 1e-4,
+                      max_iter: int = 5000, working_size: int = 400, refresh: int = 25,
+                      stop_below: float = -np.inf, stop_above: float = np.inf) -> tuple[np.ndarray, float]:
+    """Pairwise Frank–Wolfe on the relaxation, from the selection ``start`` (or ``weights``).
 
     Each step moves weight, within one budget group, from the chosen candidate of
     least leverage to the open candidate of most, by the exact line search. Steps
     run on a working set (the support plus the ``working_size`` highest
     leverages per group), refreshed with the full leverages every ``refresh``
-    steps, when the bound over all candidates is evaluated. Returns the weights
-    and the certified bound U.
+    steps, when the bound over all candidates is evaluated. It stops when the
+    bound is within ``tol`` of the relaxed value, falls to ``stop_below``, or the
+    relaxed value passes ``stop_above`` (branch and bound needs no more).
+    Returns the weights and the certified bound U.
     """
-    n, p = len(problem.blocks), problem.p
-    z = np.zeros(n)
-    z[list(start)] = 1.0
-    M = problem.information(list(start))
-    if np.linalg.cond(M) > 1e12:  # a singular start: spread the budgets evenly instead
-        counts = np.bincount(problem.group, minlength=len(problem.budgets))
-        z = np.asarray(problem.budgets, dtype=float)[problem.group] / counts[problem.group]
-        M = problem.fixed + np.einsum("n,nrp,nrq->pq", z, problem.blocks, problem.blocks)
-        if np.linalg.cond(M) > 1e12:
-            return z, -np.inf  # no selection within the budgets is regular
-    G = lambda i: problem.blocks[i].T @ problem.blocks[i]  # noqa: E731
-    best_bound = np.inf
+    n = len(problem.blocks)
+    if weights is None:
+        z = np.zeros(n)
+        z[list(start)] = 1.0
+    else:
+        z = feasible_weights(problem, weights)
+
     def information(z):
         support = np.flatnonzero(z > 0)
         A = problem.blocks[support] * np.sqrt(z[support])[:, None, None]
         return problem.fixed + np.einsum("nrp,nrq->pq", A, A)
 
+    M = information(z)
+    if np.linalg.cond(M) > 1e12:  # a singular start: spread the budgets evenly instead
+        z = feasible_weights(problem, np.zeros(n))
+        M = information(z)
+        if np.linalg.cond(M) > 1e12:
+            return z, -np.inf  # no selection within the budgets is regular
+    best_bound = np.inf
     for iteration in range(max_iter):
         if iteration % refresh == 0:
             M = information(z)  # afresh, so that rounding does not accumulate
-            M_inv = np.linalg.inv(M)
-            c_all = leverages(problem.blocks, M_inv)
+            c_all = leverages(problem.blocks, np.linalg.inv(M))
             best_bound = min(best_bound, upper_bound(problem, M, c_all))
-            if best_bound - log_det(M) < tol:
+            value = log_det(M)
+            if best_bound - value < tol or best_bound <= stop_below or value >= stop_above:
+                break
+            if np.linalg.cond(M) > 1e13:  # rounding has caught up with the iterate: keep the bound so far
                 break
             work = np.flatnonzero(z > 0)
             for g in range(len(problem.budgets)):
                 members = np.flatnonzero(problem.group == g)
-                top = members[np.argsort(c_all[members])[-working_size:]]
-                work = np.union1d(work, top)
+                work = np.union1d(work, members[np.argsort(c_all[members])[-working_size:]])
         c = leverages(problem.blocks[work], np.linalg.inv(M))
         step = None
         for g in range(len(problem.budgets)):
             in_g = problem.group[work] == g
-            towards = in_g & (z[work] < 1)
-            away = in_g & (z[work] > 0)
-            if not towards.any() or not away.any():
-                continue
-            j = work[towards][np.argmax(c[towards])]
-            i = work[away][np.argmin(c[away])]
-            gap = c[work == j][0] - c[work == i][0]
-            if step is None or gap > step[0]:
-                step = (gap, i, j)
+            towards, away = in_g & (z[work] < 1), in_g & (z[work] > 0)
+            if towards.any() and away.any():
+                j, i = np.argmax(np.where(towards, c, -np.inf)), np.argmin(np.where(away, c, np.inf))
+                if step is None or c[j] - c[i] > step[0]:
+                    step = (c[j] - c[i], work[i], work[j])
         if step is None or step[0] <= 1e-12:
-            best_bound = min(best_bound, upper_bound(problem, M))
             break
         _, i, j = step
-        D = G(j) - G(i)
+        D = problem.blocks[j].T @ problem.blocks[j] - problem.blocks[i].T @ problem.blocks[i]
         alpha = _line_search(M, D, min(z[i], 1 - z[j]))
         z[i] -= alpha
         z[j] += alpha
         M = M + alpha * D
-    return z, min(best_bound, upper_bound(problem, M))
+    return z, min(best_bound, upper_bound(problem, information(z)))
 
 
 def relax_cvxpy(problem: BlockProblem, solver: str | None = None) -> tuple[np.ndarray, float]:
@@ -142,66 +173,3 @@ def relax_cvxpy(problem: BlockProblem, solver: str | None = None) -> tuple[np.nd
     weights = np.clip(np.asarray(z.value).ravel(), 0, 1)
     M_value = problem.fixed + (K @ weights).reshape(p, p)
     return weights, upper_bound(problem, M_value)
-
-
-def _restrict(problem: BlockProblem, inside: frozenset, outside: frozenset):
-    """The sub-problem with ``inside`` chosen (into M₀) and ``outside`` removed; None if infeasible."""
-    budgets = np.array(problem.budgets)
-    for i in inside:
-        budgets[problem.group[i]] -= 1
-    keep = np.ones(len(problem.blocks), dtype=bool)
-    keep[list(inside | outside)] = False
-    index = np.flatnonzero(keep)
-    available = np.bincount(problem.group[index], minlength=len(budgets))
-    if np.any(budgets < 0) or np.any(available < budgets):
-        return None, index
-    A = problem.blocks[list(inside)].reshape(-1, problem.p)
-    return BlockProblem(problem.blocks[index], problem.group[index], tuple(budgets), problem.fixed + A.T @ A), index
-
-
-def branch_and_bound(problem: BlockProblem, chosen, slack: float, max_nodes: int = 400,
-                     tol: float = 1e-4, seconds: float = 10.0) -> tuple[float, list]:
-    """A tighter certified bound: the relaxation's bounds over a partition of all selections.
-
-    The selections are split by fixing the most fractional candidate in or out,
-    depth first; a branch whose relaxation bound is within ``slack`` of the best
-    selection known is closed with that bound. The certificate is the largest
-    bound over the closed branches and, should ``max_nodes`` run out, over the
-    parents of the open ones (likewise after ``seconds``). Small budgets (three exciters for ten parameters)
-    leave the plain relaxation loose; this closes most of that gap honestly.
-    Returns the bound and the best selection met (``chosen`` or better).
-    """
-    deadline = time.perf_counter() + seconds
-    best_value, best = problem.value(chosen), list(chosen)
-    certified = -np.inf
-    stack = [(frozenset(), frozenset(), np.inf)]
-    nodes = 0
-    while stack:
-        inside, outside, parent_bound = stack.pop()
-        if nodes >= max_nodes or time.perf_counter() > deadline:
-            certified = max(certified, parent_bound)
-            continue
-        nodes += 1
-        sub, index = _restrict(problem, inside, outside)
-        if sub is None:
-            continue
-        if sum(sub.budgets) == 0:
-            value = log_det(sub.fixed)
-            certified = max(certified, value)
-            if value > best_value:
-                best_value, best = value, sorted(inside)
-            continue
-        start = greedy(sub)
-        value = sub.value(start)
-        if value > best_value:
-            best_value, best = value, sorted(inside | {int(index[s]) for s in start})
-        z, bound = relax_first_order(sub, start, tol=tol)
-        bound = min(bound, parent_bound)
-        if bound <= best_value + slack:
-            certified = max(certified, bound)
-            continue
-        open_ = (z > 1e-9) & (z < 1 - 1e-9)
-        pick = int(index[np.argmax(np.where(open_, z, -1.0))]) if open_.any() else int(index[np.argmax(z)])
-        stack.append((inside, outside | {pick}, bound))
-        stack.append((inside | {pick}, outside, bound))
-    return max(certified, best_value), best

@@ -1,0 +1,116 @@
+"""``massline plan``: the layout, its certificate and predicted accuracy → DIR/plan.json."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from massline.placement.candidates import CandidateOptions
+from massline.placement.errors import MasslineError
+from massline.placement.information import NoiseModel
+from massline.placement.lines import Lines
+from massline.placement.mesh import UNITS
+from massline.placement.plan_file import plan_to_dict
+from massline.placement.planner import Budget, plan
+
+from .meshargs import add_mesh_arguments, body_from_arguments
+from .output import claim_output, to_json, write_atomic
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_mesh_arguments(parser)
+    parser.add_argument("--sensors", type=int, default=6, metavar="N", help="uniaxial accelerometers (default 6)")
+    parser.add_argument("--exciters", type=int, default=3, metavar="K", help="hammer hits (default 3)")
+    parser.add_argument("--triaxial", type=int, default=0, metavar="N", help="triaxial accelerometers (3 lines each)")
+    parser.add_argument("--candidates", type=int, default=400, metavar="N", help="area-uniform sample points (default 400)")
+    parser.add_argument("--axes", action="store_true", help="also allow global-axis directions (mounting blocks)")
+    parser.add_argument("--exclude-box", type=float, nargs=6, action="append", default=[],
+                        metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"), help="no candidate in this box (mesh units)")
+    parser.add_argument("--exclude-faces", type=int, nargs="+", default=[], metavar="F", help="face indices to avoid")
+    parser.add_argument("--edge-keepout", type=float, default=0.0, metavar="D", help="distance from sharp edges (mesh units)")
+    parser.add_argument("--fixed-sensor", type=float, nargs=6, action="append", default=[],
+                        metavar=("X", "Y", "Z", "DX", "DY", "DZ"), help="an accelerometer already mounted (mesh units)")
+    parser.add_argument("--fixed-exciter", type=float, nargs=6, action="append", default=[],
+                        metavar=("X", "Y", "Z", "DX", "DY", "DZ"), help="a hit already decided (mesh units)")
+    parser.add_argument("--noise-relative", type=float, default=0.01, help="massline error, fraction (default 0.01)")
+    parser.add_argument("--noise-floor", type=float, default=0.002, help="noise floor, fraction of 1/mass (default 0.002)")
+    parser.add_argument("--relaxation", choices=["first-order", "cvxpy"], default="first-order")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
+    parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
+    parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json")
+
+
+def _fixed(rows, scale) -> Lines | None:
+    if not rows:
+        return None
+    rows = np.asarray(rows, dtype=float)
+    return Lines(rows[:, :3] * scale, rows[:, 3:])
+
+
+def layout_table(title: str, lines: Lines, nodes) -> Table:
+    table = Table(title=title)
+    for col in ("#", "node", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial"):
+        table.add_column(col, justify="right")
+    for k, (n, p, d, t) in enumerate(zip(nodes, lines.points, lines.directions, lines.triaxial), 1):
+        table.add_row(str(k), str(n), *(f"{v * 1e3:.1f}" for v in p), np.array2string(d, precision=3, suppress_small=True),
+                      "" if t < 0 else str(t))
+    return table
+
+
+def std_table(plan) -> Table:
+    b, s = plan.model.nominal, plan.predicted_std
+    table = Table(title="Predicted accuracy (Cramér–Rao, 1-σ)")
+    for col in ("quantity", "nominal", "± 1-σ", "unit", "relative"):
+        table.add_column(col, justify="right")
+    rows = [("mass", b.mass, s["mass"], "kg", b.mass)]
+    rows += [(f"CoG {a}", b.cog[k] * 1e3, s["cog"][k] * 1e3, "mm", b.radius_of_gyration * 1e3) for k, a in enumerate("xyz")]
+    moments = b.principal_moments if not plan.model.planar else np.append(np.linalg.eigvalsh(b.inertia_cog[:2, :2]), np.nan)
+    rows += [(f"principal moment {k + 1}", moments[k], s["principal_moments"][k], "kg·m²", moments[k]) for k in range(3)]
+    rows += [(f"principal axis {k + 1}", np.nan, s["principal_axes_deg"][k], "°", np.nan) for k in range(3)]
+    for name, value, sigma, unit, ref in rows:
+        if np.isnan(sigma):
+            table.add_row(name, "—" if np.isnan(value) else f"{value:.5g}", "unobservable", unit, "")
+            continue
+        table.add_row(name, "" if np.isnan(value) else f"{value:.5g}", f"{sigma:.3g}", unit,
+                      "" if np.isnan(ref) else f"{sigma / ref:.2%}")
+    return table
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise MasslineError(f"--out {out} is a file: give a folder")
+    target = out / "plan.json"
+    if target.exists() and not args.force:
+        raise MasslineError(f"{target} exists; pass --force to overwrite it or choose another --out")
+    body = body_from_arguments(args)
+    scale = UNITS[body.units]
+    options = CandidateOptions(
+        n_samples=args.candidates, axes=args.axes,
+        exclude_boxes=tuple((tuple(np.array(b[:3]) * scale), tuple(np.array(b[3:]) * scale)) for b in args.exclude_box),
+        exclude_faces=tuple(args.exclude_faces), edge_keepout=args.edge_keepout * scale, seed=args.seed,
+    )
+    budget = Budget(args.sensors, args.exciters, args.triaxial)
+    noise = NoiseModel(args.noise_relative, args.noise_floor)
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console,
+                  transient=True) as bar:
+        task = bar.add_task("planning", total=1.0)
+        result = plan(body, budget, options, noise, _fixed(args.fixed_sensor, scale), _fixed(args.fixed_exciter, scale),
+                      relaxation=args.relaxation,
+                      progress=lambda stage, f: bar.update(task, completed=f, description=stage))
+    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes))
+    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
+    console.print(std_table(result))
+    console.print(
+        f"log det F = {result.log_det:.3f} ({'6' if result.model.planar else '10'} parameters); certified "
+        f"D-efficiency ≥ {result.d_efficiency_lower_bound:.1%} of the best possible layout; condition numbers "
+        + ", ".join(f"{k} {v:.3g}" for k, v in result.condition.items())
+    )
+    out.mkdir(parents=True, exist_ok=True)
+    claim_output(target, args.force)
+    write_atomic(target, to_json(plan_to_dict(result, str(args.mesh), body.units, body.density)), args.force)
+    console.print(f"wrote {target}")

@@ -1,0 +1,75 @@
+"""plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
+
+Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
+``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres,
+mesh frame), ``criterion`` (``log_det``, ``condition_numbers``,
+``d_efficiency_lower_bound``, ``upper_bounds``), ``noise``, ``predicted_std``
+(identify's std keys). NaN (unobservable) is written as null.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .errors import MasslineError
+from .lines import Lines
+from .planner import Plan
+
+
+def _lines(lines: Lines, nodes: np.ndarray) -> list:
+    groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
+    return [
+        {"node": int(n), "point": p.tolist(), "direction": d.tolist(), "triaxial": groups.get(int(t))}
+        for n, p, d, t in zip(nodes, lines.points, lines.directions, lines.triaxial)
+    ]
+
+
+def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
+    nominal = plan.model.nominal
+    return {
+        "mesh": mesh,
+        "units": units,
+        "density": density,
+        "planar": plan.model.planar,
+        "nominal": nominal.as_dict(),
+        "sensors": _lines(plan.sensors, plan.sensor_nodes),
+        "exciters": _lines(plan.exciters, plan.exciter_nodes),
+        "criterion": {
+            "log_det": plan.log_det,
+            "parameters": list(plan.model.names),
+            "condition_numbers": plan.condition,
+            "d_efficiency_lower_bound": plan.d_efficiency_lower_bound,
+            "upper_bounds": plan.bounds,
+            "worst_relative_std": plan.worst_relative_std,
+        },
+        "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},
+        "predicted_std": plan.predicted_std,
+        "candidates": {"points": len(plan.candidates) if plan.candidates is not None else None,
+                       "lines": plan.n_candidate_lines},
+    }
+
+
+def _read_lines(entries: list, what: str) -> Lines:
+    try:
+        points = [e["point"] for e in entries]
+        directions = [e["direction"] for e in entries]
+        triaxial = [-1 if e.get("triaxial") is None else int(e["triaxial"]) for e in entries]
+    except (KeyError, TypeError):
+        raise MasslineError(f"plan file: every {what} needs 'point' and 'direction'") from None
+    return Lines(points, directions, triaxial)
+
+
+def read_plan(path: str | Path) -> tuple[Lines, Lines, dict]:
+    """Sensors, exciters and the whole document of a plan.json."""
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise MasslineError(f"plan file {path} does not exist: run 'massline plan' first") from None
+    except json.JSONDecodeError as err:
+        raise MasslineError(f"plan file {path} is not valid JSON ({err.msg} at line {err.lineno})") from None
+    if not doc.get("sensors") or not doc.get("exciters"):
+        raise MasslineError(f"plan file {path} has no sensors or no exciters")
+    return _read_lines(doc["sensors"], "sensor"), _read_lines(doc["exciters"], "exciter"), doc
