@@ -3,6 +3,7 @@
 Exit codes: 0 success, 2 bad input (a one-line message, no traceback),
 1 internal error.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -71,8 +72,10 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as err:  # an internal error: say so, keep the traceback for debugging
         if os.environ.get("MASSLINE_DEBUG"):
             raise
-        print(f"massline: internal error: {type(err).__name__}: {err} (set MASSLINE_DEBUG=1 for the traceback)",
-              file=sys.stderr)
+        print(
+            f"massline: internal error: {type(err).__name__}: {err} (set MASSLINE_DEBUG=1 for the traceback)",
+            file=sys.stderr,
+        )
         return 1
     return 0
 

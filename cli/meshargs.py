@@ -1,4 +1,5 @@
 """The mesh arguments shared by commands: MESH --units --density | --mass."""
+
 from __future__ import annotations
 
 import argparse
@@ -9,8 +10,9 @@ from massline.placement.mesh import UNITS, BodyMesh, load_body
 
 
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mesh", metavar="MESH",
-                        help=f"surface mesh (STL/OBJ/PLY) or a bundled body: {', '.join(BUNDLED)}")
+    parser.add_argument(
+        "mesh", metavar="MESH", help=f"surface mesh (STL/OBJ/PLY) or a bundled body: {', '.join(BUNDLED)}"
+    )
     parser.add_argument("--units", choices=sorted(UNITS), help="length unit of the mesh file (required for files)")
     material = parser.add_mutually_exclusive_group()
     material.add_argument("--density", type=float, metavar="KG_M3", help="material density, kg/m³")

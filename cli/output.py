@@ -1,4 +1,5 @@
 """Writing results: never overwrite without --force, never leave half a file."""
+
 from __future__ import annotations
 
 import json

@@ -1,4 +1,5 @@
 """``massline plan``: the layout, its certificate and predicted accuracy → DIR/plan.json."""
+
 from __future__ import annotations
 
 import argparse
@@ -26,18 +27,45 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sensors", type=int, default=6, metavar="N", help="uniaxial accelerometers (default 6)")
     parser.add_argument("--exciters", type=int, default=3, metavar="K", help="hammer hits (default 3)")
     parser.add_argument("--triaxial", type=int, default=0, metavar="N", help="triaxial accelerometers (3 lines each)")
-    parser.add_argument("--candidates", type=int, default=400, metavar="N", help="area-uniform sample points (default 400)")
+    parser.add_argument(
+        "--candidates", type=int, default=400, metavar="N", help="area-uniform sample points (default 400)"
+    )
     parser.add_argument("--axes", action="store_true", help="also allow global-axis directions (mounting blocks)")
-    parser.add_argument("--exclude-box", type=float, nargs=6, action="append", default=[],
-                        metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"), help="no candidate in this box (mesh units)")
+    parser.add_argument(
+        "--exclude-box",
+        type=float,
+        nargs=6,
+        action="append",
+        default=[],
+        metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
+        help="no candidate in this box (mesh units)",
+    )
     parser.add_argument("--exclude-faces", type=int, nargs="+", default=[], metavar="F", help="face indices to avoid")
-    parser.add_argument("--edge-keepout", type=float, default=0.0, metavar="D", help="distance from sharp edges (mesh units)")
-    parser.add_argument("--fixed-sensor", type=float, nargs=6, action="append", default=[],
-                        metavar=("X", "Y", "Z", "DX", "DY", "DZ"), help="an accelerometer already mounted (mesh units)")
-    parser.add_argument("--fixed-exciter", type=float, nargs=6, action="append", default=[],
-                        metavar=("X", "Y", "Z", "DX", "DY", "DZ"), help="a hit already decided (mesh units)")
+    parser.add_argument(
+        "--edge-keepout", type=float, default=0.0, metavar="D", help="distance from sharp edges (mesh units)"
+    )
+    parser.add_argument(
+        "--fixed-sensor",
+        type=float,
+        nargs=6,
+        action="append",
+        default=[],
+        metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
+        help="an accelerometer already mounted (mesh units)",
+    )
+    parser.add_argument(
+        "--fixed-exciter",
+        type=float,
+        nargs=6,
+        action="append",
+        default=[],
+        metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
+        help="a hit already decided (mesh units)",
+    )
     parser.add_argument("--noise-relative", type=float, default=0.01, help="massline error, fraction (default 0.01)")
-    parser.add_argument("--noise-floor", type=float, default=0.002, help="noise floor, fraction of 1/mass (default 0.002)")
+    parser.add_argument(
+        "--noise-floor", type=float, default=0.02, help="noise floor, fraction of 1/mass (default 0.02)"
+    )
     parser.add_argument("--relaxation", choices=["first-order", "cvxpy"], default="first-order")
     parser.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
     parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
@@ -56,8 +84,13 @@ def layout_table(title: str, lines: Lines, nodes) -> Table:
     for col in ("#", "node", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial"):
         table.add_column(col, justify="right")
     for k, (n, p, d, t) in enumerate(zip(nodes, lines.points, lines.directions, lines.triaxial), 1):
-        table.add_row(str(k), str(n), *(f"{v * 1e3:.1f}" for v in p), np.array2string(d, precision=3, suppress_small=True),
-                      "" if t < 0 else str(t))
+        table.add_row(
+            str(k),
+            str(n),
+            *(f"{v * 1e3:.1f}" for v in p),
+            np.array2string(d, precision=3, suppress_small=True),
+            "" if t < 0 else str(t),
+        )
     return table
 
 
@@ -67,16 +100,27 @@ def std_table(plan) -> Table:
     for col in ("quantity", "nominal", "± 1-σ", "unit", "relative"):
         table.add_column(col, justify="right")
     rows = [("mass", b.mass, s["mass"], "kg", b.mass)]
-    rows += [(f"CoG {a}", b.cog[k] * 1e3, s["cog"][k] * 1e3, "mm", b.radius_of_gyration * 1e3) for k, a in enumerate("xyz")]
-    moments = b.principal_moments if not plan.model.planar else np.append(np.linalg.eigvalsh(b.inertia_cog[:2, :2]), np.nan)
-    rows += [(f"principal moment {k + 1}", moments[k], s["principal_moments"][k], "kg·m²", moments[k]) for k in range(3)]
+    rows += [
+        (f"CoG {a}", b.cog[k] * 1e3, s["cog"][k] * 1e3, "mm", b.radius_of_gyration * 1e3) for k, a in enumerate("xyz")
+    ]
+    moments = (
+        b.principal_moments if not plan.model.planar else np.append(np.linalg.eigvalsh(b.inertia_cog[:2, :2]), np.nan)
+    )
+    rows += [
+        (f"principal moment {k + 1}", moments[k], s["principal_moments"][k], "kg·m²", moments[k]) for k in range(3)
+    ]
     rows += [(f"principal axis {k + 1}", np.nan, s["principal_axes_deg"][k], "°", np.nan) for k in range(3)]
     for name, value, sigma, unit, ref in rows:
         if np.isnan(sigma):
             table.add_row(name, "—" if np.isnan(value) else f"{value:.5g}", "unobservable", unit, "")
             continue
-        table.add_row(name, "" if np.isnan(value) else f"{value:.5g}", f"{sigma:.3g}", unit,
-                      "" if np.isnan(ref) else f"{sigma / ref:.2%}")
+        table.add_row(
+            name,
+            "" if np.isnan(value) else f"{value:.5g}",
+            f"{sigma:.3g}",
+            unit,
+            "" if np.isnan(ref) else f"{sigma / ref:.2%}",
+        )
     return table
 
 
@@ -90,18 +134,29 @@ def run(args: argparse.Namespace, console: Console) -> None:
     body = body_from_arguments(args)
     scale = UNITS[body.units]
     options = CandidateOptions(
-        n_samples=args.candidates, axes=args.axes,
+        n_samples=args.candidates,
+        axes=args.axes,
         exclude_boxes=tuple((tuple(np.array(b[:3]) * scale), tuple(np.array(b[3:]) * scale)) for b in args.exclude_box),
-        exclude_faces=tuple(args.exclude_faces), edge_keepout=args.edge_keepout * scale, seed=args.seed,
+        exclude_faces=tuple(args.exclude_faces),
+        edge_keepout=args.edge_keepout * scale,
+        seed=args.seed,
     )
     budget = Budget(args.sensors, args.exciters, args.triaxial)
     noise = NoiseModel(args.noise_relative, args.noise_floor)
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console,
-                  transient=True) as bar:
+    with Progress(
+        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+    ) as bar:
         task = bar.add_task("planning", total=1.0)
-        result = plan(body, budget, options, noise, _fixed(args.fixed_sensor, scale), _fixed(args.fixed_exciter, scale),
-                      relaxation=args.relaxation,
-                      progress=lambda stage, f: bar.update(task, completed=f, description=stage))
+        result = plan(
+            body,
+            budget,
+            options,
+            noise,
+            _fixed(args.fixed_sensor, scale),
+            _fixed(args.fixed_exciter, scale),
+            relaxation=args.relaxation,
+            progress=lambda stage, f: bar.update(task, completed=f, description=stage),
+        )
     console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes))
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
     console.print(std_table(result))

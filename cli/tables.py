@@ -1,4 +1,5 @@
 """Tables with units for the terminal (rich)."""
+
 from __future__ import annotations
 
 import numpy as np

@@ -3,6 +3,7 @@
 Rebuild them with ``python -m massline.meshes.generate``. Each is in metres in
 its own frame; ``BUNDLED`` gives its file, density and a description.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -5,6 +5,7 @@ on the grid of all box faces so the surface is watertight with exact
 coordinates, and written as OBJ with 17 significant digits (binary STL and PLY
 would round to float32).
 """
+
 from __future__ import annotations
 
 import sys

@@ -2,6 +2,7 @@
 
 The rigid-body algebra lives here once; ``massline.identify`` builds on it.
 """
+
 from .dynamics import Identification
 from .errors import MasslineError, SingularLayoutError
 from .lines import Lines
@@ -9,5 +10,13 @@ from .masslines import Masslines, synthesise
 from .methods import identify
 from .rigid_body import RigidBody
 
-__all__ = ["Identification", "Lines", "Masslines", "MasslineError", "RigidBody", "SingularLayoutError",
-           "identify", "synthesise"]
+__all__ = [
+    "Identification",
+    "Lines",
+    "Masslines",
+    "MasslineError",
+    "RigidBody",
+    "SingularLayoutError",
+    "identify",
+    "synthesise",
+]

@@ -6,6 +6,7 @@ of the map θ → properties (central differences, linearisation at the nominal
 body). The keys match identify's ``std`` (DESIGN.md). For the plate only the
 in-plane quantities are observable; the others are NaN.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -47,7 +48,7 @@ def predicted_std(model: RigidModel, F: np.ndarray) -> dict:
     """1-σ of every property (identify's std keys) for information F (scaled)."""
     C = property_covariance(model, np.linalg.inv(F))
     s = np.sqrt(np.clip(np.diag(C), 0, None))
-    axes_cov = [C[16 + 3 * k: 19 + 3 * k, 16 + 3 * k: 19 + 3 * k] for k in range(3)]
+    axes_cov = [C[16 + 3 * k : 19 + 3 * k, 16 + 3 * k : 19 + 3 * k] for k in range(3)]
     std = {
         "mass": s[0],
         "cog": s[1:4].copy(),
@@ -74,3 +75,10 @@ def worst_relative_std(model: RigidModel, std: dict) -> float:
     moments = property_vector(b, model.planar)[13:16]
     terms = [std["mass"] / b.mass, *(std["cog"] / b.radius_of_gyration), *(std["principal_moments"] / moments)]
     return float(np.nanmax(terms))
+
+
+def layout_worst_std(model: RigidModel, F: np.ndarray) -> float:
+    """``worst_relative_std`` of information F; inf when F is singular."""
+    if not np.all(np.isfinite(F)) or np.linalg.cond(F) > 1e14:
+        return float("inf")
+    return worst_relative_std(model, predicted_std(model, F))

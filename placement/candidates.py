@@ -9,9 +9,10 @@ A triaxial accelerometer is one candidate of three global-axis lines through a
 point. Regions can be excluded (boxes, faces, a keep-out distance from sharp
 edges).
 """
+
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import trimesh
@@ -91,10 +92,10 @@ def distance_to_segments(points: np.ndarray, segments: np.ndarray, chunk: int = 
     length2 = np.maximum(np.einsum("kd,kd->k", ab, ab), 1e-300)
     out = np.empty(len(points))
     for start in range(0, len(points), chunk):
-        p = points[start:start + chunk, None, :]
+        p = points[start : start + chunk, None, :]
         t = np.clip(np.einsum("nkd,kd->nk", p - a, ab) / length2, 0, 1)
         nearest = a + t[..., None] * ab
-        out[start:start + chunk] = np.linalg.norm(p - nearest, axis=2).min(axis=1)
+        out[start : start + chunk] = np.linalg.norm(p - nearest, axis=2).min(axis=1)
     return out
 
 
@@ -149,3 +150,70 @@ def candidate_points(mesh: trimesh.Trimesh, options: CandidateOptions = Candidat
             f"no candidate point is left on the surface after the exclusions ({excluded}); relax the keep-outs"
         )
     return CandidatePoints(points[keep], normals[keep], faces[keep], excluded)
+
+
+@dataclass(frozen=True, eq=False)
+class CandidateLines:
+    """Candidates of one side: their lines; ``members`` (n, w), the lines each
+    candidate is made of (one, or three for a triaxial; −1 pads); its budget
+    group (0 uniaxial, 1 triaxial); and the candidate point (node) of each line."""
+
+    lines: Lines
+    members: np.ndarray
+    group: np.ndarray
+    node: np.ndarray
+
+    @classmethod
+    def single(cls, lines: Lines) -> "CandidateLines":
+        """Every line a candidate of its own (group 0, node = its index)."""
+        n = len(lines)
+        return cls(lines, np.arange(n)[:, None], np.zeros(n, int), np.arange(n))
+
+    def __len__(self) -> int:
+        return len(self.members)
+
+    def line_index(self, chosen) -> np.ndarray:
+        """The lines of the chosen candidates, in order."""
+        rows = self.members[np.asarray(chosen, dtype=int)].ravel()
+        return rows[rows >= 0]
+
+    def subset(self, index: np.ndarray) -> "CandidateLines":
+        """The candidates ``index`` alone, with only their lines."""
+        members = self.members[index]
+        used = np.unique(members[members >= 0])
+        remapped = np.where(members >= 0, np.searchsorted(used, np.maximum(members, 0)), -1)
+        return CandidateLines(self.lines[used], remapped, self.group[index], self.node[used])
+
+    def any_line(self, mask: np.ndarray) -> np.ndarray:
+        """Per candidate: does any of its lines satisfy ``mask`` (per line)?"""
+        return np.append(mask, False)[self.members].any(axis=1)
+
+
+def candidate_lines(
+    points: CandidatePoints, axes: bool, planar: bool, triaxial: bool
+) -> tuple[CandidateLines, CandidateLines]:
+    """Sensor and exciter candidates at the points: normals (and axes), triaxials for sensors.
+
+    A plate gets its out-of-plane lines only (§2.3), the same for both sides.
+    """
+    if planar:
+        on_faces = np.abs(points.normals[:, 2]) > 1 - 1e-6
+        if on_faces.sum() < 3:
+            raise MasslineError("fewer than 3 candidate points on the plate's faces: relax the exclusions")
+        pts = points.points[on_faces]
+        lines = Lines(pts, np.tile([0.0, 0.0, 1.0], (len(pts), 1)))
+        side = replace(CandidateLines.single(lines), node=np.flatnonzero(on_faces))
+        return side, side
+    lines, node = points.lines(axes)
+    members = np.arange(len(lines))[:, None]
+    group = np.zeros(len(lines), int)
+    sensor_lines, sensor_node = lines, node
+    if triaxial:
+        tri, tri_node = points.triaxial_lines()
+        offset = len(lines)
+        members = np.vstack(
+            [np.pad(members, ((0, 0), (0, 2)), constant_values=-1), offset + np.arange(3 * len(points)).reshape(-1, 3)]
+        )
+        group = np.concatenate([group, np.ones(len(points), int)])
+        sensor_lines, sensor_node = lines + tri, np.concatenate([node, tri_node])
+    return CandidateLines(sensor_lines, members, group, sensor_node), replace(CandidateLines.single(lines), node=node)

@@ -10,6 +10,7 @@ With six sensors or three exciters for ten parameters the relaxation's bound
   bound over admissible layouts is the largest over how many candidates come
   from that cover set.
 """
+
 from __future__ import annotations
 
 import heapq
@@ -20,8 +21,10 @@ from typing import Callable
 import numpy as np
 
 from .information import log_det
-from .relaxation import relax_first_order
+from .relaxation import relax_cvxpy, relax_first_order
 from .selection import BlockProblem, greedy, swap
+
+TARGET_EFFICIENCY = 0.99  # branch and bound stops once the certificate reaches this
 
 
 def _restrict(problem: BlockProblem, inside: frozenset, outside: frozenset):
@@ -37,8 +40,17 @@ def _restrict(problem: BlockProblem, inside: frozenset, outside: frozenset):
         return None, index
     A = problem.blocks[list(inside)].reshape(-1, problem.p)
     return BlockProblem(problem.blocks[index], problem.group[index], tuple(budgets), problem.fixed + A.T @ A), index
-def branch_and_bound(problem: BlockProblem, chosen, slack: float, max_nodes: int = 100_000,
-                     tol: float = 1e-4, seconds: float = 10.0) -> tuple[float, list]:
+
+
+def branch_and_bound(
+    problem: BlockProblem,
+    chosen,
+    slack: float,
+    max_nodes: int = 100_000,
+    tol: float = 1e-4,
+    seconds: float = 10.0,
+    root_bound: float = np.inf,
+) -> tuple[float, list]:
     """A tighter certified bound: the relaxation's bounds over a partition of all selections.
 
     Best first: the open branch of largest bound is split by fixing its most
@@ -53,7 +65,7 @@ def branch_and_bound(problem: BlockProblem, chosen, slack: float, max_nodes: int
     deadline = time.perf_counter() + seconds
     best_value, best = problem.value(chosen), list(chosen)
     closed = -np.inf
-    heap = [(-np.inf, 0, frozenset(), frozenset(), None)]  # (−parent bound, tie, in, out, parent weights)
+    heap = [(-root_bound, 0, frozenset(), frozenset(), None)]  # (−parent bound, tie, in, out, parent weights)
     nodes = 0
     while heap:
         if nodes >= max_nodes or time.perf_counter() > deadline:
@@ -78,8 +90,16 @@ def branch_and_bound(problem: BlockProblem, chosen, slack: float, max_nodes: int
         if parent_z is None and sub.value(start) > best_value:
             best_value, best = sub.value(start), sorted(inside | {int(index[s]) for s in start})
         target = best_value + slack
-        z, bound = relax_first_order(sub, start, None if parent_z is None else parent_z[index], tol=tol,
-                                     refresh=10, stop_below=target, stop_above=target)
+        z, bound = relax_first_order(
+            sub,
+            start,
+            None if parent_z is None else parent_z[index],
+            tol=tol,
+            refresh=10,
+            stop_below=target,
+            stop_above=target,
+            deadline=deadline,
+        )
         bound = min(bound, parent_bound)
         if bound <= target:
             closed = max(closed, bound)
@@ -115,26 +135,37 @@ def split_by_cover(problem: BlockProblem, cover: np.ndarray) -> list[BlockProble
     return parts
 
 
-def certify_admissible(problem: BlockProblem, chosen: list, slack: float,
-                       admissible: Callable[[list], bool], cover_for: Callable[[list], np.ndarray | None],
-                       seconds: float = 10.0, depth: int = 2) -> tuple[float, list]:
+def certify_admissible(
+    problem: BlockProblem,
+    chosen: list,
+    slack: float,
+    admissible: Callable[[list], bool],
+    cover_for: Callable[[list], np.ndarray | None],
+    seconds: float = 10.0,
+    depth: int = 2,
+    root_bound: float = np.inf,
+) -> tuple[float, list]:
     """An upper bound over the admissible selections, and the best admissible one met.
 
     Branch and bound first; if the best selection it meets is not admissible,
     ``cover_for`` names the candidates any admissible layout must draw on (None:
     no cut is known, the plain bound stands) and the bound is the largest over the
-    split problems, each certified the same way (``depth`` levels of cuts).
+    split problems, each certified the same way (``depth`` levels of cuts). A
+    bound over all selections holds for the admissible ones too, so the smaller
+    of the two is returned.
     """
     deadline = time.perf_counter() + seconds
-    bound, best = branch_and_bound(problem, chosen, slack, seconds=seconds)
+    bound, best = branch_and_bound(problem, chosen, slack, seconds=seconds, root_bound=root_bound)
     if problem.value(best) <= problem.value(chosen) + 1e-9 or admissible(best) or depth == 0:
         return bound, best if admissible(best) else list(chosen)
     cover = cover_for(best)
-    if cover is None:
+    if cover is None or time.perf_counter() > deadline:
         return bound, list(chosen)
     bounds, winner = [], list(chosen)
     parts = split_by_cover(problem, cover)
     for part in parts:
+        if time.perf_counter() > deadline:  # unfinished: the uncut bound is what stands
+            return bound, winner
         start = swap(part, greedy(part))
         if not admissible(start):
             start = list(chosen) if _fits(part, chosen) else start
@@ -143,9 +174,34 @@ def certify_admissible(problem: BlockProblem, chosen: list, slack: float,
         bounds.append(part_bound)
         if admissible(part_best) and part.value(part_best) > problem.value(winner):
             winner = part_best
-    return max(bounds, default=-np.inf), winner
+    return min(max(bounds, default=-np.inf), bound), winner
 
 
 def _fits(problem: BlockProblem, chosen: list) -> bool:
     counts = np.bincount(problem.group[list(chosen)], minlength=len(problem.budgets))
     return bool(np.all(counts == np.asarray(problem.budgets)))
+
+
+def certify(
+    problem: BlockProblem,
+    chosen: list,
+    relaxation: str = "first-order",
+    admissible=None,
+    cover_for=None,
+    seconds: float = 10.0,
+) -> tuple[float, list]:
+    """Upper bound U on ``problem`` over the admissible selections, and the best one met.
+
+    The relaxation's bound first; when it leaves the per-parameter D-efficiency
+    below TARGET_EFFICIENCY (small budgets), branch and bound and admissibility
+    cuts tighten it (certificate.py).
+    """
+    if relaxation == "cvxpy":
+        return relax_cvxpy(problem)[1], chosen
+    _, bound = relax_first_order(problem, chosen, tol=1e-3)
+    slack = problem.p * np.log(1 / TARGET_EFFICIENCY)
+    if bound - problem.value(chosen) <= slack:
+        return bound, chosen
+    return certify_admissible(
+        problem, chosen, slack, admissible or (lambda c: True), cover_for or (lambda c: None), seconds, root_bound=bound
+    )

@@ -5,6 +5,7 @@ null space of S is therefore the motion the layout cannot see: a translation
 (α = 0), a rotation about a line (zero pitch) or a screw. Exciter sets are
 explained by their directions and points.
 """
+
 from __future__ import annotations
 
 import numpy as np

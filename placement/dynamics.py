@@ -8,6 +8,7 @@ along line j (point r_j, direction d_j, moment m_j = r_j × d_j). Newton–Euler
 
 The three methods differ in which of these they make linear.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -57,8 +58,12 @@ def inverse_inertia_from_pairs(data: Masslines, acc: RigidAccelerations, pairs) 
     alpha = acc.alpha.T  # one row per exciter
     moments, rhs = difference_rows(data.exciters, alpha, pairs, "exciters")
     A_rows = _stack_rows(symmetric_product_matrix(v) for v in moments)
-    six, kappa = solve(A_rows, rhs.reshape(-1), "dynamics method 1, difference system under eq. (8)",
-                       lambda: exciter_hint(data.exciters))
+    six, kappa = solve(
+        A_rows,
+        rhs.reshape(-1),
+        "dynamics method 1, difference system under eq. (8)",
+        lambda: exciter_hint(data.exciters),
+    )
     return tensor_from_six(six), kappa
 
 
@@ -84,8 +89,9 @@ def inertia_from_inverse(data: Masslines, acc: RigidAccelerations, cog: np.ndarr
     """J_G from eq. (8) with the CoG known: α_j = A ((r_j − c) × d_j), linear in A."""
     v = data.exciters.moments - np.cross(cog, data.exciters.directions)
     rows = _stack_rows(symmetric_product_matrix(vj) for vj in v)
-    six, kappa = solve(rows, acc.alpha.T.reshape(-1), "inverse inertia, eq. (8) with known CoG",
-                       lambda: exciter_hint(data.exciters))
+    six, kappa = solve(
+        rows, acc.alpha.T.reshape(-1), "inverse inertia, eq. (8) with known CoG", lambda: exciter_hint(data.exciters)
+    )
     return np.linalg.inv(tensor_from_six(six)), kappa
 
 
@@ -107,9 +113,10 @@ def method2(data: Masslines, acc: RigidAccelerations) -> Identification:
             rows.append(np.concatenate([[s[i] @ dj], -np.cross(s[i], alpha)]))
             rhs.append(data.values[i, j] - r_x_s[i] @ alpha)
     unknowns, kappa = solve(
-        np.array(rows).reshape(-1, 4), np.array(rhs), "dynamics method 2 (mass and CoG)",
-        "it needs four excitations, each with a sensor along the force; "
-        + exciter_hint(data.exciters),
+        np.array(rows).reshape(-1, 4),
+        np.array(rhs),
+        "dynamics method 2 (mass and CoG)",
+        "it needs four excitations, each with a sensor along the force; " + exciter_hint(data.exciters),
     )
     mass, cog = 1.0 / unknowns[0], unknowns[1:]
     J, kappa_J = inertia_from_inverse(data, acc, cog)
@@ -127,8 +134,9 @@ def method3(data: Masslines, acc: RigidAccelerations) -> Identification:
     """
     d = data.exciters.directions
     force_rows = _stack_rows(np.hstack([acc.a_origin[:, [j]], skew(acc.alpha[:, j])]) for j in range(len(d)))
-    m_mc, kappa_f = solve(force_rows, d.reshape(-1), "dynamics method 3, force equations",
-                          lambda: exciter_hint(data.exciters))
+    m_mc, kappa_f = solve(
+        force_rows, d.reshape(-1), "dynamics method 3, force equations", lambda: exciter_hint(data.exciters)
+    )
     mass, cog = m_mc[0], m_mc[1:] / m_mc[0]
     moment_rows = _stack_rows(symmetric_product_matrix(acc.alpha[:, j]) for j in range(len(d)))
     rhs = (data.exciters.moments - np.cross(cog, d)).reshape(-1)

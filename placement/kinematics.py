@@ -5,6 +5,7 @@ q_j = (a_O, α) at the origin O, and a sensor line ℓ_i reads H_ij = ℓ_i · q
 (eq. 2). The three solvers return Q = [q_1 … q_K] (6 × K): a_O in (m/s²)/N,
 α in (rad/s²)/N.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -82,7 +83,9 @@ def method1(data: Masslines) -> RigidAccelerations:
 
     rhs = H_others - others.directions @ a_origin
     alpha, kappa = solve(others.moments, rhs, "kinematics method 1, eq. (5)", why)
-    return RigidAccelerations(np.vstack([a_origin, alpha]), {"kinematic_origin": kappa_o, "kinematic": kappa}, "method1")
+    return RigidAccelerations(
+        np.vstack([a_origin, alpha]), {"kinematic_origin": kappa_o, "kinematic": kappa}, "method1"
+    )
 
 
 def default_pairs(lines: Lines) -> list[tuple[int, int]]:
@@ -139,7 +142,10 @@ def method2_difference(data: Masslines, pairs=None) -> RigidAccelerations:
             f"kinematics eq. (7) needs three pairs of parallel sensors, found {len(rows)}: add parallel sensor pairs"
         )
     alpha, kappa = solve(
-        rows, rhs, "kinematics eq. (7)", "the sensor pairs' moment differences do not span three directions; "
+        rows,
+        rhs,
+        "kinematics eq. (7)",
+        "the sensor pairs' moment differences do not span three directions; "
         "use pairs along x, y and z, separated across their direction",
     )
     a_origin, kappa_a = solve(

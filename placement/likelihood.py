@@ -5,6 +5,7 @@ start (the paper's method 3, or the plate's eqs. 10–13). Its covariance is
 the inverse Fisher information at the solution, the Cramér–Rao bound the
 planner predicts.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -26,8 +27,9 @@ def _start(data: Masslines, planar: bool) -> RigidBody:
     return RigidBody(found.mass, found.cog, J)
 
 
-def maximum_likelihood(data: Masslines, noise: NoiseModel, planar: bool = False, iterations: int = 20,
-                       tol: float = 1e-12) -> tuple[RigidBody, np.ndarray, RigidModel]:
+def maximum_likelihood(
+    data: Masslines, noise: NoiseModel, planar: bool = False, iterations: int = 20, tol: float = 1e-12
+) -> tuple[RigidBody, np.ndarray, RigidModel]:
     """The weighted least-squares body, the covariance of its scaled parameters, and its model."""
     model = RigidModel(_start(data, planar), planar)
     s, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
@@ -36,7 +38,10 @@ def maximum_likelihood(data: Masslines, noise: NoiseModel, planar: bool = False,
     for _ in range(iterations):
         predicted = s @ np.linalg.solve(model.mass_matrix(theta), e.T)
         residual = ((data.values - predicted) / sigma).ravel()
-        J = weighted_sensitivities(model, s, e, noise) * (noise.sigma(predicted, model.nominal.mass) / sigma)[:, :, None]
+        J = (
+            weighted_sensitivities(model, s, e, noise)
+            * (noise.sigma(predicted, model.nominal.mass) / sigma)[:, :, None]
+        )
         step = np.linalg.lstsq(J.reshape(-1, model.p), residual, rcond=None)[0]
         theta = theta + model.scale * step
         model = RigidModel(model.body(theta), planar)

@@ -4,6 +4,7 @@ Square systems are solved exactly, overdetermined ones by least squares; a
 system that is rank deficient is never solved but reported with the reason
 (the caller knows the physics and passes it in).
 """
+
 from __future__ import annotations
 
 from typing import Callable
@@ -33,14 +34,14 @@ def solve(A: np.ndarray, b: np.ndarray, system: str, why: str | Callable[[], str
         returning it, evaluated only when needed).
     """
     n_eq, n_unknown = A.shape
+    reason = why if isinstance(why, str) else None
     if n_eq < n_unknown:
-        raise SingularLayoutError(
-            f"{system}: {n_eq} equations for {n_unknown} unknowns; add measurements ({why if isinstance(why, str) else why()})"
-        )
+        reason = reason or why()
+        raise SingularLayoutError(f"{system}: {n_eq} equations for {n_unknown} unknowns; add measurements ({reason})")
     s = np.linalg.svd(A, compute_uv=False)
     if s[0] == 0 or s[-1] < RANK_TOLERANCE * s[0]:
         deficiency = int(np.sum(s < RANK_TOLERANCE * max(s[0], 1e-300)))
-        reason = why if isinstance(why, str) else why()
+        reason = reason or why()
         raise SingularLayoutError(f"{system} is singular (rank {n_unknown - deficiency} of {n_unknown}): {reason}")
     if n_eq == n_unknown:
         x = np.linalg.solve(A, b)

@@ -10,6 +10,7 @@ q = (a_O, α) at O, and a unit force along the line is the wrench ℓ about O
 (DESIGN.md, "Conventions"). Only the line matters, not where on it r sits:
 every formula of the paper can be written with ℓ alone.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -108,6 +109,8 @@ class Lines:
         """A short human label: '+y at (0.100, 0.020, 0.000) m'."""
         d = self.directions[i]
         k = int(np.argmax(np.abs(d)))
-        name = ("+" if d[k] > 0 else "-") + AXIS_NAMES[k] if abs(abs(d[k]) - 1) < 1e-9 else np.array2string(d, precision=3)
+        name = (
+            ("+" if d[k] > 0 else "-") + AXIS_NAMES[k] if abs(abs(d[k]) - 1) < 1e-9 else np.array2string(d, precision=3)
+        )
         x, y, z = self.points[i]
         return f"{name} at ({x:.4g}, {y:.4g}, {z:.4g}) m"

@@ -3,6 +3,7 @@
 For sensor lines S (rows ℓ_i) and exciter lines W (rows ℓ_j), the massline
 matrix is H = S M_O⁻¹ Wᵀ, in (m/s²)/N = 1/kg (DESIGN.md; the paper's ẍ/F).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -45,7 +46,9 @@ class Masslines:
     def transformed(self, rotation: np.ndarray, translation: np.ndarray) -> "Masslines":
         """The same measurement described in a frame where x' = R x + t."""
         return Masslines(
-            self.values, self.sensors.transformed(rotation, translation), self.exciters.transformed(rotation, translation)
+            self.values,
+            self.sensors.transformed(rotation, translation),
+            self.exciters.transformed(rotation, translation),
         )
 
 

@@ -6,6 +6,7 @@ inconsistent or inward winding, units that the mesh's size contradicts, and
 densities typed in the wrong unit. Each raises :class:`MasslineError` with what
 to do.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -119,12 +120,13 @@ def check_density(density: float, source: str = "") -> float:
         raise MasslineError(f"density {density} kg/m³ is not physical: give a positive number")
     if source:
         if not lo <= density <= hi:
-            raise MasslineError(f"{source} gives a density of {density:.4g} kg/m³, which no solid has: check --units and --mass")
+            raise MasslineError(
+                f"{source} gives a density of {density:.4g} kg/m³, which no solid has: check --units and --mass"
+            )
         return density
     if density < lo:
         raise MasslineError(
-            f"density {density:g} kg/m³ is lighter than any solid; was it in g/cm³? "
-            f"(then pass {density * 1000:g})"
+            f"density {density:g} kg/m³ is lighter than any solid; was it in g/cm³? (then pass {density * 1000:g})"
         )
     if density > hi:
         raise MasslineError(f"density {density:g} kg/m³ is heavier than any solid: check its unit (kg/m³)")

@@ -7,6 +7,7 @@ Kinematics: ``method1`` (eq. 5), ``method2`` (eq. 6), ``method2-difference``
 (mass among the unknowns), ``method3`` (the paper's choice). ``plate`` runs
 §2.3 (eqs. 10–13) on its own.
 """
+
 from __future__ import annotations
 
 from . import dynamics, kinematics

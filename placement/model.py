@@ -10,6 +10,7 @@ with ℓ the sensor line's coordinates and w the exciter's. In 3-D, q = 6 and
 mass m₀ and radius of gyration L (θ̃ = θ / (m₀, m₀L, m₀L²)), which shifts log det
 by a constant only and keeps the numerics well scaled.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

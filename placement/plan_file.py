@@ -6,6 +6,7 @@ mesh frame), ``criterion`` (``log_det``, ``condition_numbers``,
 ``d_efficiency_lower_bound``, ``upper_bounds``), ``noise``, ``predicted_std``
 (identify's std keys). NaN (unobservable) is written as null.
 """
+
 from __future__ import annotations
 
 import json
@@ -46,8 +47,10 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
         },
         "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},
         "predicted_std": plan.predicted_std,
-        "candidates": {"points": len(plan.candidates) if plan.candidates is not None else None,
-                       "lines": plan.n_candidate_lines},
+        "candidates": {
+            "points": len(plan.candidates) if plan.candidates is not None else None,
+            "lines": plan.n_candidate_lines,
+        },
     }
 
 

@@ -9,6 +9,7 @@ coordinates (d_z, y d_z, −x d_z), eq. (10). Six parameters are identifiable:
 and the CoG is taken in the plate's plane (z_G = 0). J_zz, J_xz, J_yz are
 unobservable and reported as NaN.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -47,7 +48,9 @@ def plate_kinematics(data: Masslines) -> tuple[np.ndarray, float]:
     """Eq. (10): S_p Q_p = H, three non-collinear transduction points at least."""
     S = plate_coordinates(data.sensors, "sensor")
     return solve(
-        S, data.values, "plate kinematics, eq. (10)",
+        S,
+        data.values,
+        "plate kinematics, eq. (10)",
         "all transduction points lie on one line, so rotation about it is unseen; add a point off that line",
     )
 
@@ -65,7 +68,9 @@ def identify_plate(data: Masslines) -> Identification:
     a_z, ax, ay = Qp
     Fz = plate_coordinates(data.exciters, "exciter")[:, 0]
     m_mc, kappa_f = solve(
-        np.column_stack([a_z, -ay, ax]), Fz, "plate dynamics, eq. (12)",
+        np.column_stack([a_z, -ay, ax]),
+        Fz,
+        "plate dynamics, eq. (12)",
         "the exciters lie on one line; " + exciter_hint(data.exciters),
     )
     mass, xg, yg = m_mc[0], m_mc[1] / m_mc[0], m_mc[2] / m_mc[0]

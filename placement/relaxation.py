@@ -16,17 +16,15 @@ line search, warm-started at a good selection and run on a working set of the
 highest-leverage candidates, which scales to 1e5 candidates. Small budgets leave
 the relaxation loose: certificate.py tightens it.
 """
+
 from __future__ import annotations
+
+import time
 
 import numpy as np
 
 from .information import log_det
-from .selection import BlockProblem
-
-
-def leverages(blocks: np.ndarray, M_inv: np.ndarray) -> np.ndarray:
-    """c_i = tr(A_i M⁻¹ A_iᵀ) for every block."""
-    return np.einsum("nrp,nrp->n", blocks @ M_inv, blocks)
+from .selection import BlockProblem, leverages
 
 
 def upper_bound(problem: BlockProblem, M: np.ndarray, c: np.ndarray | None = None) -> float:
@@ -36,7 +34,7 @@ def upper_bound(problem: BlockProblem, M: np.ndarray, c: np.ndarray | None = Non
     S = np.trace(M_inv @ problem.fixed)
     for g, k in enumerate(problem.budgets):
         in_group = np.sort(c[problem.group == g])
-        S += in_group[len(in_group) - k:].sum() if k else 0.0
+        S += in_group[len(in_group) - k :].sum() if k else 0.0
     return log_det(M) + problem.p * np.log(S / problem.p)
 
 
@@ -88,9 +86,18 @@ def feasible_weights(problem: BlockProblem, z: np.ndarray) -> np.ndarray:
     return z
 
 
-def relax_first_order(problem: BlockProblem, start=(), weights: np.ndarray | None = None, tol: float = 1e-4,
-                      max_iter: int = 5000, working_size: int = 400, refresh: int = 25,
-                      stop_below: float = -np.inf, stop_above: float = np.inf) -> tuple[np.ndarray, float]:
+def relax_first_order(
+    problem: BlockProblem,
+    start=(),
+    weights: np.ndarray | None = None,
+    tol: float = 1e-4,
+    max_iter: int = 5000,
+    working_size: int = 400,
+    refresh: int = 25,
+    stop_below: float = -np.inf,
+    stop_above: float = np.inf,
+    deadline: float = np.inf,
+) -> tuple[np.ndarray, float]:
     """Pairwise Frank–Wolfe on the relaxation, from the selection ``start`` (or ``weights``).
 
     Each step moves weight, within one budget group, from the chosen candidate of
@@ -99,8 +106,8 @@ def relax_first_order(problem: BlockProblem, start=(), weights: np.ndarray | Non
     leverages per group), refreshed with the full leverages every ``refresh``
     steps, when the bound over all candidates is evaluated. It stops when the
     bound is within ``tol`` of the relaxed value, falls to ``stop_below``, or the
-    relaxed value passes ``stop_above`` (branch and bound needs no more).
-    Returns the weights and the certified bound U.
+    relaxed value passes ``stop_above`` (branch and bound needs no more), or at
+    ``deadline`` (time.perf_counter()). Returns the weights and the certified bound U.
     """
     n = len(problem.blocks)
     if weights is None:
@@ -129,6 +136,8 @@ def relax_first_order(problem: BlockProblem, start=(), weights: np.ndarray | Non
             value = log_det(M)
             if best_bound - value < tol or best_bound <= stop_below or value >= stop_above:
                 break
+            if time.perf_counter() > deadline:
+                break
             if np.linalg.cond(M) > 1e13:  # rounding has caught up with the iterate: keep the bound so far
                 break
             work = np.flatnonzero(z > 0)
@@ -155,7 +164,7 @@ def relax_first_order(problem: BlockProblem, start=(), weights: np.ndarray | Non
     return z, min(best_bound, upper_bound(problem, information(z)))
 
 
-def relax_cvxpy(problem: BlockProblem, solver: str | None = None) -> tuple[np.ndarray, float]:
+def relax_cvxpy(problem: BlockProblem, solver: str | None = None, **options) -> tuple[np.ndarray, float]:
     """The same relaxation as written on paper, solved by a generic conic solver.
 
     The bound is re-evaluated at the returned weights, so it holds even when the
@@ -169,7 +178,7 @@ def relax_cvxpy(problem: BlockProblem, solver: str | None = None) -> tuple[np.nd
     M = problem.fixed + cp.reshape(K @ z, (p, p), order="C")
     constraints = [z >= 0, z <= 1]
     constraints += [cp.sum(z[np.flatnonzero(problem.group == g)]) == k for g, k in enumerate(problem.budgets)]
-    cp.Problem(cp.Maximize(cp.log_det((M + M.T) / 2)), constraints).solve(solver=solver)
+    cp.Problem(cp.Maximize(cp.log_det((M + M.T) / 2)), constraints).solve(solver=solver, **options)
     weights = np.clip(np.asarray(z.value).ravel(), 0, 1)
     M_value = problem.fixed + (K @ weights).reshape(p, p)
     return weights, upper_bound(problem, M_value)

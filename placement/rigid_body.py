@@ -10,6 +10,7 @@ with J about O, and the mass matrix about O is linear in them:
 
     M_O = [[m I, −m [c]×], [m [c]×, J_O]],   J_O = J_G − m [c]× [c]×.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

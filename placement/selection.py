@@ -8,6 +8,7 @@ each; information already fixed (instrumented points) is M₀. The criterion is
 
     f(S) = log det(M₀ + Σ_{i∈S} G_i).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -52,9 +53,45 @@ def gains(blocks: np.ndarray, M_inv: np.ndarray) -> np.ndarray:
     return np.where(sign > 0, value, -np.inf)
 
 
+def leverages(blocks: np.ndarray, M_inv: np.ndarray) -> np.ndarray:
+    """c_i = tr(A_i M⁻¹ A_iᵀ) for every block; it bounds the gain: log det(I + K) ≤ tr K."""
+    return np.einsum("nrp,nrp->n", blocks @ M_inv, blocks)
+
+
+def best_gains(
+    blocks: np.ndarray, M_inv: np.ndarray, allowed: np.ndarray, count: int = 1, floor: float = -np.inf, chunk: int = 512
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` largest gains among allowed blocks (indices and values, best first).
+
+    Exact, but lazy: blocks are evaluated in decreasing order of a bound on their
+    gain, r log(1 + c/r) with c the leverage (the determinant of I + K is at most
+    that of I + (tr K / r) I), until no unevaluated block can enter the top
+    ``count`` or beat ``floor``. With 1e5 candidates a few hundred get evaluated.
+    """
+    r = blocks.shape[1]
+    bound = np.where(allowed, r * np.log1p(np.maximum(leverages(blocks, M_inv), 0) / r), -np.inf)
+    order = np.argsort(-bound)
+    order = order[np.isfinite(bound[order])]
+    index, value = np.empty(0, dtype=int), np.empty(0)
+    for start in range(0, len(order), chunk):
+        batch = order[start : start + chunk]
+        index = np.concatenate([index, batch])
+        value = np.concatenate([value, gains(blocks[batch], M_inv)])
+        keep = np.argsort(-value)[:count]
+        index, value = index[keep], value[keep]
+        threshold = max(value[-1] if len(value) == count else -np.inf, floor)
+        if start + chunk >= len(order) or bound[order[start + chunk]] <= threshold:
+            break
+    return index, value
+
+
 def _open(problem: BlockProblem, chosen: list) -> np.ndarray:
     """Candidates that may still be added: not chosen, group budget not used up."""
-    used = np.bincount(problem.group[chosen], minlength=len(problem.budgets)) if chosen else np.zeros(len(problem.budgets), int)
+    used = (
+        np.bincount(problem.group[chosen], minlength=len(problem.budgets))
+        if chosen
+        else np.zeros(len(problem.budgets), int)
+    )
     ok = used[problem.group] < np.asarray(problem.budgets)[problem.group]
     ok[chosen] = False
     return ok
@@ -68,14 +105,14 @@ def greedy(problem: BlockProblem, start=()) -> list:
         ok = _open(problem, chosen)
         if not ok.any():
             return chosen
-        g = np.where(ok, gains(problem.blocks, np.linalg.inv(M)), -np.inf)
-        best = int(np.argmax(g))
+        best = int(best_gains(problem.blocks, np.linalg.inv(M), ok)[0][0])
         chosen.append(best)
         M += problem.blocks[best].T @ problem.blocks[best]
 
 
-def swap(problem: BlockProblem, chosen: list, admissible=None, tol: float = 1e-10, max_passes: int = 100,
-         tries: int = 50) -> list:
+def swap(
+    problem: BlockProblem, chosen: list, admissible=None, tol: float = 1e-10, max_passes: int = 100, tries: int = 50
+) -> list:
     """Best-improvement exchanges (Fedorov) within each budget group until none helps.
 
     ``admissible(chosen) -> bool`` restricts the selections swaps may reach (a
@@ -94,22 +131,38 @@ def swap(problem: BlockProblem, chosen: list, admissible=None, tol: float = 1e-1
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
             open_ = problem.group == problem.group[out]
             open_[chosen] = False
-            candidates = np.flatnonzero(open_)
-            if candidates.size == 0:
-                continue
-            total = log_det(reduced) + gains(problem.blocks[candidates], np.linalg.inv(reduced))
-            for k in np.argsort(total)[::-1][:tries]:
-                if total[k] <= best[0]:
+            base = log_det(reduced)
+            candidates, gain = best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries, best[0] - base)
+            for candidate, total in zip(candidates, base + gain):
+                if total <= best[0]:
                     break
-                trial = chosen[:position] + [int(candidates[k])] + chosen[position + 1:]
+                trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]
                 if admissible is None or admissible(trial):
-                    best = (total[k], position, int(candidates[k]))
+                    best = (total, position, int(candidate))
                     break
         if best[1] is None:
             return chosen
         chosen[best[1]] = best[2]
         ok_now = True
     return chosen
+
+
+def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, tries: int = 200) -> list:
+    """The best single exchange that brings in a candidate from ``cover`` and makes the
+    selection admissible (``chosen`` unchanged when none does)."""
+    M = problem.information(chosen) + problem.regulariser()
+    options = []
+    for position, out in enumerate(chosen):
+        reduced = M - problem.blocks[out].T @ problem.blocks[out]
+        allowed = cover & (problem.group == problem.group[out])
+        allowed[chosen] = False
+        index, gain = best_gains(problem.blocks, np.linalg.inv(reduced), allowed, tries)
+        options += [(log_det(reduced) + g, position, int(i)) for i, g in zip(index, gain)]
+    for _, position, candidate in sorted(options, reverse=True):
+        trial = chosen[:position] + [candidate] + chosen[position + 1 :]
+        if admissible(trial):
+            return trial
+    return list(chosen)
 
 
 def effective_independence(problem: BlockProblem) -> list:

@@ -1,4 +1,5 @@
 """Shared bodies and paths for the tests."""
+
 from pathlib import Path
 
 import pytest

@@ -1,4 +1,5 @@
 """The command line: tables, JSON contract, exit codes, nothing overwritten."""
+
 import json
 import subprocess
 import sys
@@ -23,7 +24,9 @@ def test_props_json_has_identify_keys(tmp_path):
     run = massline("props", FIXTURE_MESHES / "featuretype.STL", "--units", "in", "--density", "2700", "--json", out)
     assert run.returncode == 0, run.stderr
     data = json.loads(out.read_text())
-    assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes", "std", "band_hz", "planar"} <= set(data)
+    assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes", "std", "band_hz", "planar"} <= set(
+        data
+    )
     J = np.array(data["inertia_cog"])
     axes = np.array(data["principal_axes"])
     np.testing.assert_allclose(axes @ np.diag(data["principal_moments"]) @ axes.T, J, atol=1e-12)
@@ -47,13 +50,16 @@ def test_output_is_never_overwritten_without_force(tmp_path):
     assert not list(tmp_path.glob(".*tmp"))
 
 
-@pytest.mark.parametrize("args,words", [
-    (("props", FIXTURE_MESHES / "soup.stl", "--units", "m", "--density", "1000"), "triangle soup"),
-    (("props", FIXTURE_MESHES / "plate_holes.STL", "--units", "m", "--density", "2700"), "looks like mm"),
-    (("props", FIXTURE_MESHES / "plate_holes.STL", "--density", "2700"), "--units"),
-    (("props", "nothing.stl", "--units", "m", "--density", "2700"), "does not exist"),
-    (("props", "plate", "--density", "2.7"), "g/cm³"),
-])
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (("props", FIXTURE_MESHES / "soup.stl", "--units", "m", "--density", "1000"), "triangle soup"),
+        (("props", FIXTURE_MESHES / "plate_holes.STL", "--units", "m", "--density", "2700"), "looks like mm"),
+        (("props", FIXTURE_MESHES / "plate_holes.STL", "--density", "2700"), "--units"),
+        (("props", "nothing.stl", "--units", "m", "--density", "2700"), "does not exist"),
+        (("props", "plate", "--density", "2.7"), "g/cm³"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(args, words):
     run = massline(*args)
     assert run.returncode == 2
@@ -65,3 +71,63 @@ def test_demo_runs():
     run = massline("demo")
     assert run.returncode == 0, run.stderr
     assert "Table 1" in run.stdout and "Condition numbers" in run.stdout
+
+
+def test_plan_writes_plan_json(tmp_path):
+    out = tmp_path / "plan"
+    run = massline("plan", "structure", "--out", out)
+    assert run.returncode == 0, run.stderr
+    assert "certified" in run.stdout and "Hammer hits" in run.stdout
+    doc = json.loads((out / "plan.json").read_text())
+    assert {"mesh", "units", "nominal", "sensors", "exciters", "criterion", "predicted_std"} <= set(doc)
+    assert len(doc["sensors"]) == 6 and len(doc["exciters"]) == 3
+    assert set(doc["sensors"][0]) == {"node", "point", "direction", "triaxial"}
+    assert {"log_det", "condition_numbers", "d_efficiency_lower_bound"} <= set(doc["criterion"])
+    assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.95
+    assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes"} <= set(doc["predicted_std"])
+    again = massline("plan", "structure", "--out", out)
+    assert again.returncode == 2 and "--force" in again.stderr
+
+
+def test_plan_reads_back(tmp_path):
+    from massline.placement.plan_file import read_plan
+
+    assert massline("plan", "plate", "--out", tmp_path, "--sensors", "4").returncode == 0
+    sensors, exciters, doc = read_plan(tmp_path / "plan.json")
+    assert len(sensors) == 4 and len(exciters) == 3 and doc["planar"] is True
+    assert doc["predicted_std"]["cog"][2] is None  # unobservable for a plate
+
+
+def test_plan_on_a_real_cad_part_in_inches(tmp_path):
+    run = massline(
+        "plan",
+        FIXTURE_MESHES / "idler_riser.STL",
+        "--units",
+        "in",
+        "--density",
+        "2700",
+        "--candidates",
+        "150",
+        "--triaxial",
+        "2",
+        "--sensors",
+        "3",
+        "--out",
+        tmp_path,
+    )
+    assert run.returncode == 0, run.stderr
+    doc = json.loads((tmp_path / "plan.json").read_text())
+    assert sum(s["triaxial"] is not None for s in doc["sensors"]) == 6
+
+
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (("plan", "structure", "--sensors", "4"), "at least 6"),
+        (("plan", "structure", "--exciters", "2"), "minimum is 3"),
+        (("plan", "structure", "--exclude-box", "-1", "-1", "-1", "1", "1", "1"), "no candidate point is left"),
+    ],
+)
+def test_plan_bad_budgets_exit_2(tmp_path, args, words):
+    run = massline(*args, "--out", tmp_path)
+    assert run.returncode == 2 and words in run.stderr and "Traceback" not in run.stderr

@@ -1,4 +1,5 @@
 """Identified properties do not depend on the frame or the units of the test."""
+
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st

@@ -1,4 +1,5 @@
 """Meshes in: closed forms for the bundled bodies, real CAD files, bad meshes caught."""
+
 import numpy as np
 import pytest
 import trimesh
@@ -21,7 +22,9 @@ def closed_form(body):
         inertias.append(m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b]))
     M = sum(masses)
     G = sum(m * c for m, c in zip(masses, centres)) / M
-    J = sum(Jb + m * ((c - G) @ (c - G) * np.eye(3) - np.outer(c - G, c - G)) for m, c, Jb in zip(masses, centres, inertias))
+    J = sum(
+        Jb + m * ((c - G) @ (c - G) * np.eye(3) - np.outer(c - G, c - G)) for m, c, Jb in zip(masses, centres, inertias)
+    )
     R = np.array(body.rotation)
     return M, R @ G + body.translation, R @ J @ R.T
 
@@ -73,8 +76,15 @@ def test_mass_instead_of_density():
 
 
 # Real CAD files: (file, units) that load, and what a wrong unit says.
-REAL = [("plate_holes.STL", "mm"), ("1002_tray_bottom.STL", "mm"), ("featuretype.STL", "in"),
-        ("idler_riser.STL", "in"), ("angle_block.STL", "in"), ("ADIS16480.STL", "m"), ("busted.STL", "mm")]
+REAL = [
+    ("plate_holes.STL", "mm"),
+    ("1002_tray_bottom.STL", "mm"),
+    ("featuretype.STL", "in"),
+    ("idler_riser.STL", "in"),
+    ("angle_block.STL", "in"),
+    ("ADIS16480.STL", "m"),
+    ("busted.STL", "mm"),
+]
 
 
 @pytest.mark.parametrize("name,units", REAL)
@@ -85,11 +95,19 @@ def test_real_cad_meshes_load(name, units):
     assert np.all(body.mesh.bounds[0] <= n.cog) and np.all(n.cog <= body.mesh.bounds[1])
 
 
-@pytest.mark.parametrize("name,wrong,right", [
-    ("plate_holes.STL", "m", "mm"), ("1002_tray_bottom.STL", "in", "mm"), ("featuretype.STL", "mm", "in"),
-    ("featuretype.STL", "m", "in"), ("idler_riser.STL", "m", "in"), ("angle_block.STL", "m", "in"),
-    ("ADIS16480.STL", "mm", "m"), ("ADIS16480.STL", "in", "m"),
-])
+@pytest.mark.parametrize(
+    "name,wrong,right",
+    [
+        ("plate_holes.STL", "m", "mm"),
+        ("1002_tray_bottom.STL", "in", "mm"),
+        ("featuretype.STL", "mm", "in"),
+        ("featuretype.STL", "m", "in"),
+        ("idler_riser.STL", "m", "in"),
+        ("angle_block.STL", "m", "in"),
+        ("ADIS16480.STL", "mm", "m"),
+        ("ADIS16480.STL", "in", "m"),
+    ],
+)
 def test_wrong_units_are_caught_and_the_likely_ones_named(name, wrong, right):
     with pytest.raises(MasslineError, match=f"it looks like {right}"):
         load_body(FIXTURE_MESHES / name, wrong, density=7850)
@@ -130,8 +148,13 @@ def test_inconsistent_winding_is_refused(tmp_path):
         load_body(tmp_path / "flipped.ply", "m", density=1000)
 
 
-@pytest.mark.parametrize("content,match", [(b"solid x\nfacet normal 0 0", "could not be read|holds no triangles"),
-                                           (b"", "could not be read|holds no triangles")])
+@pytest.mark.parametrize(
+    "content,match",
+    [
+        (b"solid x\nfacet normal 0 0", "could not be read|holds no triangles"),
+        (b"", "could not be read|holds no triangles"),
+    ],
+)
 def test_truncated_or_empty_files(tmp_path, content, match):
     (tmp_path / "bad.stl").write_bytes(content)
     with pytest.raises(MasslineError, match=match):
@@ -145,8 +168,9 @@ def test_missing_file_and_format():
         load_body(__file__, "m", density=1000)
 
 
-@pytest.mark.parametrize("density,match", [(7.85, "g/cm³.*7850"), (-1.0, "not physical"), (1e6, "heavier"),
-                                           (float("nan"), "not physical")])
+@pytest.mark.parametrize(
+    "density,match", [(7.85, "g/cm³.*7850"), (-1.0, "not physical"), (1e6, "heavier"), (float("nan"), "not physical")]
+)
 def test_implausible_densities(density, match):
     with pytest.raises(MasslineError, match=match):
         load_body(BUNDLED["structure"].path, "m", density=density)

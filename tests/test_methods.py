@@ -1,10 +1,18 @@
 """Every method of the paper recovers exact bodies from exact masslines."""
+
 import numpy as np
 import pytest
 from conftest import assert_body_close
 
 from massline.placement import Lines, identify, synthesise
-from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_origin_sensors, structure_sensors
+from massline.placement.hand_layouts import (
+    bracket_exciters,
+    bracket_sensors,
+    plate_table1,
+    structure_exciters,
+    structure_origin_sensors,
+    structure_sensors,
+)
 from massline.placement.plate import identify_plate
 
 # Table 1, "Theoretical data, Expected": M, x_G, y_G, J_x, J_y
@@ -67,7 +75,9 @@ def test_structure_overdetermined_sets(structure, seed):
 
 def test_structure_triaxial_sensors(bracket):
     """Three triaxial accelerometers not in a row see every rigid motion."""
-    sensors = Lines.triaxials([[0.0, 0.0, 0.0], [0.1, 0.0, 0.02], [0.0, 0.07, 0.05]]).transformed(np.eye(3), [0.02, -0.01, 0.03])
+    sensors = Lines.triaxials([[0.0, 0.0, 0.0], [0.1, 0.0, 0.02], [0.0, 0.07, 0.05]]).transformed(
+        np.eye(3), [0.02, -0.01, 0.03]
+    )
     exciters = Lines.along_axes([[0.05, 0.0, 0.0], [0.0, 0.05, 0.01], [0.02, 0.02, 0.0]], [0, 1, 2])
     found = identify(synthesise(bracket, sensors, exciters))
     assert_body_close(found.body, bracket)
@@ -80,7 +90,9 @@ def test_dynamics_method1_with_36_measurements(structure):
     found = identify(data, "method2", "method1")
     assert found.mass is None
     np.testing.assert_allclose(found.cog, structure.cog, atol=1e-9 * structure.radius_of_gyration)
-    np.testing.assert_allclose(found.inertia_cog, structure.inertia_cog, atol=1e-9 * np.abs(structure.inertia_cog).max())
+    np.testing.assert_allclose(
+        found.inertia_cog, structure.inertia_cog, atol=1e-9 * np.abs(structure.inertia_cog).max()
+    )
     assert {"inverse_inertia", "cog"} <= set(found.condition)
     with pytest.raises(Exception, match="does not identify the mass"):
         found.body
@@ -116,11 +128,7 @@ def test_kinematics_difference_form(structure):
 @pytest.mark.parametrize("kin", ["method2", "method2-difference"])
 @pytest.mark.parametrize("dyn", ["method1", "method2", "method3"])
 def test_every_combination_on_the_oblique_bracket(bracket, kin, dyn):
-    sensors = Lines.along_axes([[0.1, 0.0, 0.0], [0.0, 0.07, 0.06], [0.06, 0.0, 0.01], [0.0, 0.07, 0.0],
-                                [0.12, 0.07, 0.01], [0.0, 0.0, 0.06]], [0, 0, 1, 1, 2, 2])
-    exciters = Lines.along_axes([[0.0, 0.03, 0.03], [0.08, 0.0, 0.005], [0.09, 0.05, 0.0],
-                                 [0.0, 0.06, 0.05], [0.03, 0.07, 0.005], [0.02, 0.01, 0.01]], [0, 1, 2, 0, 1, 2])
-    found = identify(synthesise(bracket, sensors, exciters), kin, dyn)
+    found = identify(synthesise(bracket, bracket_sensors(), bracket_exciters()), kin, dyn)
     np.testing.assert_allclose(found.cog, bracket.cog, atol=1e-9 * bracket.radius_of_gyration)
     np.testing.assert_allclose(found.inertia_cog, bracket.inertia_cog, atol=1e-9 * np.abs(bracket.inertia_cog).max())
     if found.mass is not None:

@@ -1,4 +1,5 @@
 """The rigid-body algebra: parameters, mass matrix, principal axes, frames."""
+
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -30,7 +31,9 @@ def bodies(draw):
 @given(bodies())
 def test_theta_mass_matrix_theta_round_trip(body):
     theta = body.theta
-    np.testing.assert_allclose(theta_from_mass_matrix(mass_matrix(theta)), theta, rtol=0, atol=1e-12 * np.abs(theta).max())
+    np.testing.assert_allclose(
+        theta_from_mass_matrix(mass_matrix(theta)), theta, rtol=0, atol=1e-12 * np.abs(theta).max()
+    )
     back = RigidBody.from_theta(theta)
     np.testing.assert_allclose(back.cog, body.cog, atol=1e-12)
     np.testing.assert_allclose(back.inertia_cog, body.inertia_cog, atol=1e-12 * np.abs(body.inertia_cog).max() + 1e-15)
@@ -51,7 +54,9 @@ def test_mass_matrix_is_the_newton_euler_operator(body):
 def test_regressor_and_basis_are_linear_in_theta(body, q):
     theta = body.theta
     np.testing.assert_allclose(mass_matrix_regressor(q) @ theta, body.mass_matrix @ q, atol=1e-9 * np.abs(theta).max())
-    np.testing.assert_allclose(np.einsum("k,kij->ij", theta, mass_matrix_basis()), body.mass_matrix, atol=1e-12 * np.abs(theta).max())
+    np.testing.assert_allclose(
+        np.einsum("k,kij->ij", theta, mass_matrix_basis()), body.mass_matrix, atol=1e-12 * np.abs(theta).max()
+    )
 
 
 @given(bodies())

@@ -1,4 +1,5 @@
 """The paper's singular layouts are refused with the reason, never solved."""
+
 import numpy as np
 import pytest
 
@@ -48,8 +49,17 @@ def test_all_exciters_parallel(structure):
 
 def test_coincident_coordinates_in_the_kinematic_difference_system(structure):
     """Eq. (7): two x-sensors whose y and z coincide give a zero row."""
-    sensors = Lines.along_axes([[0.16, 0.06, 0.006], [0.0, 0.06, 0.006], [0.10, 0.12, 0.006], [0.006, 0.0, 0.12],
-                                [0.15, 0.01, 0.012], [0.11, 0.11, 0.012]], [0, 0, 1, 1, 2, 2])
+    sensors = Lines.along_axes(
+        [
+            [0.16, 0.06, 0.006],
+            [0.0, 0.06, 0.006],
+            [0.10, 0.12, 0.006],
+            [0.006, 0.0, 0.12],
+            [0.15, 0.01, 0.012],
+            [0.11, 0.11, 0.012],
+        ],
+        [0, 0, 1, 1, 2, 2],
+    )
     data = synthesise(structure, sensors, structure_exciters())
     with pytest.raises(SingularLayoutError, match="sensors 0 .* and 1 .* coincident coordinates"):
         method2_difference(data)
