@@ -22,6 +22,16 @@ from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
 
 
+LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
+
+
+def _repeatable_six(parser: argparse.ArgumentParser, flag: str, names: tuple, help: str) -> None:
+    """An option of six numbers in the mesh's units that may be given several times."""
+    parser.add_argument(
+        flag, type=float, nargs=6, action="append", default=[], metavar=names, help=f"{help} (mesh units; repeatable)"
+    )
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_mesh_arguments(parser)
     parser.add_argument("--sensors", type=int, default=6, metavar="N", help="uniaxial accelerometers (default 6)")
@@ -31,37 +41,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--candidates", type=int, default=400, metavar="N", help="area-uniform sample points (default 400)"
     )
     parser.add_argument("--axes", action="store_true", help="also allow global-axis directions (mounting blocks)")
-    parser.add_argument(
-        "--exclude-box",
-        type=float,
-        nargs=6,
-        action="append",
-        default=[],
-        metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
-        help="no candidate in this box (mesh units)",
-    )
+    _repeatable_six(parser, "--exclude-box", ("X0", "Y0", "Z0", "X1", "Y1", "Z1"), "no candidate in this box")
     parser.add_argument("--exclude-faces", type=int, nargs="+", default=[], metavar="F", help="face indices to avoid")
     parser.add_argument(
         "--edge-keepout", type=float, default=0.0, metavar="D", help="distance from sharp edges (mesh units)"
     )
-    parser.add_argument(
-        "--fixed-sensor",
-        type=float,
-        nargs=6,
-        action="append",
-        default=[],
-        metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
-        help="an accelerometer already mounted (mesh units)",
-    )
-    parser.add_argument(
-        "--fixed-exciter",
-        type=float,
-        nargs=6,
-        action="append",
-        default=[],
-        metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
-        help="a hit already decided (mesh units)",
-    )
+    _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted")
+    _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided")
     parser.add_argument("--noise-relative", type=float, default=0.01, help="massline error, fraction (default 0.01)")
     parser.add_argument(
         "--noise-floor", type=float, default=0.02, help="noise floor, fraction of 1/mass (default 0.02)"
@@ -88,7 +74,7 @@ def layout_table(title: str, lines: Lines, nodes) -> Table:
             str(k),
             str(n),
             *(f"{v * 1e3:.1f}" for v in p),
-            np.array2string(d, precision=3, suppress_small=True),
+            np.array2string(np.round(d, 3) + 0.0, precision=3, suppress_small=True),
             "" if t < 0 else str(t),
         )
     return table
