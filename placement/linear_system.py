@@ -16,12 +16,6 @@ from .errors import SingularLayoutError
 RANK_TOLERANCE = 1e-10  # smallest singular value relative to the largest
 
 
-def condition_number(A: np.ndarray) -> float:
-    """2-norm condition number σ_max / σ_min (inf when rank deficient)."""
-    s = np.linalg.svd(A, compute_uv=False)
-    return float(s[0] / s[-1]) if s[-1] > 0 else float("inf")
-
-
 def solve(A: np.ndarray, b: np.ndarray, system: str, why: str | Callable[[], str]) -> tuple[np.ndarray, float]:
     """Solve A x = b (least squares when overdetermined); return x and κ(A).
 

@@ -37,12 +37,6 @@ class Masslines:
             )
         object.__setattr__(self, "values", H)
 
-    def select(self, sensors=slice(None), exciters=slice(None)) -> "Masslines":
-        """The masslines of a subset of sensors and exciters (indices or slices)."""
-        s = np.atleast_1d(np.arange(len(self.sensors))[sensors])
-        e = np.atleast_1d(np.arange(len(self.exciters))[exciters])
-        return Masslines(self.values[np.ix_(s, e)], self.sensors[s], self.exciters[e])
-
     def transformed(self, rotation: np.ndarray, translation: np.ndarray) -> "Masslines":
         """The same measurement described in a frame where x' = R x + t."""
         return Masslines(

@@ -126,10 +126,6 @@ class RigidBody:
         cog = np.asarray(theta[1:4]) / m
         return cls(m, cog, tensor_from_six(theta[4:]) - steiner(m, cog))
 
-    @classmethod
-    def from_mass_matrix(cls, M: np.ndarray) -> "RigidBody":
-        return cls.from_theta(theta_from_mass_matrix(M))
-
     @cached_property
     def inertia_origin(self) -> np.ndarray:
         """J_O = J_G − m [c]×[c]×, kg·m²."""
