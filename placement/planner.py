@@ -218,6 +218,10 @@ class Planner:
             return False
         return True
 
+    def admits(self, sensors: list, exciters: list) -> bool:
+        """Is the selection (candidate indices, fixed lines added) a regular layout?"""
+        return self.regular(*self.layout(sensors, exciters))
+
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
         S, E = self.lines(self.s, sensors), self.lines(self.e, exciters)
@@ -231,11 +235,12 @@ class Planner:
         value = -np.inf
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
-            sensors = settle(sp, sensors if sensors else greedy(sp), lambda c: self.regular(*self.layout(c, exciters)),
-                             self.sensor_cover(exciters))
+            sensors = settle(
+                sp, sensors if sensors else greedy(sp), lambda c: self.admits(c, exciters), self.sensor_cover(exciters)
+            )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
-            new_exciters = settle(ep, start, lambda c: self.regular(*self.layout(sensors, c)), self.exciter_cover)
+            new_exciters = settle(ep, start, lambda c: self.admits(sensors, c), self.exciter_cover)
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
                 break
@@ -314,10 +319,7 @@ def plan_on_candidates(
             best = result
     sensors, exciters, value = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]], best[2]
 
-    def self_regular(s, e):
-        return planner.regular(*planner.layout(s, e))
-
-    if not self_regular(sensors, exciters):
+    if not planner.admits(sensors, exciters):
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate layouts: allow points that are "
             "not all in one line or plane, and hits in several directions"
@@ -329,13 +331,13 @@ def plan_on_candidates(
         ep = planner.exciter_problem(planner.sensor_rows(sensors))
         seconds = max(deadline - time.perf_counter(), 0.0) / 2
         U_s, better_s = certify(
-            sp, sensors, relaxation, lambda c: self_regular(c, exciters), planner.sensor_cover(exciters), seconds
+            sp, sensors, relaxation, lambda c: planner.admits(c, exciters), planner.sensor_cover(exciters), seconds
         )
         U_e, better_e = certify(
-            ep, exciters, relaxation, lambda c: self_regular(sensors, c), planner.exciter_cover, seconds
+            ep, exciters, relaxation, lambda c: planner.admits(sensors, c), planner.exciter_cover, seconds
         )
         improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
-        improved = [c for c in improved if c[0] > value + 1e-9 and planner.regular(*planner.layout(c[1], c[2]))]
+        improved = [c for c in improved if c[0] > value + 1e-9 and planner.admits(c[1], c[2])]
         if not improved or time.perf_counter() > deadline:
             break
         # the certificate's search met a better layout: adopt it, then certify both sides anew
