@@ -49,17 +49,10 @@ def test_all_exciters_parallel(structure):
 
 def test_coincident_coordinates_in_the_kinematic_difference_system(structure):
     """Eq. (7): two x-sensors whose y and z coincide give a zero row."""
-    sensors = Lines.along_axes(
-        [
-            [0.16, 0.06, 0.006],
-            [0.0, 0.06, 0.006],
-            [0.10, 0.12, 0.006],
-            [0.006, 0.0, 0.12],
-            [0.15, 0.01, 0.012],
-            [0.11, 0.11, 0.012],
-        ],
-        [0, 0, 1, 1, 2, 2],
-    )
+    reference = structure_sensors()
+    points = reference.points.copy()
+    points[1] = [0.0, *points[0][1:]]  # the second x-sensor moved along x only
+    sensors = Lines(points, reference.directions)
     data = synthesise(structure, sensors, structure_exciters())
     with pytest.raises(SingularLayoutError, match="sensors 0 .* and 1 .* coincident coordinates"):
         method2_difference(data)
