@@ -76,6 +76,8 @@ def predict_band(model: SuspendedBody, sensors: Lines, exciters: Lines, toleranc
         runs = edges.reshape(-1, 2)
         start, stop = runs[np.argmax(np.log(f[runs[:, 1] - 1]) - np.log(f[runs[:, 0]]))]
         low, high = f[start], f[stop - 1]
+        if stop == len(f) and not model.n_elastic:
+            high = np.inf  # a rigid model has no zone C
     return Band(low, high, float(model.suspension_frequencies.max()), model.first_elastic_frequency, tolerance)
 
 
