@@ -15,7 +15,7 @@ from rich.console import Console
 from massline import __version__
 from massline.placement.errors import MasslineError
 
-from . import demo, plan
+from . import demo, plan, simulate
 from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
 from .tables import body_table
@@ -52,6 +52,10 @@ def build_parser() -> argparse.ArgumentParser:
     plan_parser = sub.add_parser("plan", help="the best sensor and exciter layout on a mesh, certified")
     plan.add_arguments(plan_parser)
     plan_parser.set_defaults(run=plan.run)
+
+    simulate_parser = sub.add_parser("simulate", help="the virtual test of a plan, written as a UFF recording")
+    simulate.add_arguments(simulate_parser)
+    simulate_parser.set_defaults(run=simulate.run)
 
     demo_parser = sub.add_parser("demo", help="the paper's methods on the bundled bodies")
     demo_parser.set_defaults(run=cmd_demo)

@@ -25,11 +25,16 @@ def claim_output(path: str | Path, force: bool) -> Path:
 
 def write_atomic(path: str | Path, text: str, force: bool = False) -> Path:
     """Write ``text`` to ``path`` through a temporary file renamed into place."""
+    return write_atomic_bytes(path, text.encode(), force)
+
+
+def write_atomic_bytes(path: str | Path, data: bytes, force: bool = False) -> Path:
+    """Write ``data`` to ``path`` through a temporary file renamed into place."""
     path = claim_output(path, force)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

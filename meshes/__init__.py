@@ -15,6 +15,8 @@ class Bundled:
     file: str
     density: float  # kg/m³
     description: str
+    youngs: float  # Pa
+    poisson: float
 
     @property
     def path(self) -> Path:
@@ -22,7 +24,7 @@ class Bundled:
 
 
 BUNDLED = {
-    "plate": Bundled("plate.obj", 2700.0, "the paper's aluminium plate, 0.30 × 0.14 × 0.005 m (Table 1 frame)"),
-    "structure": Bundled("structure.obj", 7850.0, "3-D steel structure of the paper's size (≈ 4 kg)"),
-    "bracket": Bundled("bracket.obj", 2700.0, "aluminium L-bracket with oblique principal axes"),
+    "plate": Bundled("plate.obj", 2700.0, "the paper's aluminium plate, 0.30 × 0.14 × 0.005 m (Table 1 frame)", 70e9, 0.33),
+    "structure": Bundled("structure.obj", 7850.0, "3-D steel structure of the paper's size (≈ 4 kg)", 210e9, 0.30),
+    "bracket": Bundled("bracket.obj", 2700.0, "aluminium L-bracket with oblique principal axes", 70e9, 0.33),
 }

@@ -65,7 +65,7 @@ class Effect:
             raise MasslineError(f"effect {name} needs a size: {name}=SIZE[@WHERE] (see 'massline simulate --help')")
         try:
             value = float(size) if has_size else 0.0
-            place = None if not where else "all" if where.strip() == "all" else tuple(int(w) - 1 for w in where.split(","))
+            place = None if not where else "all" if where.strip() == "all" else _indices(where)
         except ValueError:
             raise MasslineError(f"cannot read effect '{text}': write NAME=SIZE@N or NAME=SIZE@all") from None
         if name == "channel_swap" and (not isinstance(place, tuple) or len(place) != 2):
@@ -100,6 +100,11 @@ class Instrumentation:
     mass_points: np.ndarray
     channel_order: np.ndarray
     applied: list = field(default_factory=list)
+
+
+def _indices(where: str) -> tuple[int, ...]:
+    """'3,5' → (2, 4): 1-based numbers on the command line, 0-based indices inside."""
+    return tuple(int(w) - 1 for w in where.split(","))
 
 
 def perpendicular(d: np.ndarray, rng: np.random.Generator) -> np.ndarray:

@@ -9,8 +9,11 @@ elastic modes (mass-normalised). A point r of the body moves by
 and the model's matrices are
 
     M = blockdiag(M_O, I) + Σ_s m_s Ψ(r_s)ᵀ Ψ(r_s)          (added sensor masses)
-    K = blockdiag(K_g, diag ω_r²) + Σ_a Ψ(a)ᵀ K_a Ψ(a)      (support springs, gravity)
-    D = η_s Σ_a Ψ(a)ᵀ K_a Ψ(a) + blockdiag(0, diag η_r ω_r²)   (hysteretic damping)
+    K = blockdiag(K_g + Σ_a P(a)ᵀ K_a P(a), diag ω_r²)        (support springs, gravity)
+    D = blockdiag(η_s Σ_a P(a)ᵀ K_a P(a), diag η_r ω_r²)      (hysteretic damping)
+
+The supports act on the rigid motion only: a cord is many orders softer than
+the body, and its attachment (a bridle apex) need not lie in the solid.
 
 so that the accelerance between a sensor (point r_i, reading vector n_i) and a
 force (point r_j, unit direction d_j) is, as the paper's eq. (14) writes it,
@@ -85,8 +88,8 @@ class SuspendedBody:
         n = 6 + self.n_elastic
         K = np.zeros((n, n))
         for point, k in self.suspension.point_springs(self.loaded):
-            psi = self.shapes(point)[0]
-            K += psi.T @ k @ psi
+            P = point_map(point)
+            K[:6, :6] += P.T @ k @ P
         return K
 
     @cached_property

@@ -77,7 +77,7 @@ class Cord:
     def __post_init__(self):
         object.__setattr__(self, "attachment", np.asarray(self.attachment, dtype=float))
         if not (self.stiffness > 0 and self.length > 0):
-            raise MasslineError(f"a cord needs a positive stiffness and length, got k={self.stiffness}, L={self.length}")
+            raise MasslineError(f"cords need a positive stiffness and length, not k={self.stiffness}, L={self.length}")
 
 
 @dataclass(frozen=True)
@@ -201,3 +201,39 @@ def rigid_suspension_modes(body: RigidBody, suspension: Suspension) -> tuple[np.
     K = suspension.stiffness_matrix(body)
     eigenvalues, shapes = eigh(0.5 * (K + K.T), body.mass_matrix)
     return np.sqrt(np.clip(eigenvalues, 0.0, None)) / (2 * np.pi), shapes
+
+
+def ray_hits(triangles: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Points where the ray origin + t·direction (t ≥ 0) crosses the triangles (k, 3, 3), Möller–Trumbore."""
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    e1, e2 = b - a, c - a
+    p = np.cross(direction, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-14 * np.einsum("ij,ij->i", e1, e1)
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = origin - a
+    u = np.einsum("ij,ij->i", s, p) * inv
+    q = np.cross(s, e1)
+    v = (q @ direction) * inv
+    t = np.einsum("ij,ij->i", e2, q) * inv
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0)
+    return origin + t[hit, None] * direction
+
+
+def point_above(mesh, point: np.ndarray, up=UP) -> tuple[np.ndarray, bool]:
+    """Where a cord over ``point`` (the CoG) is tied, m, and whether that is on the surface.
+
+    The highest surface point straight above; where nothing of the body lies above the
+    CoG, the apex of a bridle of slings: the point above the CoG level with the body's top.
+    """
+    up = np.asarray(up, dtype=float)
+    hits = ray_hits(mesh.triangles, point, up)
+    if len(hits):
+        return hits[np.argmax(hits @ up)], True
+    return point + (np.max(mesh.vertices @ up) - point @ up) * up, False
+
+
+def lowest_points(mesh, up=UP, depth: float = 1e-3) -> np.ndarray:
+    """Vertices within ``depth`` (m) of the body's lowest level along ``up``: where it rests on a pad."""
+    heights = mesh.vertices @ np.asarray(up, dtype=float)
+    return mesh.vertices[heights <= heights.min() + depth]

@@ -80,7 +80,8 @@ def run(
     suspension = suspension or Suspension()
     rng = np.random.default_rng(seed)
     inst = instrument(sensors, exciters, list(effects), rng)
-    masses, points = accelerometer_masses(Lines(inst.sensor_points, sensors.directions, sensors.triaxial), setup.sensor_mass)
+    placed = Lines(inst.sensor_points, sensors.directions, sensors.triaxial)
+    masses, points = accelerometer_masses(placed, setup.sensor_mass)
     model = SuspendedBody(
         body,
         modes,

@@ -1,0 +1,245 @@
+"""``massline simulate PLAN.json --out FILE.uff``: the virtual test of a plan, as a test system would record it.
+
+Also the pre-test check: where the massline band will lie with the planned
+suspension, and a suspension that widens it (``--check`` stops there).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from massline.meshes import BUNDLED
+from massline.placement.errors import MasslineError
+from massline.placement.mesh import BodyMesh, load_body
+from massline.placement.plan_file import read_plan
+from massline.placement.virtual.band import Band, predict_band, recommend_suspension
+from massline.placement.virtual.effects import EFFECTS, Effect
+from massline.placement.virtual.measurement import ImpactTest, Noise
+from massline.placement.virtual.suspended import SuspendedBody
+from massline.placement.virtual.suspension import Cord, Foam, Suspension, lowest_points, point_above
+from massline.placement.virtual.virtual_test import Acquisition, accelerometer_masses
+from massline.placement.virtual.virtual_test import run as run_test
+
+from .output import claim_output, to_json, write_atomic
+
+MATERIALS = {"steel": (210e9, 0.30, 7850.0), "aluminium": (70e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0)}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("plan", metavar="PLAN.json", help="a plan written by 'massline plan'")
+    parser.add_argument("--out", metavar="FILE.uff", help="the recording to write (its truth goes to FILE.truth.json)")
+    parser.add_argument("--check", action="store_true", help="only predict the massline band; write no recording")
+    parser.add_argument("--seed", type=int, default=0, help="seed of noise and effect placement (default 0)")
+    parser.add_argument("--noise", type=float, default=0.01, metavar="REL", help="relative FRF noise (default 0.01)")
+    parser.add_argument("--noise-floor", type=float, default=0.0, metavar="F", help="noise floor, fraction of 1/mass")
+    parser.add_argument(
+        "--suspension",
+        default="cord",
+        metavar="SPEC",
+        help="'cord[:k=N/m,L=m,at=X;Y;Z,loss=η]' (default: a soft 1 m cord tied above the CoG), "
+        "'foam[:k=N/m,shear=r]' or 'none' (free body)",
+    )
+    parser.add_argument(
+        "--effect",
+        action="append",
+        default=[],
+        metavar="NAME=SIZE@WHERE",
+        help=f"an instrumentation effect (repeatable): {', '.join(EFFECTS)}",
+    )
+    parser.add_argument("--sensor-mass", type=float, default=0.0, metavar="KG", help="mass of each accelerometer")
+    parser.add_argument("--impact", type=float, metavar="MS", help="simulate hammer hits with this pulse length (ms)")
+    parser.add_argument("--averages", type=int, default=5, help="hits averaged per exciter (impact route)")
+    parser.add_argument("--fmax", type=float, metavar="HZ", help="bandwidth (default 1.5 × first elastic mode)")
+    parser.add_argument("--lines", type=int, default=2000, help="spectral lines (default 2000)")
+    parser.add_argument("--modes", type=int, default=20, help="elastic modes kept (default 20)")
+    parser.add_argument("--rigid", action="store_true", help="no elastic modes: a rigid body")
+    parser.add_argument("--fe-size", type=float, metavar="M", help="element size of the FE mesh (default: automatic)")
+    parser.add_argument(
+        "--material", metavar="NAME|E,NU", help=f"{', '.join(MATERIALS)}, or Young's modulus (Pa) and Poisson's ratio"
+    )
+    parser.add_argument("--binary", action="store_true", help="write FRFs as binary 58b records")
+    parser.add_argument("--plot", metavar="PNG", help="predicted driving-point FRFs with the band marked")
+    parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
+
+
+def body_of_plan(doc: dict, plan_path: Path) -> BodyMesh:
+    """The plan's mesh: a bundled name, a path as given, or a path beside the plan."""
+    name, units, density = doc.get("mesh"), doc.get("units", "m"), doc.get("density")
+    if name in BUNDLED and not Path(name).exists():
+        return load_body(BUNDLED[name].path, "m", density or BUNDLED[name].density)
+    path = Path(name or "")
+    if not path.exists() and (plan_path.parent / path).exists():
+        path = plan_path.parent / path
+    if not path.is_file():
+        raise MasslineError(f"the plan's mesh '{name}' is not found: run from the folder where it was planned")
+    return load_body(path, units, density)
+
+
+def material_of(text: str | None, body: BodyMesh, mesh_name: str, console: Console):
+    """Young's modulus and Poisson's ratio: given, bundled, or of the closest-density metal (said aloud)."""
+    from massline.placement.virtual.elastic import Material
+
+    if text is None and mesh_name in BUNDLED:
+        return Material(BUNDLED[mesh_name].youngs, BUNDLED[mesh_name].poisson, body.density)
+    if text is None:
+        text = min(MATERIALS, key=lambda k: abs(np.log(MATERIALS[k][2] / body.density)))
+        console.print(f"[yellow]no --material given: assuming {text} from the density {body.density:g} kg/m³[/]")
+    if text in MATERIALS:
+        return Material(*MATERIALS[text][:2], body.density)
+    try:
+        youngs, poisson = (float(v) for v in text.split(","))
+    except ValueError:
+        raise MasslineError(f"--material {text}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)") from None
+    return Material(youngs, poisson, body.density)
+
+
+def _options(text: str) -> dict:
+    try:
+        return {k.strip(): v.strip() for k, v in (item.split("=", 1) for item in text.split(",") if item)}
+    except ValueError:
+        raise MasslineError(f"cannot read suspension options '{text}': write key=value,key=value") from None
+
+
+def suspension_of(spec: str, body: BodyMesh) -> Suspension:
+    """Parse ``--suspension``; defaults follow Appendix A (soft, long, tied above the CoG)."""
+    kind, _, rest = spec.partition(":")
+    options = _options(rest)
+    nominal = body.nominal
+    try:
+        loss = float(options.pop("loss", 0.05))
+        if kind == "none":
+            return Suspension()
+        if kind == "cord":
+            at = options.pop("at", None)
+            point = point_above(body.mesh, nominal.cog)[0] if at is None else np.array(at.split(";"), dtype=float)
+            default = recommend_suspension(SuspendedBody(nominal), point).cords[0]
+            k = float(options.pop("k", default.stiffness))
+            length = float(options.pop("L", default.length))
+            suspension = Suspension(cords=(Cord(point, k, length),), loss_factor=loss)
+        elif kind == "foam":
+            k = float(options.pop("k", nominal.mass * (2 * np.pi * 4.0) ** 2))  # bounce at 4 Hz
+            shear = float(options.pop("shear", 0.5))
+            suspension = Suspension(foam=Foam(lowest_points(body.mesh), k, shear), loss_factor=loss)
+        else:
+            raise MasslineError(f"unknown suspension '{kind}': use cord, foam or none")
+    except MasslineError:
+        raise
+    except ValueError:
+        raise MasslineError(f"cannot read --suspension {spec}: numbers are needed (e.g. cord:k=500,L=1)") from None
+    if options:
+        raise MasslineError(f"--suspension {kind}: unknown option(s) {', '.join(options)}")
+    return suspension
+
+
+def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
+    table = Table(title="Predicted massline band (FRFs within 1 % of the massline)")
+    for col in ("suspension", "top susp. mode (Hz)", "band (Hz)", "1st elastic (Hz)", "width"):
+        table.add_column(col, justify="right")
+    for name, band, _ in rows:
+        width = f"{band.ratio:.1f}×" if band.exists else "no band"
+        span = f"{band.low:.1f} – {band.high:.1f}" if band.exists else "—"
+        table.add_row(name, f"{band.suspension_top:.2f}", span, f"{band.first_elastic:.1f}", width)
+    return table
+
+
+def describe(suspension: Suspension) -> str:
+    if suspension.is_free:
+        return "free"
+    if suspension.foam is not None:
+        return f"foam k={suspension.foam.stiffness:.0f} N/m"
+    c = suspension.cords[0]
+    return f"cord k={c.stiffness:.0f} N/m, L={c.length:g} m at ({', '.join(f'{v * 1e3:.0f}' for v in c.attachment)}) mm"
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    plan_path = Path(args.plan)
+    sensors, exciters, doc = read_plan(plan_path)
+    if not args.check and not args.out:
+        raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
+    outputs = [] if args.check else [Path(args.out), Path(args.out).with_suffix(".truth.json")]
+    outputs += [Path(args.plot)] if args.plot else []
+    for path in outputs:
+        claim_output(path, args.force)
+    effects = tuple(Effect.parse(e) for e in args.effect)
+    body = body_of_plan(doc, plan_path)
+    suspension = suspension_of(args.suspension, body)
+    material = None if args.rigid else material_of(args.material, body, doc.get("mesh"), console)
+    modes = None
+    if material is not None:
+        modes = elastic_modes(body, material, args.fe_size, args.modes, console)
+    nominal = body.nominal
+    added = args.sensor_mass
+    planned = SuspendedBody(nominal, modes, suspension, *accelerometer_masses(sensors, added))
+    rows = [("planned: " + describe(suspension), predict_band(planned, sensors, exciters), suspension)]
+    if not suspension.is_free:
+        advice = recommend_suspension(planned, point_above(body.mesh, nominal.cog)[0])
+        if describe(advice) != describe(suspension):
+            advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
+            rows.append(("recommended: " + describe(advice), predict_band(advised, sensors, exciters), advice))
+    console.print(band_table(rows))
+    if args.plot:
+        from .figures import driving_point_figure
+
+        models = [SuspendedBody(nominal, modes, s, planned.masses, planned.mass_points) for _, _, s in rows]
+        driving_point_figure(
+            args.plot, [(name, model, band) for (name, band, _), model in zip(rows, models)], exciters, args.force
+        )
+        console.print(f"wrote {args.plot}")
+    if args.check:
+        return
+    setup = Acquisition(
+        fmax=args.fmax,
+        lines=args.lines,
+        noise=Noise(args.noise, args.noise_floor),
+        impact=None if args.impact is None else ImpactTest(pulse=args.impact * 1e-3, averages=args.averages),
+        sensor_mass=added,
+    )
+    recording, truth = run_test(nominal, sensors, exciters, modes, suspension, effects, setup, args.seed)
+    truth |= {"plan": str(plan_path), "mesh": doc.get("mesh"), "units": doc.get("units")}
+    if material is not None:
+        truth["fe"] = {
+            "youngs": material.youngs,
+            "poisson": material.poisson,
+            "dofs": modes.n_dofs,
+            "element_size": modes.element_size,
+        }
+    from massline.placement.virtual.uff_export import write_uff
+
+    write_uff(outputs[0], recording, binary=args.binary, force=args.force)
+    write_atomic(outputs[1], to_json(truth), args.force)
+    console.print(
+        f"wrote {outputs[0]} ({len(sensors)} × {len(exciters)} FRFs, {len(recording.frequencies)} lines to "
+        f"{recording.frequencies[-1]:.0f} Hz) and {outputs[1]} (what was simulated, including "
+        f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
+    )
+
+
+def elastic_modes(body: BodyMesh, material, size: float | None, n: int, console: Console):
+    """FE model of the body and its n lowest elastic modes, with a progress bar over the stages."""
+    from massline.placement.virtual.elastic import ElasticBody
+    from massline.placement.virtual.tetmesh import default_size, tetrahedralise
+
+    size = size or default_size(body.mesh)
+    stages = ("meshing", "assembling stiffness", "assembling mass", "solving for modes")
+    with Progress(
+        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+    ) as bar:
+        task = bar.add_task(stages[0], total=len(stages))
+        fe = ElasticBody(*tetrahedralise(body.mesh, size, body.name), material, size)
+        for stage, step in zip(stages[1:], (lambda: fe.stiffness, lambda: fe.mass, lambda: None)):
+            bar.update(task, advance=1, description=stage)
+            step()
+        modes = fe.modes(n)
+        bar.update(task, advance=1)
+    console.print(
+        f"FE model: {fe.n_dofs} DOF, quadratic tetrahedra of {size * 1e3:.1f} mm; elastic modes "
+        + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
+        + " … Hz"
+    )
+    return modes
