@@ -24,7 +24,9 @@ class Bundled:
 
 
 BUNDLED = {
-    "plate": Bundled("plate.obj", 2700.0, "the paper's aluminium plate, 0.30 × 0.14 × 0.005 m (Table 1 frame)", 70e9, 0.33),
+    "plate": Bundled(
+        "plate.obj", 2700.0, "the paper's aluminium plate, 0.30 × 0.14 × 0.005 m (Table 1 frame)", 70e9, 0.33
+    ),
     "structure": Bundled("structure.obj", 7850.0, "3-D steel structure of the paper's size (≈ 4 kg)", 210e9, 0.30),
     "bracket": Bundled("bracket.obj", 2700.0, "aluminium L-bracket with oblique principal axes", 70e9, 0.33),
 }

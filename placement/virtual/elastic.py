@@ -32,9 +32,10 @@ from ..errors import MasslineError
 from .tetmesh import default_size, tetrahedralise
 
 N_RIGID = 6
-INTORDER = 4  # exact for the mass matrix of quadratic tetrahedra (degree 2 + 2)
+INTORDER = 2  # the basis's quadrature, exact for the stiffness: strains are linear (degree 1 + 1)
+MASS_INTORDER = 4  # exact for the mass matrix of quadratic displacements (degree 2 + 2)
 SHIFT = 1e-4  # shift-invert at −SHIFT · E/(ρ L²): below the rigid modes, well conditioned
-RIGID_LEVEL = 1e-6  # an eigenvalue below RIGID_LEVEL · |shift| is a zero-frequency mode
+RIGID_LEVEL = 1e-3  # an eigenvalue below RIGID_LEVEL · |shift| is a zero-frequency mode
 CANDIDATES = 16  # nearest tetrahedra (by centroid) searched for a point before all of them
 FOUND = 1e-12  # a point within this fraction of the element size of a tetrahedron lies in it
 OUTSIDE = 0.1  # a point may lie this fraction of the element size outside the meshed solid
@@ -88,7 +89,7 @@ def mass_form(density: float) -> BilinearForm:
 
 
 def rigid_rows(locations: np.ndarray, components: np.ndarray) -> np.ndarray:
-    """Rows of R: the DOF (location r in m, component c) of u = a_O + α × r, per (a_O, α).
+    """Rows (p, 6) of R, ∂u_c(r)/∂(a_O, α) for u = a_O + α × r, at DOFs of locations r (p, 3), m, and components c (p,).
 
     ∂u_c/∂a_O = e_c and ∂u_c/∂α = r × e_c, since e_c · (α × r) = α · (r × e_c).
     """
@@ -179,12 +180,16 @@ class ElasticModes:
         """
         points = np.atleast_2d(np.asarray(points, dtype=float))
         cells, local = self._locate(points)
-        basis = self.basis
-        values = np.array(
-            [np.asarray(basis.elem.gbasis(basis.mapping, local[:, :, None], k, tind=cells)[0]) for k in range(basis.Nbfun)]
-        )[..., 0]
-        dofs = basis.element_dofs[:, cells]
-        return np.einsum("kcp,kpm->mpc", values, self.shapes[dofs])
+        values = _basis_values(self.basis, cells, local)
+        return np.einsum("kcp,kpm->mpc", values, self.shapes[self.basis.element_dofs[:, cells]])
+
+
+def _basis_values(basis: Basis, cells: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """Values (n_basis, 3, p) of each cell's vector basis functions at reference points local (3, p)."""
+    element, mapping = basis.elem, basis.mapping
+    return np.array(
+        [np.asarray(element.gbasis(mapping, local[:, :, None], k, tind=cells)[0]) for k in range(basis.Nbfun)]
+    )[..., 0]
 
 
 class ElasticBody:
@@ -226,7 +231,7 @@ class ElasticBody:
 
     @cached_property
     def basis(self) -> Basis:
-        """Quadratic vector basis on the tetrahedra, integrating degree 4 exactly."""
+        """Quadratic vector basis on the tetrahedra; its quadrature integrates degree 2 exactly."""
         mesh = MeshTet(np.ascontiguousarray(self.points.T), np.ascontiguousarray(self.tets.T))
         return Basis(mesh, ElementVector(ElementTetP2()), intorder=INTORDER)
 
@@ -241,8 +246,8 @@ class ElasticBody:
 
     @cached_property
     def mass(self) -> scipy.sparse.csr_matrix:
-        """M (n_dofs, n_dofs), kg."""
-        return asm(mass_form(self.material.density), self.basis)
+        """M (n_dofs, n_dofs), kg, integrated exactly (on a basis dropped afterwards: it holds ~300 MB at 50k DOF)."""
+        return asm(mass_form(self.material.density), Basis(self.basis.mesh, self.basis.elem, intorder=MASS_INTORDER))
 
     @cached_property
     def rigid_fields(self) -> np.ndarray:
@@ -265,8 +270,13 @@ class ElasticBody:
         return -SHIFT * (self.material.wave_speed / extent) ** 2
 
     def _solver(self) -> scipy.sparse.linalg.LinearOperator:
-        """(K − σM)⁻¹ by a sparse LU, σ the shift."""
-        lu = scipy.sparse.linalg.splu((self.stiffness - self.shift * self.mass).tocsc(), permc_spec="MMD_AT_PLUS_A")
+        """(K − σM)⁻¹ by a sparse LU without pivoting (K − σM is positive definite), σ the shift."""
+        lu = scipy.sparse.linalg.splu(
+            (self.stiffness - self.shift * self.mass).tocsc(),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
         return scipy.sparse.linalg.LinearOperator((self.n_dofs,) * 2, matvec=lu.solve, dtype=float)
 
     def _deflated(self, vectors: np.ndarray) -> np.ndarray:
@@ -286,6 +296,6 @@ class ElasticBody:
                 "the solid has more than six zero-frequency modes: its tetrahedra form separate pieces; "
                 "mesh a single connected body"
             )
-        basis = self._deflated(vectors[:, order[N_RIGID:]])
-        omega_squared, coefficients = scipy.linalg.eigh(basis.T @ (K @ basis), basis.T @ (M @ basis))
-        return ElasticModes(np.sqrt(omega_squared), basis @ coefficients, self.basis, self.element_size)
+        subspace = self._deflated(vectors[:, order[N_RIGID:]])
+        omega_squared, coefficients = scipy.linalg.eigh(subspace.T @ (K @ subspace), subspace.T @ (M @ subspace))
+        return ElasticModes(np.sqrt(omega_squared), subspace @ coefficients, self.basis, self.element_size)

@@ -1,0 +1,92 @@
+"""Each FRF's massline from its band: a fit that removes the suspension and residual-flexibility tails.
+
+Inside zone B the accelerance of the suspended elastic body is, to the
+first order in each neighbour (Appendix A, eq. 14; mismatch notes A1, A3),
+
+    H(ω) = A + B/ω² + C ω²,
+
+with A the massline (real), B the tail of the suspension modes (K/ω², complex
+with the suspension's damping) and C the residual flexibility of the elastic
+modes above (−ω² Σ φφᵀ/ω_r², complex with their damping). The fit is linear
+in (A, Re B, Im B, Re C, Im C); the scatter of its residual gives each
+massline's standard deviation, from the data and not from an assumed noise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from massline.placement.errors import MasslineError
+
+
+@dataclass(frozen=True, eq=False)
+class BandFit:
+    """Masslines fitted over a band.
+
+    Attributes
+    ----------
+    values : (n_s, n_e) array
+        The masslines A, (m/s²)/N.
+    std : (n_s, n_e) array
+        1-σ of each A from the fit's residual scatter, (m/s²)/N.
+    suspension, flexibility : (n_s, n_e) complex arrays
+        B ((m/s²)/N·(rad/s)²) and C ((m/s²)/N·(rad/s)⁻²): the tails removed.
+    quality : (n_s, n_e) array
+        RMS residual of each fit relative to |A|.
+    bias : (n_s, n_e) array
+        How far the plain band average of Re H sits from A, relative to |A|.
+    """
+
+    values: np.ndarray
+    std: np.ndarray
+    suspension: np.ndarray
+    flexibility: np.ndarray
+    quality: np.ndarray
+    bias: np.ndarray
+
+
+def design_matrix(omega: np.ndarray) -> np.ndarray:
+    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² in (A, Re B, Im B, Re C, Im C), scaled to O(1)."""
+    x = (omega / np.sqrt(omega[0] * omega[-1])) ** 2  # ω²/ω_mid²: keeps the columns comparable
+    zero = np.zeros_like(x)
+    real = np.column_stack([np.ones_like(x), 1 / x, zero, x, zero])
+    imag = np.column_stack([zero, zero, 1 / x, zero, x])
+    return np.vstack([real, imag])
+
+
+def fit_band(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float, weights=None) -> BandFit:
+    """Least-squares fit of A + B/ω² + Cω² to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
+
+    ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF.
+    """
+    keep = (frequencies >= low) & (frequencies <= high)
+    n = int(keep.sum())
+    if n < 8:
+        raise MasslineError(f"the band {low:g}–{high:g} Hz holds {n} spectral lines; at least 8 are needed")
+    omega = 2 * np.pi * frequencies[keep]
+    X = design_matrix(omega)
+    mid2 = omega[0] * omega[-1]
+    H = frf[:, :, keep]
+    Y = np.concatenate([H.real, H.imag], axis=2)  # (n_s, n_e, 2n)
+    w = np.ones_like(Y) if weights is None else np.sqrt(np.concatenate([weights[:, :, keep]] * 2, axis=2))
+    coef = np.empty(Y.shape[:2] + (5,))
+    std = np.empty(Y.shape[:2])
+    rms = np.empty(Y.shape[:2])
+    for i, j in np.ndindex(*Y.shape[:2]):
+        Xw, yw = X * w[i, j, :, None], Y[i, j] * w[i, j]
+        c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
+        r = yw - Xw @ c
+        sigma2 = r @ r / max(len(yw) - 5, 1)
+        cov = sigma2 * np.linalg.pinv(Xw.T @ Xw)
+        coef[i, j], std[i, j] = c, np.sqrt(cov[0, 0])
+        rms[i, j] = np.sqrt(np.mean((Y[i, j] - X @ c) ** 2))
+    A = coef[..., 0]
+    if not np.isfinite(A).all():
+        raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
+    B = (coef[..., 1] + 1j * coef[..., 2]) * mid2
+    C = (coef[..., 3] + 1j * coef[..., 4]) / mid2
+    scale = np.maximum(np.abs(A), 1e-300)
+    plain = H.real.mean(axis=2)
+    return BandFit(A, std, B, C, rms / scale, np.abs(plain - A) / scale)
