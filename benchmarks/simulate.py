@@ -26,7 +26,7 @@ from massline.placement.virtual.elastic import ElasticBody, Material
 from massline.placement.virtual.suspended import SuspendedBody
 from massline.placement.virtual.band import recommend_suspension
 from massline.placement.virtual.suspension import point_above
-from massline.placement.virtual.tetmesh import DOFS_PER_VOLUME, tetrahedralise
+from massline.placement.virtual.tetmesh import size_for_dofs, tetrahedralise
 
 
 def measured(label: str, work):
@@ -55,7 +55,7 @@ def main() -> None:
     args = parser.parse_args()
     body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
     material = Material(BUNDLED["structure"].youngs, BUNDLED["structure"].poisson, body.density)
-    size = (DOFS_PER_VOLUME * body.volume / args.dofs) ** (1 / 3)
+    size = size_for_dofs(body.mesh, args.dofs)
     print(f"structure ({body.nominal.mass:.3f} kg), element size {size * 1e3:.2f} mm, {args.modes} modes")
 
     (points, tets), _ = measured("tetrahedral meshing (netgen)", lambda: tetrahedralise(body.mesh, size))

@@ -28,6 +28,12 @@ def write_atomic(path: str | Path, text: str, force: bool = False) -> Path:
     return write_atomic_bytes(path, text.encode(), force)
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def write_atomic_bytes(path: str | Path, data: bytes, force: bool = False) -> Path:
     """Write ``data`` to ``path`` through a temporary file renamed into place."""
     path = claim_output(path, force)
@@ -35,6 +41,7 @@ def write_atomic_bytes(path: str | Path, data: bytes, force: bool = False) -> Pa
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -43,7 +50,7 @@ def write_atomic_bytes(path: str | Path, data: bytes, force: bool = False) -> Pa
 
 
 def _plain(value):
-    """JSON-ready: arrays to lists, NaN (an unobservable entry) to null."""
+    """JSON-ready: arrays to lists, NaN (an unobservable entry) and ±inf (no bound) to null."""
     if isinstance(value, np.ndarray):
         return _plain(value.tolist())
     if isinstance(value, dict):
@@ -51,7 +58,7 @@ def _plain(value):
     if isinstance(value, (list, tuple)):
         return [_plain(v) for v in value]
     if isinstance(value, (float, np.floating)):
-        return None if math.isnan(value) else float(value)
+        return float(value) if math.isfinite(value) else None
     if isinstance(value, np.integer):
         return int(value)
     return value

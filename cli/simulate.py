@@ -19,7 +19,7 @@ from massline.placement.errors import MasslineError
 from massline.placement.mesh import BodyMesh, load_body
 from massline.placement.plan_file import read_plan
 from massline.placement.virtual.band import Band, predict_band, recommend_suspension
-from massline.placement.virtual.effects import EFFECTS, Effect
+from massline.placement.virtual.effects import EFFECTS, Effect, check_targets
 from massline.placement.virtual.measurement import ImpactTest, Noise
 from massline.placement.virtual.suspended import SuspendedBody
 from massline.placement.virtual.suspension import Cord, Foam, Suspension, lowest_points, point_above
@@ -167,6 +167,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for path in outputs:
         claim_output(path, args.force)
     effects = tuple(Effect.parse(e) for e in args.effect)
+    check_targets(list(effects), len(sensors), len(exciters))
     body = body_of_plan(doc, plan_path)
     suspension = suspension_of(args.suspension, body)
     material = None if args.rigid else material_of(args.material, body, doc.get("mesh"), console)
@@ -179,9 +180,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     rows = [("planned: " + describe(suspension), predict_band(planned, sensors, exciters), suspension)]
     if not suspension.is_free:
         advice = recommend_suspension(planned, point_above(body.mesh, nominal.cog)[0])
-        if describe(advice) != describe(suspension):
-            advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
-            rows.append(("recommended: " + describe(advice), predict_band(advised, sensors, exciters), advice))
+        advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
+        band = predict_band(advised, sensors, exciters)
+        if describe(advice) != describe(suspension) and not band.ratio <= rows[0][1].ratio:
+            rows.append(("recommended: " + describe(advice), band, advice))
     console.print(band_table(rows))
     if args.plot:
         from .figures import driving_point_figure

@@ -120,15 +120,20 @@ def rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
 
 
+def check_targets(effects: list[Effect], n_sensors: int, n_exciters: int) -> None:
+    """Raise a MasslineError for an effect placed on a sensor or exciter the plan does not have."""
+    for effect in effects:
+        n = n_exciters if effect.name in EXCITER_EFFECTS else n_sensors
+        if isinstance(effect.where, tuple) and any(not 0 <= t < n for t in effect.where):
+            what = "exciter" if effect.name in EXCITER_EFFECTS else "sensor"
+            raise MasslineError(f"effect {effect.name}: there is no {what} {max(effect.where) + 1} (the plan has {n})")
+
+
 def _targets(effect: Effect, lines: Lines, rng: np.random.Generator) -> list[int]:
     n = len(lines)
     if effect.where == "all":
         return list(range(n))
-    targets = [int(rng.integers(n))] if effect.where is None else list(effect.where)
-    if any(not 0 <= t < n for t in targets):
-        what = "exciter" if effect.name in EXCITER_EFFECTS else "sensor"
-        raise MasslineError(f"effect {effect.name}: there is no {what} {max(targets) + 1} (the plan has {n})")
-    return targets
+    return [int(rng.integers(n))] if effect.where is None else list(effect.where)
 
 
 def _block(lines: Lines, i: int) -> list[int]:
@@ -139,6 +144,7 @@ def _block(lines: Lines, i: int) -> list[int]:
 
 def instrument(sensors: Lines, exciters: Lines, effects: list[Effect], rng: np.random.Generator) -> Instrumentation:
     """Apply ``effects`` to the planned lines, drawing random places and perpendiculars from ``rng``."""
+    check_targets(effects, len(sensors), len(exciters))
     s_pts, s_vec = sensors.points.copy(), sensors.directions.copy()
     e_pts, e_vec = exciters.points.copy(), exciters.directions.copy()
     masses, mass_points, order, applied = [], [], np.arange(len(sensors)), []

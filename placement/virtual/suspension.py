@@ -24,6 +24,7 @@ from ..rigid_body import RigidBody
 
 GRAVITY = 9.80665  # m/s², standard gravity
 UP = np.array([0.0, 0.0, 1.0])
+MAX_TILT = 2.0  # degrees a body may settle out of level on its supports
 
 
 def point_map(r: np.ndarray) -> np.ndarray:
@@ -134,14 +135,17 @@ class Suspension:
 
         The least-norm solution of the six equilibrium equations: for equal
         foam springs it is the linear-spring solution; for a single cord it
-        requires the attachment straight above the CoG.
+        requires the attachment straight above the CoG, within the MAX_TILT
+        the body would settle to (a small tilt leaves the modes unchanged).
         """
         points, directions = self.supports()
         wrenches = np.vstack([directions.T, np.cross(points - body.cog, directions).T])
         weight = np.concatenate([body.mass * GRAVITY * self.up, np.zeros(3)])
         tensions, *_ = np.linalg.lstsq(wrenches, weight, rcond=None)
-        unbalanced = np.linalg.norm(wrenches @ tensions - weight) / np.linalg.norm(weight)
-        if unbalanced > 1e-6:
+        lever = np.linalg.norm(points - body.cog, axis=1).max()
+        unbalanced = wrenches @ tensions - weight
+        tilt = np.linalg.norm(unbalanced[3:]) / (body.mass * GRAVITY * lever)  # sine of the tilt it causes
+        if np.linalg.norm(unbalanced[:3]) > 1e-6 * weight[:3] @ self.up or tilt > np.sin(np.radians(MAX_TILT)):
             raise MasslineError(
                 "the supports cannot hold the body level: attach a single cord straight above the CoG "
                 f"(at x={body.cog[0]:.4g}, y={body.cog[1]:.4g} m) or use several cords around it"
