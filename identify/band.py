@@ -2,8 +2,8 @@
 
 A resonance shows in the FRF matrix as a run of frequencies where the
 imaginary part dominates (the phase turns through 90° at every resonance of a
-lightly damped mode, while the massline itself is real) or where the level
-‖H(f)‖ leaves the massline's level (a resonance too narrow for the frequency
+lightly damped mode, while the massline itself is real) or where the matrix
+Re H(f) departs from its level in the quietest stretch (a resonance too narrow for the frequency
 resolution still lifts or drops its neighbours). The band is the widest gap,
 in log frequency, between such runs, kept clear of both sides by margins: the
 band fit (:mod:`.massline_fit`) removes the tails of the suspension (∝ 1/ω²)
@@ -19,7 +19,7 @@ import numpy as np
 from massline.placement.errors import MasslineError
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance
-OFF_LEVEL = 0.25  # relative departure of ‖H‖ from the band's level that marks a disturbed line
+OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbed line
 ABOVE_SUSPENSION = 3.0  # band starts this many times above the top suspension resonance
 BELOW_ELASTIC = 3.0  # and ends this many times below the first elastic resonance
 MIN_LINES = 8
@@ -72,9 +72,9 @@ def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
     phase = imaginary_fraction(frf) > RESONANT
     k, tops, bottoms = widest_gap(frequencies, runs_of(frequencies, phase))
     quiet = (frequencies > tops[k]) & (frequencies < bottoms[k])
-    level = np.linalg.norm(frf.real, axis=(0, 1))
-    reference = np.median(level[quiet]) if quiet.any() else np.median(level)
-    return phase | (np.abs(level / reference - 1) > OFF_LEVEL)
+    reference = np.median(frf.real[:, :, quiet] if quiet.any() else frf.real, axis=2)
+    departure = np.linalg.norm(frf.real - reference[:, :, None], axis=(0, 1)) / np.linalg.norm(reference)
+    return phase | (departure > OFF_LEVEL)
 
 
 def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Zones:

@@ -39,16 +39,20 @@ class NoiseModel:
         return np.sqrt((self.relative * H) ** 2 + (self.floor / mass) ** 2)
 
 
-def weighted_sensitivities(
-    model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, noise: NoiseModel
-) -> np.ndarray:
-    """g_ij / σ_ij for every pair, shape (n_sensors, n_exciters, p)."""
+def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray):
+    """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model."""
     Minv = model.mass_matrix_inverse
     U = sensor_coords @ Minv  # u_i (M symmetric)
     V = exciter_coords @ Minv  # v_j
     Y = np.einsum("kab,jb->jak", model.basis, V)  # Y(v_j): (n_e, q, p)
-    G = -np.einsum("ia,jak->ijk", U, Y)
-    H = U @ exciter_coords.T
+    return -np.einsum("ia,jak->ijk", U, Y), U @ exciter_coords.T
+
+
+def weighted_sensitivities(
+    model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, noise: NoiseModel
+) -> np.ndarray:
+    """g_ij / σ_ij for every pair, shape (n_sensors, n_exciters, p)."""
+    G, H = sensitivities(model, sensor_coords, exciter_coords)
     return G / noise.sigma(H, model.nominal.mass)[:, :, None]
 
 

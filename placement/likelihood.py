@@ -17,7 +17,7 @@ from .model import RigidModel
 from .rigid_body import RigidBody
 
 
-def _start(data: Masslines, planar: bool) -> RigidBody:
+def starting_body(data: Masslines, planar: bool) -> RigidBody:
     found = identify(data, "plate" if planar else "method2", "plate" if planar else "method3")
     if not planar:
         return found.body
@@ -31,7 +31,7 @@ def maximum_likelihood(
     data: Masslines, noise: NoiseModel, planar: bool = False, iterations: int = 20, tol: float = 1e-12
 ) -> tuple[RigidBody, np.ndarray, RigidModel]:
     """The weighted least-squares body, the covariance of its scaled parameters, and its model."""
-    model = RigidModel(_start(data, planar), planar)
+    model = RigidModel(starting_body(data, planar), planar)
     s, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
     sigma = noise.sigma(data.values, model.nominal.mass)
     theta = model.theta

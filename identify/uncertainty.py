@@ -1,0 +1,77 @@
+"""1-σ of every identified property, from the data: information and bootstrap over the lines.
+
+Two estimates, and the larger is reported for each property:
+
+* the inverse information at the estimate, with each massline's σ from its
+  band fit and scaled by the reduced χ² of the fit over all masslines;
+* a bootstrap over the sensor lines: the sensors are drawn with replacement
+  and the estimate is repeated; its spread carries what differs from sensor
+  to sensor (transverse sensitivity, mounting) that no per-FRF scatter shows.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from massline.placement.accuracy import predicted_std, property_vector
+from massline.placement.errors import MasslineError
+from massline.placement.masslines import Masslines
+
+from .estimator import Estimate, estimate
+
+
+def std_from_vector(s: np.ndarray) -> dict:
+    """identify's std keys from the standard deviations of ``property_vector`` entries."""
+    return {
+        "mass": s[0],
+        "cog": s[1:4],
+        "inertia_cog": s[4:13].reshape(3, 3),
+        "principal_moments": s[13:16],
+        "principal_axes": s[16:25].reshape(3, 3).T,
+    }
+
+
+def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Principal axes flipped to point like the reference's (an axis has no sign)."""
+    v = vector.copy()
+    for k in range(3):
+        axis, ref = v[16 + 3 * k : 19 + 3 * k], reference[16 + 3 * k : 19 + 3 * k]
+        if axis @ ref < 0:
+            v[16 + 3 * k : 19 + 3 * k] = -axis
+    return v
+
+
+def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, seed: int = 0) -> np.ndarray:
+    """Property vectors of ``draws`` re-estimates on sensors drawn with replacement."""
+    rng = np.random.default_rng(seed)
+    reference = property_vector(result.body, result.model.planar)
+    samples = []
+    for _ in range(draws):
+        pick = rng.integers(len(data.sensors), size=len(data.sensors))
+        try:
+            again = estimate(
+                Masslines(data.values[pick], data.sensors[pick], data.exciters),
+                sigma[pick],
+                result.model.planar,
+                iterations=8,
+            )
+        except (MasslineError, np.linalg.LinAlgError):
+            continue  # a draw whose sensors cannot see every motion
+        samples.append(aligned(property_vector(again.body, result.model.planar), reference))
+    return np.array(samples)
+
+
+def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
+    """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys), the larger of the two."""
+    informed = predicted_std(result.model, np.linalg.inv(result.covariance))
+    samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, 25))
+    if len(samples) < max(draws // 2, 2):
+        return informed
+    spread = std_from_vector(samples.std(axis=0, ddof=1))
+    combined = {k: np.fmax(informed[k], spread[k]) for k in spread}
+    axes_deg = np.degrees(np.sqrt(np.sum(np.asarray(spread["principal_axes"]) ** 2, axis=0)))
+    combined["principal_axes_deg"] = np.fmax(informed["principal_axes_deg"], axes_deg)
+    if result.model.planar:
+        for key in combined:
+            combined[key] = np.where(np.isnan(informed[key]), np.nan, combined[key])
+    return combined

@@ -1,0 +1,120 @@
+"""Post-test identification: band, band fit, weighted consistent estimator, the identify command."""
+
+import json
+
+import numpy as np
+import pytest
+from conftest import bundled
+from test_cli import massline
+
+from massline.identify.band import find_band
+from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
+from massline.identify.massline_fit import fit_band
+from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines, synthesise
+from massline.placement.model import RigidModel
+from massline.placement.virtual.measurement import Noise
+from massline.placement.virtual.suspension import Cord, Suspension
+from massline.placement.virtual.uff_export import write_uff
+from massline.placement.virtual.virtual_test import Acquisition, run
+
+
+@pytest.fixture(scope="module")
+def structure():
+    return bundled("structure").nominal
+
+
+def test_noiseless_free_rigid_test_identifies_exactly(structure, tmp_path):
+    rec, _ = run(structure, structure_sensors(), structure_exciters(), setup=Acquisition(100.0, 200, Noise(0, 0)))
+    path = tmp_path / "exact.uff"
+    write_uff(path, rec)
+    out = tmp_path / "id.json"
+    result = massline("identify", path, "--band", "5", "95", "--json", out, "--bootstrap", "0")
+    assert result.returncode == 0, result.stderr
+    found = json.loads(out.read_text())
+    assert found["mass"] == pytest.approx(structure.mass, rel=1e-9)
+    np.testing.assert_allclose(found["cog"], structure.cog, atol=1e-9 * structure.radius_of_gyration)
+    np.testing.assert_allclose(found["inertia_cog"], structure.inertia_cog, atol=1e-9 * structure.principal_moments[2])
+    assert found["planar"] is False and found["band_hz"] == [5.0, 95.0]
+
+
+def test_band_fit_removes_suspension_and_flexibility_tails():
+    f = np.linspace(2.0, 200.0, 400)
+    w = 2 * np.pi * f
+    A = np.array([[0.3, -0.1], [0.05, 0.2]])
+    H = A[:, :, None] + (400.0 * (1 + 0.05j)) / w**2 * np.ones((2, 2, 1)) - 2e-7 * w**2 * np.ones((2, 2, 1))
+    fit = fit_band(f, H, 10.0, 150.0)
+    np.testing.assert_allclose(fit.values, A, atol=1e-12)
+    assert fit.bias.max() > 0.01  # a plain average would not
+
+
+def test_found_band_lies_between_suspension_and_elastic_resonances(structure):
+    body = bundled("structure")
+    cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
+    rec, truth = run(structure, structure_sensors(), structure_exciters(), None, cord, (), Acquisition(200.0, 2000))
+    zones = find_band(rec.frequencies, rec.frf)
+    assert 2.5 * max(truth["suspension"]["modes_hz"]) <= zones.low < 20.0
+    assert zones.high == pytest.approx(200.0)
+    del body
+
+
+@pytest.mark.slow
+def test_realistic_virtual_test_meets_the_accuracy(structure, tmp_path):
+    """Suspension, FE modes, 1 % noise: mass 0.3 %, CoG 1 mm, moments 1 % (no transverse sensitivity)."""
+    from massline.placement.virtual.elastic import ElasticBody, Material
+
+    mesh = bundled("structure").mesh
+    modes = ElasticBody.from_mesh(mesh, Material(210e9, 0.3, 7850.0)).modes(12)
+    cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
+    rec, _ = run(structure, structure_sensors(), structure_exciters(), modes, cord, (), Acquisition(400.0, 4000), 7)
+    path = tmp_path / "real.uff"
+    write_uff(path, rec)
+    out = tmp_path / "id.json"
+    result = massline("identify", path, "--json", out, "--bootstrap", "20")
+    assert result.returncode == 0, result.stderr
+    found = json.loads(out.read_text())
+    assert found["mass"] == pytest.approx(structure.mass, rel=0.003)
+    assert np.abs(np.array(found["cog"]) - structure.cog).max() < 1e-3
+    np.testing.assert_allclose(found["principal_moments"], structure.principal_moments, rtol=0.01)
+    assert found["std"]["mass"] > 0 and abs(found["mass"] - structure.mass) < 3 * found["std"]["mass"]
+
+
+def test_plate_data_is_planar_with_null_entries(tmp_path):
+    plate = bundled("plate").nominal
+    sensors, exciters = plate_table1()
+    rec, _ = run(plate, sensors, exciters, setup=Acquisition(100.0, 200, Noise(0, 0)))
+    path = tmp_path / "plate.uff"
+    write_uff(path, rec)
+    out = tmp_path / "id.json"
+    assert massline("identify", path, "--band", "5", "95", "--json", out, "--bootstrap", "0").returncode == 0
+    found = json.loads(out.read_text())
+    assert found["planar"] is True and found["cog"][2] is None and found["inertia_cog"][2][2] is None
+    assert found["mass"] == pytest.approx(plate.mass, rel=1e-9)
+
+
+def test_consistency_constraint_keeps_the_pseudo_inertia_positive(structure):
+    model = RigidModel(structure)
+    assert is_consistent(model.theta, model.scale[-1])
+    wild = np.zeros(10)
+    wild[4] = -5 * structure.inertia_origin[0, 0] / model.scale[4]  # would make J_xx negative
+    step = constrained_step(np.eye(10), wild, model.theta, model)
+    assert np.linalg.eigvalsh(pseudo_inertia(model.theta + model.scale * step)).min() > -1e-9
+
+
+def test_weighted_estimate_is_exact_on_exact_data(structure):
+    rng = np.random.default_rng(5)
+    sensors = Lines(rng.normal(size=(9, 3)) * 0.1, rng.normal(size=(9, 3)))
+    data = synthesise(structure, sensors, structure_exciters())
+    sigma = 0.01 * np.abs(data.values) + 1e-3
+    found = estimate(Masslines(data.values, sensors, data.exciters), sigma).body
+    assert found.mass == pytest.approx(structure.mass, rel=1e-12)
+
+
+def test_singular_layout_is_refused(structure, tmp_path):
+    parallel = Lines(np.random.default_rng(1).normal(size=(6, 3)) * 0.1, np.tile([0.0, 0.0, 1.0], (6, 1)))
+    rec, _ = run(structure, parallel, structure_exciters(), setup=Acquisition(100.0, 100, Noise(0, 0)))
+    path = tmp_path / "bad.uff"
+    write_uff(path, rec)
+    result = massline("identify", path, "--band", "5", "95")
+    assert result.returncode == 2 and "Traceback" not in result.stderr
