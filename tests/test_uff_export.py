@@ -9,7 +9,8 @@ from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.virtual import uff_export
 from massline.placement.virtual.recording import Recording
-from massline.placement.virtual.uff_export import line_from_code, uff_layout, write_uff
+from massline.placement.virtual.uff_export import write_uff
+from massline.placement.virtual.uff_layout import line_from_code, uff_layout
 
 ROTATED = Rotation.from_euler("xyz", [20, -35, 50], degrees=True).as_matrix()
 LEFT_HANDED = Rotation.from_euler("zyx", [-70, 15, 110], degrees=True).as_matrix() @ np.diag([1.0, 1.0, -1.0])
