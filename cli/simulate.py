@@ -182,7 +182,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         advice = recommend_suspension(planned, point_above(body.mesh, nominal.cog)[0])
         advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
         band = predict_band(advised, sensors, exciters)
-        if describe(advice) != describe(suspension) and not band.ratio <= rows[0][1].ratio:
+        if band.wider_than(rows[0][1]):
             rows.append(("recommended: " + describe(advice), band, advice))
     console.print(band_table(rows))
     if args.plot:

@@ -46,6 +46,16 @@ class Band:
     def exists(self) -> bool:
         return bool(np.isfinite(self.low) and self.high > self.low)
 
+    def wider_than(self, other: "Band") -> bool:
+        """Wider in log frequency; between two bands open at the top, the one starting lower."""
+        if not self.exists:
+            return False
+        if not other.exists:
+            return True
+        if np.isinf(self.high) and np.isinf(other.high):
+            return self.low < other.low
+        return self.ratio > other.ratio
+
     @property
     def ratio(self) -> float:
         """high/low: how many times wider than a point the band is (nan if none)."""

@@ -1,0 +1,87 @@
+"""Read and identify 1,000 FRFs × 2,000 lines; beside a plain pyuff read of the same file.
+
+A virtual test of the bundled structure with 334 accelerometers × 3 hits (1,002 FRFs,
+2,000 lines, ascii 58) is written once; then it is read by massline's reader, the
+band is found, every FRF is fitted and the properties are estimated (with a
+bootstrap of 100 draws), and the same file is read by ``pyuff.UFF(path).read_sets()``
+alone (the baseline). Prints times, peak Python memory (tracemalloc) and ratios.
+
+    python benchmarks/identify.py [--sensors 334] [--binary]
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+import pyuff
+
+from massline.identify.band import find_band
+from massline.identify.estimator import estimate
+from massline.identify.massline_fit import fit_band
+from massline.identify.uff import read_uff, to_recording
+from massline.identify.uncertainty import property_std
+from massline.meshes import BUNDLED
+from massline.placement.hand_layouts import structure_exciters
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines
+from massline.placement.mesh import load_body
+from massline.placement.virtual.suspension import Cord, Suspension
+from massline.placement.virtual.uff_export import write_uff
+from massline.placement.virtual.virtual_test import Acquisition, run
+
+
+def measured(label: str, work):
+    tracemalloc.start()
+    start = time.perf_counter()
+    result = work()
+    seconds = time.perf_counter() - start
+    peak = tracemalloc.get_traced_memory()[1] / 2**20
+    tracemalloc.stop()
+    print(f"{label:<44} {seconds:8.2f} s   peak {peak:8.1f} MiB")
+    return result, seconds
+
+
+def surface_lines(mesh, n: int, rng) -> Lines:
+    faces = rng.choice(len(mesh.faces), n, p=mesh.area_faces / mesh.area)
+    points = np.einsum("nk,nkd->nd", rng.dirichlet(np.ones(3), n), mesh.triangles[faces])
+    return Lines(points, mesh.face_normals[faces])
+
+
+def identify_file(path: Path):
+    recording = to_recording(read_uff(path))
+    zones = find_band(recording.frequencies, recording.frf)
+    fit = fit_band(recording.frequencies, recording.frf, zones.low, zones.high)
+    data = Masslines(fit.values, recording.sensors, recording.exciters)
+    result = estimate(data, fit.std)
+    return result, property_std(data, fit.std, result, draws=100)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sensors", type=int, default=334)
+    parser.add_argument("--binary", action="store_true")
+    args = parser.parse_args()
+    body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
+    nominal = body.nominal
+    sensors = surface_lines(body.mesh, args.sensors, np.random.default_rng(0))
+    cord = Suspension(cords=(Cord(nominal.cog + [0, 0, 0.02], nominal.mass * 9.81 / 0.25, 1.0),))
+    recording, _ = run(nominal, sensors, structure_exciters(), None, cord, (), Acquisition(200.0, 2000), 1)
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "big.uff"
+        write_uff(path, recording, binary=args.binary)
+        n_frf = recording.frf.shape[0] * recording.frf.shape[1]
+        print(f"{n_frf} FRFs × {recording.frf.shape[2]} lines, {path.stat().st_size / 2**20:.0f} MiB on disk")
+        _, plain = measured("baseline: pyuff read_sets", lambda: pyuff.UFF(str(path)).read_sets())
+        _, ours_read = measured("massline read_uff + to_recording", lambda: to_recording(read_uff(path)))
+        (result, std), ours = measured("massline read + band + fits + estimate + 1-σ", lambda: identify_file(path))
+    print(f"read: {plain / ours_read:.2f}× pyuff's speed; whole identification {ours / plain:.2f}× a pyuff read")
+    print(f"mass {result.body.mass:.5f} ± {std['mass']:.5f} kg (true {nominal.mass:.5f})")
+
+
+if __name__ == "__main__":
+    main()
