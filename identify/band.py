@@ -67,12 +67,21 @@ def widest_gap(frequencies: np.ndarray, runs: np.ndarray) -> tuple[int, np.ndarr
     return int(np.argmax(np.log(bottoms) - np.log(tops))), tops, bottoms
 
 
+def log_spaced(frequencies: np.ndarray, where: np.ndarray, count: int = 200) -> np.ndarray:
+    """Indices of lines spread evenly in log frequency over ``where`` (all lines if none):
+    a median over them weighs each decade alike, not the top decade most as a linear axis does."""
+    index = np.flatnonzero(where) if where.any() else np.arange(len(frequencies))
+    f = frequencies[index]
+    targets = np.geomspace(max(f[0], 1e-12), f[-1], count)
+    return np.unique(index[np.clip(np.searchsorted(f, targets), 0, len(index) - 1)])
+
+
 def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
     """Lines inside a resonance: imaginary-dominated, or off the level of the quietest stretch."""
     phase = imaginary_fraction(frf) > RESONANT
     k, tops, bottoms = widest_gap(frequencies, runs_of(frequencies, phase))
     quiet = (frequencies > tops[k]) & (frequencies < bottoms[k])
-    reference = np.median(frf.real[:, :, quiet] if quiet.any() else frf.real, axis=2)
+    reference = np.median(frf.real[:, :, log_spaced(frequencies, quiet)], axis=2)
     departure = np.linalg.norm(frf.real - reference[:, :, None], axis=(0, 1)) / np.linalg.norm(reference)
     return phase | (departure > OFF_LEVEL)
 

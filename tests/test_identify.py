@@ -50,13 +50,11 @@ def test_band_fit_removes_suspension_and_flexibility_tails():
 
 
 def test_found_band_lies_between_suspension_and_elastic_resonances(structure):
-    body = bundled("structure")
     cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
     rec, truth = run(structure, structure_sensors(), structure_exciters(), None, cord, (), Acquisition(200.0, 2000))
     zones = find_band(rec.frequencies, rec.frf)
     assert 2.5 * max(truth["suspension"]["modes_hz"]) <= zones.low < 20.0
     assert zones.high == pytest.approx(200.0)
-    del body
 
 
 @pytest.mark.slow
