@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 import pyuff
-from conftest import SHARED
 from scipy.spatial.transform import Rotation
 
 from massline.identify.frf_kind import units
@@ -13,7 +12,6 @@ from massline.placement.lines import Lines
 from massline.placement.virtual.recording import Recording
 from massline.placement.virtual.uff_export import write_uff
 
-FIXTURES = SHARED / "fixtures" / "uff"
 ROTATED = Rotation.from_euler("xyz", [20, -35, 50], degrees=True).as_matrix()
 FREQUENCIES = 3.0 + 0.5 * np.arange(395)  # Hz, 3-200
 SENSORS = [(1, 1), (2, 2), (3, 3)]  # (node, code) of the synthetic files, all nodes in the global frame
