@@ -1,11 +1,13 @@
 """Post-test identification: band, band fit, weighted consistent estimator, the identify command."""
 
 import json
+import re
 
 import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
+from test_uff_reader import BAD
 
 from massline.identify.band import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
@@ -116,3 +118,15 @@ def test_singular_layout_is_refused(structure, tmp_path):
     write_uff(path, rec)
     result = massline("identify", path, "--band", "5", "95")
     assert result.returncode == 2 and "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_identify_command_refuses_bad_files_in_one_line(tmp_path, case):
+    build, words = BAD[case]
+    path, content = build(tmp_path)
+    if content is not None:
+        path.write_bytes(content)
+    result = massline("identify", path)
+    assert result.returncode == 2, result.stderr
+    assert re.search(words, result.stderr) and "Traceback" not in result.stderr
+    assert result.stderr.count("\n") == 1
