@@ -10,9 +10,15 @@ have a positive definite pseudo-inertia matrix (Wensing, Kim & Slotine 2017)
 linear in θ; when a step leaves that cone it is taken again as the
 least-squares step subject to P ⪰ ε I, solved with cvxpy.
 
-The covariance is the inverse information at the solution, scaled up by the
-reduced χ² when the residuals are larger than the band fits said (model
-errors such as transverse sensitivity show up that way).
+Accelerometers read a few per cent across their axis (transverse sensitivity,
+mounting misalignment: indistinguishable in the data). Each channel's two
+transverse components are estimated with θ under a Gaussian prior of the
+datasheet's size; with several exciters per sensor they are well determined,
+and leaving them out biases the properties by several per cent.
+
+The covariance is the inverse information at the solution (data and prior),
+scaled up by the reduced χ² when the residuals are larger than the band fits
+said.
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody, tensor_from_six
 
 CONSISTENCY_MARGIN = 1e-9  # smallest eigenvalue of P kept, relative to m L²
+TRANSVERSE = 0.03  # prior 1-σ of an accelerometer's transverse sensitivity (datasheets: 3–5 %, paper §3)
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,6 +55,8 @@ class Estimate:
         H_measured − H_model, (m/s²)/N.
     constrained : bool
         Whether the physical-consistency constraint was active.
+    transverse : (n_s, 3) array
+        Each channel's estimated transverse reading (the part of its reading vector ⊥ its axis).
     """
 
     body: RigidBody
@@ -56,6 +65,7 @@ class Estimate:
     chi2: float
     residual: np.ndarray
     constrained: bool
+    transverse: np.ndarray
 
 
 def pseudo_inertia(theta: np.ndarray) -> np.ndarray:
@@ -73,40 +83,86 @@ def is_consistent(theta: np.ndarray, scale: float) -> bool:
 
 
 def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: RigidModel) -> np.ndarray:
-    """argmin ‖J δ − r‖² subject to P(θ + scale·δ) ⪰ ε I (δ in scaled parameters)."""
+    """argmin ‖J δ − r‖² subject to P(θ + scale·δ[:p]) ⪰ ε I (δ in scaled parameters, then any others)."""
     import cvxpy as cp
 
-    delta = cp.Variable(model.p)
+    delta = cp.Variable(J.shape[1])
     P = sum(pseudo_inertia(np.eye(10)[k] * model.scale[k]) * delta[k] for k in range(model.p))
     P = P + pseudo_inertia(theta)
     epsilon = CONSISTENCY_MARGIN * model.scale[-1]
     problem = cp.Problem(cp.Minimize(cp.sum_squares(J @ delta - r)), [(P + P.T) / 2 >> epsilon * np.eye(4)])
-    problem.solve(solver=cp.SCS, eps=1e-10, max_iters=20000)
+    problem.solve(solver=cp.CLARABEL)
     return np.asarray(delta.value)
 
 
-def estimate(data: Masslines, sigma: np.ndarray, planar: bool = False, iterations: int = 30) -> Estimate:
-    """Weighted, consistent least squares of all masslines; σ (n_s, n_e) in (m/s²)/N."""
+def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
+    """T_i (n, 3, 2): two unit vectors ⊥ each direction d_i, the axes a sensor's transverse reading lies on."""
+    helper = np.eye(3)[np.argmin(np.abs(directions), axis=1)]
+    t1 = np.cross(directions, helper)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    return np.stack([t1, np.cross(directions, t1)], axis=2)
+
+
+def weighted_system(model, s, e, data, sigma, T, points, tilt, transverse):
+    """Jacobian and residual of the weighted masslines, with the transverse readings' prior rows.
+
+    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d'), linear in
+    τ_i, so ∂H_ij/∂τ_ik = (t_k, r_i × t_k)ᵀ M⁻¹ w_j; the prior τ_ik ~ N(0, transverse²)
+    adds the rows τ_ik / transverse.
+    """
+    G, H = sensitivities(model, s, e)
+    rows = [(G / sigma[:, :, None]).reshape(-1, model.p)]
+    residual = [((data - H) / sigma).ravel()]
+    if T is not None:
+        n_s, n_e = H.shape
+        lines = np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)  # (n_s, 6, 2)
+        V = np.linalg.solve(model.mass_matrix(model.theta), e.T)
+        D = np.einsum("nak,aj->njk", lines, V) / sigma[:, :, None]  # (n_s, n_e, 2)
+        block = np.zeros((n_s, n_e, n_s, 2))
+        block[np.arange(n_s), :, np.arange(n_s)] = D
+        rows = [np.hstack([rows[0], block.reshape(n_s * n_e, 2 * n_s)])]
+        rows.append(np.hstack([np.zeros((2 * n_s, model.p)), np.eye(2 * n_s) / transverse]))
+        residual.append(-tilt.ravel() / transverse)
+    return np.vstack(rows), np.concatenate(residual), H
+
+
+def estimate(
+    data: Masslines, sigma: np.ndarray, planar: bool = False, transverse: float = TRANSVERSE, iterations: int = 40
+) -> Estimate:
+    """Weighted, consistent least squares of all masslines; σ (n_s, n_e) in (m/s²)/N.
+
+    ``transverse``: 1-σ of each accelerometer's transverse sensitivity (fraction; mounting
+    misalignment reads the same way). The two transverse components τ_i of every channel
+    are estimated with the properties, under that prior; 0 takes the axes as exact.
+    Plate data (§2.3) use exact axes: a plate's z-lines have no in-plane reading to model.
+    """
     model = RigidModel(starting_body(data, planar), planar)
-    s, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
+    s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
+    points, directions = data.sensors.points, data.sensors.directions
+    T = None if planar or transverse <= 0 else perpendicular_bases(directions)
+    tilt = np.zeros((len(directions), 2))
     theta, constrained = model.theta, False
     for _ in range(iterations):
-        G, H = sensitivities(model, s, e)
-        J = (G / sigma[:, :, None]).reshape(-1, model.p)
-        r = ((data.values - H) / sigma).ravel()
+        s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
+        J, r, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
         step = np.linalg.lstsq(J, r, rcond=None)[0]
-        candidate = theta + model.scale * step
+        candidate = theta + model.scale * step[: model.p]
         if not planar and not is_consistent(candidate, model.scale[-1]):
             step, constrained = constrained_step(J, r, theta, model), True
-            candidate = theta + model.scale * step
+            candidate = theta + model.scale * step[: model.p]
         theta = candidate
+        tilt = tilt + step[model.p :].reshape(tilt.shape) if T is not None else tilt
         model = RigidModel(model.body(theta), planar)
         if np.abs(step).max() < 1e-12:
             break
-    G, H = sensitivities(model, s, e)
-    J = (G / sigma[:, :, None]).reshape(-1, model.p)
-    residual = data.values - H
-    dof = max(residual.size - model.p, 1)
-    chi2 = float(np.sum((residual / sigma) ** 2) / dof)
-    covariance = np.linalg.inv(J.T @ J) * max(chi2, 1.0)
-    return Estimate(model.nominal, model, covariance, chi2, residual, constrained)
+    s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
+    J, r, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
+    chi2 = float(r @ r / max(data.values.size - model.p, 1))
+    covariance = np.linalg.inv(J.T @ J)[: model.p, : model.p] * max(chi2, 1.0)
+    readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
+    return Estimate(model.nominal, model, covariance, chi2, data.values - H, constrained, readings)
+
+
+def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:
+    """Line coordinates (d, r × d) of unnormalised reading vectors d (a gain stays a gain)."""
+    return np.hstack([readings, np.cross(points, readings)])

@@ -130,3 +130,45 @@ def test_identify_command_refuses_bad_files_in_one_line(tmp_path, case):
     assert result.returncode == 2, result.stderr
     assert re.search(words, result.stderr) and "Traceback" not in result.stderr
     assert result.stderr.count("\n") == 1
+
+
+@pytest.fixture(scope="module")
+def bracket_plan(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("bracket")
+    result = massline("plan", "bracket", "--sensors", "12", "--triaxial", "2", "--exciters", "4", "--out", folder)
+    assert result.returncode == 0, result.stderr
+    return folder / "plan.json"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_plan, seed):
+    """Oblique principal axes, 12 uniaxial + 2 triaxial accelerometers, 4 hits; FE modes, a cord with
+    suspension modes at 0.5–3 Hz, 1 % noise and 3 % transverse sensitivity on every channel."""
+    from massline.placement.plan_file import read_plan
+    from massline.placement.virtual.effects import Effect
+    from massline.placement.virtual.elastic import ElasticBody, Material
+    from massline.identify.uncertainty import property_std
+
+    mesh = bundled("bracket")
+    body = mesh.nominal
+    sensors, exciters, _ = read_plan(bracket_plan)
+    modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
+    cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
+    top = modes.frequencies_hz[0] / 2.5  # the first elastic mode within 3× the top of the band
+    transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
+    rec, truth = run(body, sensors, exciters, modes, cord, transverse, Acquisition(top, 2000), seed)
+    assert 0.4 < truth["suspension"]["modes_hz"][1] and max(truth["suspension"]["modes_hz"]) < 5.0
+    zones = find_band(rec.frequencies, rec.frf)
+    fit = fit_band(rec.frequencies, rec.frf, zones.low, zones.high)
+    data = Masslines(fit.values, sensors, exciters)
+    found = estimate(data, fit.std)
+    std = property_std(data, fit.std, found, draws=30)
+    b = found.body
+    assert abs(b.mass / body.mass - 1) < 0.003
+    assert np.abs(b.cog - body.cog).max() < 1e-3
+    np.testing.assert_allclose(b.principal_moments, body.principal_moments, rtol=0.01)
+    assert np.linalg.norm(b.inertia_cog - body.inertia_cog) < 0.015 * np.linalg.norm(body.inertia_cog)
+    cosines = np.abs(np.sum(b.principal_axes * body.principal_axes, axis=0)).clip(0, 1)
+    assert np.degrees(np.arccos(cosines)).max() < 2.0
+    assert abs(b.mass - body.mass) < 3 * std["mass"]
