@@ -9,7 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.band import find_band, given_band
-from massline.identify.estimator import estimate
+from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.massline_fit import fit_band
 from massline.identify.uff import read_uff, to_recording
 from massline.identify.uncertainty import property_std
@@ -32,6 +32,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="best",
         choices=["best", *PAPER],
         help="'best' (weighted, consistent, all masslines; default) or the paper's KINEMATICS+DYNAMICS",
+    )
+    parser.add_argument(
+        "--transverse",
+        type=float,
+        default=TRANSVERSE,
+        metavar="FRACTION",
+        help=f"prior 1-σ of each accelerometer's transverse sensitivity (default {TRANSVERSE}; 0: exact axes)",
     )
     parser.add_argument("--bootstrap", type=int, default=100, metavar="N", help="bootstrap draws over the sensors")
     parser.add_argument("--json", metavar="OUT", help="write the properties as JSON (DESIGN.md keys)")
@@ -100,7 +107,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{np.median(fit.quality):.2%} of the massline, worst {fit.quality.max():.2%}; suspension and "
         f"residual-flexibility tails removed (a plain average would be off by up to {fit.bias.max():.1%})"
     )
-    best = estimate(data, sigma, planar)
+    best = estimate(data, sigma, planar, args.transverse)
     std = property_std(data, sigma, best, draws=args.bootstrap)
     body = best.body
     if args.method != "best":

@@ -57,6 +57,8 @@ class Estimate:
         Whether the physical-consistency constraint was active.
     transverse : (n_s, 3) array
         Each channel's estimated transverse reading (the part of its reading vector ⊥ its axis).
+    prior : float
+        The transverse-sensitivity prior used (0: axes taken as exact).
     """
 
     body: RigidBody
@@ -66,6 +68,7 @@ class Estimate:
     residual: np.ndarray
     constrained: bool
     transverse: np.ndarray
+    prior: float
 
 
 def pseudo_inertia(theta: np.ndarray) -> np.ndarray:
@@ -160,7 +163,8 @@ def estimate(
     chi2 = float(r @ r / max(data.values.size - model.p, 1))
     covariance = np.linalg.inv(J.T @ J)[: model.p, : model.p] * max(chi2, 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
-    return Estimate(model.nominal, model, covariance, chi2, data.values - H, constrained, readings)
+    prior = 0.0 if T is None else transverse
+    return Estimate(model.nominal, model, covariance, chi2, data.values - H, constrained, readings, prior)
 
 
 def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:

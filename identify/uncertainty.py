@@ -53,6 +53,7 @@ def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, 
                 Masslines(data.values[pick], data.sensors[pick], data.exciters),
                 sigma[pick],
                 result.model.planar,
+                result.prior,
                 iterations=8,
             )
         except (MasslineError, np.linalg.LinAlgError):
