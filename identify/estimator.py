@@ -93,7 +93,11 @@ def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: Rig
     P = sum(pseudo_inertia(np.eye(10)[k] * model.scale[k]) * delta[k] for k in range(model.p))
     P = P + pseudo_inertia(theta)
     epsilon = CONSISTENCY_MARGIN * model.scale[-1]
-    problem = cp.Problem(cp.Minimize(cp.sum_squares(J @ delta - r)), [(P + P.T) / 2 >> epsilon * np.eye(4)])
+    unit = max(float(np.abs(J).max()), 1e-300)  # the same problem, with its numbers near 1 for the solver
+    objective = cp.sum_squares((J / unit) @ delta - r / unit)
+    scale = np.diag(1 / np.sqrt(np.maximum(np.abs(np.diag(pseudo_inertia(theta))), 1e-300)))
+    psd = scale @ ((P + P.T) / 2) @ scale >> epsilon * scale @ scale
+    problem = cp.Problem(cp.Minimize(objective), [psd])
     problem.solve(solver=cp.CLARABEL)
     return np.asarray(delta.value)
 
