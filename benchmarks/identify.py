@@ -13,12 +13,12 @@ from __future__ import annotations
 
 import argparse
 import tempfile
-import time
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
 import pyuff
+
+from common import measured, surface_lines
 
 from massline.identify.band import find_band
 from massline.identify.estimator import estimate
@@ -27,29 +27,11 @@ from massline.identify.uff import read_uff, to_recording
 from massline.identify.uncertainty import property_std
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
-from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines
 from massline.placement.mesh import load_body
 from massline.placement.virtual.suspension import Cord, Suspension
 from massline.placement.virtual.uff_export import write_uff
 from massline.placement.virtual.virtual_test import Acquisition, run
-
-
-def measured(label: str, work):
-    tracemalloc.start()
-    start = time.perf_counter()
-    result = work()
-    seconds = time.perf_counter() - start
-    peak = tracemalloc.get_traced_memory()[1] / 2**20
-    tracemalloc.stop()
-    print(f"{label:<44} {seconds:8.2f} s   peak {peak:8.1f} MiB")
-    return result, seconds
-
-
-def surface_lines(mesh, n: int, rng) -> Lines:
-    faces = rng.choice(len(mesh.faces), n, p=mesh.area_faces / mesh.area)
-    points = np.einsum("nk,nkd->nd", rng.dirichlet(np.ones(3), n), mesh.triangles[faces])
-    return Lines(points, mesh.face_normals[faces])
 
 
 def identify_file(path: Path):

@@ -12,40 +12,20 @@ scaled to 2,000, stated as such).
 from __future__ import annotations
 
 import argparse
-import time
-import tracemalloc
 
 import numpy as np
 import scipy.sparse.linalg
 
+from common import measured, surface_lines
+
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
-from massline.placement.lines import Lines
 from massline.placement.mesh import load_body
 from massline.placement.virtual.elastic import ElasticBody, Material
 from massline.placement.virtual.suspended import SuspendedBody
 from massline.placement.virtual.band import recommend_suspension
 from massline.placement.virtual.suspension import point_above
 from massline.placement.virtual.tetmesh import size_for_dofs, tetrahedralise
-
-
-def measured(label: str, work):
-    tracemalloc.start()
-    start = time.perf_counter()
-    result = work()
-    seconds = time.perf_counter() - start
-    peak = tracemalloc.get_traced_memory()[1] / 2**20
-    tracemalloc.stop()
-    print(f"{label:<38} {seconds:8.2f} s   peak {peak:8.1f} MiB")
-    return result, seconds
-
-
-def sensors_on(mesh, n: int, rng) -> Lines:
-    """n surface points with their normals (the accelerometers)."""
-    faces = rng.choice(len(mesh.faces), n, p=mesh.area_faces / mesh.area)
-    weights = rng.dirichlet(np.ones(3), n)
-    points = np.einsum("nk,nkd->nd", weights, mesh.triangles[faces])
-    return Lines(points, mesh.face_normals[faces])
 
 
 def main() -> None:
@@ -66,7 +46,7 @@ def main() -> None:
     print(f"{'':<38} {modes.frequencies_hz[0]:.1f} … {modes.frequencies_hz[-1]:.1f} Hz")
 
     rng = np.random.default_rng(0)
-    sensors = sensors_on(body.mesh, 34, rng)
+    sensors = surface_lines(body.mesh, 34, rng)
     exciters = structure_exciters()
     model = SuspendedBody(body.nominal, modes)
     model = SuspendedBody(body.nominal, modes, recommend_suspension(model, point_above(body.mesh, body.nominal.cog)[0]))

@@ -1,0 +1,29 @@
+"""What the benchmark scripts share: timing with peak memory, accelerometers on a surface."""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+
+import numpy as np
+
+from massline.placement.lines import Lines
+
+
+def measured(label: str, work):
+    """Run ``work()``; print its time and peak Python memory (tracemalloc); return (result, seconds)."""
+    tracemalloc.start()
+    start = time.perf_counter()
+    result = work()
+    seconds = time.perf_counter() - start
+    peak = tracemalloc.get_traced_memory()[1] / 2**20
+    tracemalloc.stop()
+    print(f"{label:<44} {seconds:8.2f} s   peak {peak:8.1f} MiB")
+    return result, seconds
+
+
+def surface_lines(mesh, n: int, rng) -> Lines:
+    """n area-uniform surface points with their outward normals (uniaxial accelerometers)."""
+    faces = rng.choice(len(mesh.faces), n, p=mesh.area_faces / mesh.area)
+    points = np.einsum("nk,nkd->nd", rng.dirichlet(np.ones(3), n), mesh.triangles[faces])
+    return Lines(points, mesh.face_normals[faces])
