@@ -3,13 +3,15 @@
 Inside zone B the accelerance of the suspended elastic body is, to the
 first order in each neighbour (Appendix A, eq. 14; mismatch notes A1, A3),
 
-    H(ω) = A + B/ω² + C ω²,
+    H(ω) = A + B/ω² + C ω² + D ω⁴,
 
 with A the massline (real), B the tail of the suspension modes (K/ω², complex
-with the suspension's damping) and C the residual flexibility of the elastic
-modes above (−ω² Σ φφᵀ/ω_r², complex with their damping). The fit is linear
-in (A, Re B, Im B, Re C, Im C); the scatter of its residual gives each
-massline's standard deviation, from the data and not from an assumed noise.
+with the suspension's damping), C the residual flexibility of the elastic
+modes above (−ω² Σ φφᵀ/ω_r², complex with their damping) and D its next term
+(−ω⁴ Σ φφᵀ/ω_r⁴, real): without it a band reaching f₁/3 leaves ~2σ of bias
+in the CoG and products of inertia. The fit is linear in (A, Re B, Im B,
+Re C, Im C, D); the scatter of its residual gives each massline's standard
+deviation, from the data and not from an assumed noise.
 """
 
 from __future__ import annotations
@@ -48,16 +50,16 @@ class BandFit:
 
 
 def design_matrix(omega: np.ndarray) -> np.ndarray:
-    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² in (A, Re B, Im B, Re C, Im C), scaled to O(1)."""
+    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1)."""
     x = (omega / np.sqrt(omega[0] * omega[-1])) ** 2  # ω²/ω_mid²: keeps the columns comparable
     zero = np.zeros_like(x)
-    real = np.column_stack([np.ones_like(x), 1 / x, zero, x, zero])
-    imag = np.column_stack([zero, zero, 1 / x, zero, x])
+    real = np.column_stack([np.ones_like(x), 1 / x, zero, x, zero, x**2])
+    imag = np.column_stack([zero, zero, 1 / x, zero, x, zero])
     return np.vstack([real, imag])
 
 
 def fit_band(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float, weights=None) -> BandFit:
-    """Least-squares fit of A + B/ω² + Cω² to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
+    """Least-squares fit of A + B/ω² + Cω² + Dω⁴ to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
 
     ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF.
     """
@@ -71,14 +73,14 @@ def fit_band(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float, 
     H = frf[:, :, keep]
     Y = np.concatenate([H.real, H.imag], axis=2)  # (n_s, n_e, 2n)
     w = np.ones_like(Y) if weights is None else np.sqrt(np.concatenate([weights[:, :, keep]] * 2, axis=2))
-    coef = np.empty(Y.shape[:2] + (5,))
+    coef = np.empty(Y.shape[:2] + (6,))
     std = np.empty(Y.shape[:2])
     rms = np.empty(Y.shape[:2])
     for i, j in np.ndindex(*Y.shape[:2]):
         Xw, yw = X * w[i, j, :, None], Y[i, j] * w[i, j]
         c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
         r = yw - Xw @ c
-        sigma2 = r @ r / max(len(yw) - 5, 1)
+        sigma2 = r @ r / max(len(yw) - 6, 1)
         cov = sigma2 * np.linalg.pinv(Xw.T @ Xw)
         coef[i, j], std[i, j] = c, np.sqrt(cov[0, 0])
         rms[i, j] = np.sqrt(np.mean((Y[i, j] - X @ c) ** 2))

@@ -172,3 +172,43 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_pla
     cosines = np.abs(np.sum(b.principal_axes * body.principal_axes, axis=0)).clip(0, 1)
     assert np.degrees(np.arccos(cosines)).max() < 2.0
     assert abs(b.mass - body.mass) < 3 * std["mass"]
+
+
+@pytest.mark.slow
+def test_reported_sigma_is_honest_over_50_repeats(bracket_plan):
+    """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 90 % of them."""
+    from massline.placement.plan_file import read_plan
+    from massline.placement.virtual.effects import Effect
+    from massline.placement.virtual.elastic import ElasticBody, Material
+    from massline.identify.uncertainty import property_std
+
+    mesh = bundled("bracket")
+    body = mesh.nominal
+    sensors, exciters, _ = read_plan(bracket_plan)
+    modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
+    cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
+    setup = Acquisition(modes.frequencies_hz[0] / 2.5, 2000)
+    transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
+    inside = []
+    for seed in range(50):
+        rec, _ = run(body, sensors, exciters, modes, cord, transverse, setup, seed)
+        zones = find_band(rec.frequencies, rec.frf)
+        fit = fit_band(rec.frequencies, rec.frf, zones.low, zones.high)
+        data = Masslines(fit.values, sensors, exciters)
+        found = estimate(data, fit.std)
+        std = property_std(data, fit.std, found, draws=30)
+        b = found.body
+        angles = np.degrees(np.arccos(np.abs(np.sum(b.principal_axes * body.principal_axes, axis=0)).clip(0, 1)))
+        upper = np.triu_indices(3)
+        z = np.concatenate(
+            [
+                [abs(b.mass - body.mass) / std["mass"]],
+                np.abs(b.cog - body.cog) / std["cog"],
+                (np.abs(b.inertia_cog - body.inertia_cog) / std["inertia_cog"])[upper],
+                np.abs(b.principal_moments - body.principal_moments) / std["principal_moments"],
+                angles / std["principal_axes_deg"],
+            ]
+        )
+        inside.append(z < 2)
+    share = np.mean(inside, axis=0)
+    assert share.min() >= 0.9, share
