@@ -7,15 +7,19 @@ import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
-from test_uff_reader import BAD
+from test_uff_reader import BAD, bad_file
 
 from massline.identify.band import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
 from massline.identify.massline_fit import fit_band
+from massline.identify.uncertainty import property_std
 from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
 from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines, synthesise
 from massline.placement.model import RigidModel
+from massline.placement.plan_file import read_plan
+from massline.placement.virtual.effects import Effect
+from massline.placement.virtual.elastic import ElasticBody, Material
 from massline.placement.virtual.measurement import Noise
 from massline.placement.virtual.suspension import Cord, Suspension
 from massline.placement.virtual.uff_export import write_uff
@@ -62,8 +66,6 @@ def test_found_band_lies_between_suspension_and_elastic_resonances(structure):
 @pytest.mark.slow
 def test_realistic_virtual_test_meets_the_accuracy(structure, tmp_path):
     """Suspension, FE modes, 1 % noise: mass 0.3 %, CoG 1 mm, moments 1 % (no transverse sensitivity)."""
-    from massline.placement.virtual.elastic import ElasticBody, Material
-
     mesh = bundled("structure").mesh
     modes = ElasticBody.from_mesh(mesh, Material(210e9, 0.3, 7850.0)).modes(12)
     cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
@@ -122,10 +124,7 @@ def test_singular_layout_is_refused(structure, tmp_path):
 
 @pytest.mark.parametrize("case", list(BAD))
 def test_identify_command_refuses_bad_files_in_one_line(tmp_path, case):
-    build, words = BAD[case]
-    path, content = build(tmp_path)
-    if content is not None:
-        path.write_bytes(content)
+    path, words = bad_file(tmp_path, case)
     result = massline("identify", path)
     assert result.returncode == 2, result.stderr
     assert re.search(words, result.stderr) and "Traceback" not in result.stderr
@@ -140,31 +139,36 @@ def bracket_plan(tmp_path_factory):
     return folder / "plan.json"
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_plan, seed):
-    """Oblique principal axes, 12 uniaxial + 2 triaxial accelerometers, 4 hits; FE modes, a cord with
-    suspension modes at 0.5–3 Hz, 1 % noise and 3 % transverse sensitivity on every channel."""
-    from massline.placement.plan_file import read_plan
-    from massline.placement.virtual.effects import Effect
-    from massline.placement.virtual.elastic import ElasticBody, Material
-    from massline.identify.uncertainty import property_std
-
+@pytest.fixture(scope="module")
+def bracket_test(bracket_plan):
+    """The realistic bracket test: oblique principal axes, 12 uniaxial + 2 triaxial accelerometers, 4 hits;
+    FE modes, a cord 2 cm above the CoG, the record up to f1/2.5 (so f1 is within 3× the band's top),
+    1 % noise and 3 % transverse sensitivity on every channel. Returns run()'s arguments but the seed."""
     mesh = bundled("bracket")
     body = mesh.nominal
     sensors, exciters, _ = read_plan(bracket_plan)
     modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    top = modes.frequencies_hz[0] / 2.5  # the first elastic mode within 3× the top of the band
     transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
-    rec, truth = run(body, sensors, exciters, modes, cord, transverse, Acquisition(top, 2000), seed)
-    assert 0.4 < truth["suspension"]["modes_hz"][1] and max(truth["suspension"]["modes_hz"]) < 5.0
+    return body, sensors, exciters, modes, cord, transverse, Acquisition(modes.frequencies_hz[0] / 2.5, 2000)
+
+
+def identified(rec, sensors, exciters):
+    """The identify pipeline on a recording: found band, band fits, estimate, and its 1-σ (30 draws)."""
     zones = find_band(rec.frequencies, rec.frf)
     fit = fit_band(rec.frequencies, rec.frf, zones.low, zones.high)
     data = Masslines(fit.values, sensors, exciters)
     found = estimate(data, fit.std)
-    std = property_std(data, fit.std, found, draws=30)
-    b = found.body
+    return found.body, property_std(data, fit.std, found, draws=30)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_test, seed):
+    body, sensors, exciters = bracket_test[:3]
+    rec, truth = run(*bracket_test, seed)
+    assert 0.4 < truth["suspension"]["modes_hz"][1] and max(truth["suspension"]["modes_hz"]) < 5.0
+    b, std = identified(rec, sensors, exciters)
     assert abs(b.mass / body.mass - 1) < 0.003
     assert np.abs(b.cog - body.cog).max() < 1e-3
     np.testing.assert_allclose(b.principal_moments, body.principal_moments, rtol=0.01)
@@ -175,29 +179,12 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_pla
 
 
 @pytest.mark.slow
-def test_reported_sigma_is_honest_over_50_repeats(bracket_plan):
+def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
     """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 90 % of them."""
-    from massline.placement.plan_file import read_plan
-    from massline.placement.virtual.effects import Effect
-    from massline.placement.virtual.elastic import ElasticBody, Material
-    from massline.identify.uncertainty import property_std
-
-    mesh = bundled("bracket")
-    body = mesh.nominal
-    sensors, exciters, _ = read_plan(bracket_plan)
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
-    cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    setup = Acquisition(modes.frequencies_hz[0] / 2.5, 2000)
-    transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
+    body, sensors, exciters = bracket_test[:3]
     inside = []
     for seed in range(50):
-        rec, _ = run(body, sensors, exciters, modes, cord, transverse, setup, seed)
-        zones = find_band(rec.frequencies, rec.frf)
-        fit = fit_band(rec.frequencies, rec.frf, zones.low, zones.high)
-        data = Masslines(fit.values, sensors, exciters)
-        found = estimate(data, fit.std)
-        std = property_std(data, fit.std, found, draws=30)
-        b = found.body
+        b, std = identified(run(*bracket_test, seed)[0], sensors, exciters)
         angles = np.degrees(np.arccos(np.abs(np.sum(b.principal_axes * body.principal_axes, axis=0)).clip(0, 1)))
         upper = np.triu_indices(3)
         z = np.concatenate(

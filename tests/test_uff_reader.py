@@ -344,12 +344,18 @@ BAD = {
 }
 
 
-@pytest.mark.parametrize("case", list(BAD))
-def test_bad_input_names_the_problem(tmp_path, case):
+def bad_file(tmp_path, case):
+    """The file of a BAD case, written into tmp_path, and the message it must give."""
     build, message = BAD[case]
     path, content = build(tmp_path)
     if content is not None:
         path.write_bytes(content)
+    return path, message
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_input_names_the_problem(tmp_path, case):
+    path, message = bad_file(tmp_path, case)
     with pytest.raises(MasslineError, match=message) as error:
         to_recording(read_uff(path))
     assert "\n" not in str(error.value) and ": " in str(error.value)
