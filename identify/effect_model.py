@@ -1,0 +1,312 @@
+"""The massline model with the instrumentation effects of the mismatch catalogue, and its fit.
+
+The rigid body's masslines (eq. 14 in the band) are H_ij = s_iᵀ M(θ)⁻¹ e_j. The
+effects change the lines (mismatch notes §3 B, C), each a block of parameters
+that is zero in the nominal model:
+
+    s_i = (1 + g_i) (d_i', p_i' × d_i')    sensor reading, 6-vector at O
+        d_i' = unit(d_i + T_i τ_i)         effective axis (B1): misalignment and transverse sensitivity
+        p_i' = p_i + T_i δ_i               sensing point (B2; a triaxial moves as one: δ in 3-D)
+    e_j = (f_j, r_j' × f_j)                force line
+        f_j = unit(d_j + T_j β_j)          hit direction (C1)
+        r_j' = r_j + T_j γ_j               hit point (C2)
+
+T_i holds two unit vectors ⊥ d_i: what lies along the line is unobservable. Every
+τ_i is estimated under the datasheet's prior (transverse sensitivity, 3 %);
+the ``sensor_direction`` effect widens that prior for one accelerometer to a
+mounting error's (``MISALIGNMENT``), and pays the Laplace evidence's Occam factor
+for it, 2 ln(σ_wide/σ_datasheet) per component, instead of BIC's ln n. The
+fit weighs every massline by the spectral lines behind it (:mod:`.tails`), so its
+χ² counts every line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from massline.placement.lines import Lines
+from massline.placement.model import RigidModel
+
+from .estimator import perpendicular_bases
+from .tails import Reduced
+
+SENSOR_EFFECTS = ("sensor_direction", "sensor_gain", "sensor_location")
+EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
+MAX_EVALUATIONS = 200  # a fit still moving after this many steps is far from any model that could be accepted
+MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
+
+
+@dataclass(frozen=True)
+class Block:
+    """One effect at one place: ``target`` is a channel (gain), an accelerometer (index into
+    ``Layout.groups``: direction, location) or an exciter."""
+
+    effect: str
+    target: int
+
+
+@dataclass(frozen=True, eq=False)
+class Layout:
+    """The nominal lines as labelled, with the accelerometers they belong to.
+
+    Attributes
+    ----------
+    sensors, exciters : Lines
+        Nominal lines (m, test frame).
+    groups : tuple of tuple of int
+        Channels of each accelerometer (one for a uniaxial, three for a triaxial).
+    planar : bool
+        Plate data (§2.3): out-of-plane lines, 6 parameters, no transverse readings.
+    """
+
+    sensors: Lines
+    exciters: Lines
+    groups: tuple
+    planar: bool
+
+    @classmethod
+    def of(cls, sensors: Lines, exciters: Lines, planar: bool) -> "Layout":
+        groups = {}
+        for i, g in enumerate(sensors.triaxial):
+            groups.setdefault(i if g < 0 else f"t{g}", []).append(i)
+        return cls(sensors, exciters, tuple(tuple(v) for v in groups.values()), planar)
+
+    @property
+    def sensor_bases(self) -> np.ndarray:
+        return perpendicular_bases(self.sensors.directions)
+
+    @property
+    def exciter_bases(self) -> np.ndarray:
+        return perpendicular_bases(self.exciters.directions)
+
+    def size(self, block: Block) -> int:
+        """Number of parameters the block adds (a released prior counts its two components per channel)."""
+        triaxial = block.effect in ("sensor_direction", "sensor_location") and len(self.groups[block.target]) > 1
+        return {
+            "sensor_direction": 2 * (3 if triaxial else 1),
+            "sensor_gain": 1,
+            "sensor_location": 3 if triaxial else 2,
+        }.get(block.effect, 2)
+
+    def candidates(self) -> list[Block]:
+        """Every effect at every place: direction and location per accelerometer, gain per channel, the
+        hit's per exciter (a plate's out-of-plane lines have no transverse readings to tilt)."""
+        blocks = [Block("sensor_location", k) for k in range(len(self.groups))]
+        blocks += [Block("sensor_gain", i) for i in range(len(self.sensors))]
+        blocks += [] if self.planar else [Block("sensor_direction", k) for k in range(len(self.groups))]
+        exciter_effects = EXCITER_EFFECTS[1:] if self.planar else EXCITER_EFFECTS
+        return blocks + [Block(e, j) for j in range(len(self.exciters)) for e in exciter_effects]
+
+    def channels(self, block: Block) -> list[int]:
+        """The sensor channels a sensor block acts on (a gain: its channel; else the accelerometer's)."""
+        return [block.target] if block.effect == "sensor_gain" else list(self.groups[block.target])
+
+
+def line_coordinates(points: np.ndarray, vectors: np.ndarray, planar: bool) -> np.ndarray:
+    """(d, r × d) of unnormalised vectors d (a gain stays a gain); the plate's (d_z, y d_z, −x d_z)."""
+    if planar:
+        return np.column_stack([vectors[:, 2], points[:, 1] * vectors[:, 2], -points[:, 0] * vectors[:, 2]])
+    return np.hstack([vectors, np.cross(points, vectors)])
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """What stays fixed while effects are tried: the layout, the reduced data, noise and prior.
+
+    ``data`` holds the masslines with the discrete corrections (polarity, swaps) applied;
+    ``sigma`` (n_s, n_e) the per-line noise σ_ij; ``transverse`` the prior 1-σ of τ; ``n_values``
+    the real numbers behind the fit (2 × lines × FRFs), BIC's n; ``energy`` (n_s, n_e) Σ|H|² over
+    each FRF's lines, the scale of relative residuals.
+    """
+
+    layout: Layout
+    data: Reduced
+    sigma: np.ndarray
+    model: RigidModel
+    transverse: float
+    n_values: int
+    energy: np.ndarray
+
+    @property
+    def n_tau(self) -> int:
+        return 0 if self.layout.planar else 2 * len(self.layout.sensors)
+
+    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
+        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
+        lay = self.layout
+        T, U = lay.sensor_bases, lay.exciter_bases
+        d = lay.sensors.directions + (0 if lay.planar else np.einsum("nak,nk->na", T, tau))
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)  # a tilted axis, not a gain
+        p, gain = lay.sensors.points.copy(), np.ones(len(d))
+        f, r = lay.exciters.directions.copy(), lay.exciters.points.copy()
+        for block, v in zip(blocks, values):
+            channels, j = lay.channels(block) if block.effect.startswith("sensor") else [], block.target
+            if block.effect == "sensor_gain":
+                gain[channels] *= 1 + v[0]
+            elif block.effect == "sensor_location":
+                p[channels] += v if len(v) == 3 else T[channels[0]] @ v
+            elif block.effect == "excitation_direction":
+                f[j] = f[j] + U[j] @ v
+                f[j] /= np.linalg.norm(f[j])
+            elif block.effect == "excitation_location":
+                r[j] += U[j] @ v
+        s = line_coordinates(p, d * gain[:, None], lay.planar)
+        e = line_coordinates(r, f, lay.planar)
+        M = self.model.mass_matrix(self.model.scale * theta_scaled)
+        return s @ np.linalg.solve(M, e.T)
+
+    def released(self, blocks) -> np.ndarray:
+        """Channels whose transverse prior is released by a ``sensor_direction`` block."""
+        mask = np.zeros(len(self.layout.sensors), dtype=bool)
+        for block in blocks:
+            if block.effect == "sensor_direction":
+                mask[list(self.layout.groups[block.target])] = True
+        return mask
+
+    def residual(self, x: np.ndarray, blocks) -> np.ndarray:
+        """Weighted residual: masslines (â − H)√κ/σ, then the prior rows τ/t (t widened where released)."""
+        theta, tau, values = self.unpack(x, blocks)
+        H = self.masslines(theta, tau, blocks, values)
+        rows = [((self.data.massline - H) * np.sqrt(self.data.kappa) / self.sigma).ravel()]
+        if self.n_tau:
+            scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
+            rows.append((tau / scale[:, None]).ravel())
+        return np.concatenate(rows)
+
+    def unpack(self, x: np.ndarray, blocks):
+        p, n_tau = self.model.p, self.n_tau
+        tau = x[p : p + n_tau].reshape(-1, 2)
+        values, k = [], p + n_tau
+        for block in blocks:
+            n = 0 if block.effect == "sensor_direction" else self.layout.size(block)
+            values.append(x[k : k + n])
+            k += n
+        return x[:p], tau, values
+
+    def start(self, previous: "Fit | None", blocks) -> np.ndarray:
+        """Parameters to start from: the previous fit's where it had them, zeros for new blocks."""
+        if previous is None:
+            theta, tau, old = self.model.theta / self.model.scale, np.zeros(self.n_tau), {}
+        else:
+            theta, tau, values = previous.parts
+            old = dict(zip(previous.blocks, values))
+        sizes = [0 if b.effect == "sensor_direction" else self.layout.size(b) for b in blocks]
+        return np.concatenate([theta, np.ravel(tau), *(old.get(b, np.zeros(n)) for b, n in zip(blocks, sizes))])
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """A fitted model: parameters, χ² over every spectral line, and what was fitted.
+
+    Attributes
+    ----------
+    problem : Problem
+    blocks : tuple of Block
+    x : array
+        Scaled θ̃, τ (n_s × 2), then each block's values.
+    chi2 : float
+        Σ RSS_ij/σ_ij² over all lines plus the prior's rows.
+    covariance : (p, p) array
+        Covariance of θ in SI units (from the Jacobian, scaled by the reduced χ² when above 1).
+    """
+
+    problem: Problem
+    blocks: tuple
+    x: np.ndarray
+    chi2: float
+    covariance: np.ndarray
+
+    @property
+    def n_parameters(self) -> int:
+        """Free parameters: θ, the effect blocks' and the tails' (widened priors are counted in ``bic``)."""
+        lay = self.problem.layout
+        tails = 3 * len(self.problem.data.laws) * self.problem.data.massline.size
+        free = [lay.size(b) for b in self.blocks if b.effect != "sensor_direction"]
+        return self.problem.model.p + sum(free) + tails
+
+    @property
+    def bic(self) -> float:
+        """χ² + k ln n, plus the Occam factor of every widened axis prior."""
+        widened = 2 * np.count_nonzero(self.problem.released(self.blocks))
+        occam = widened * 2 * np.log(MISALIGNMENT / self.problem.transverse)
+        return self.chi2 + self.n_parameters * np.log(self.problem.n_values) + occam
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.problem.model.scale * self.x[: self.problem.model.p]
+
+    @property
+    def body(self):
+        return self.problem.model.body(self.theta)
+
+    @property
+    def parts(self):
+        return self.problem.unpack(self.x, self.blocks)
+
+    @property
+    def masslines(self) -> np.ndarray:
+        return self.problem.masslines(*self.parts[:2], self.blocks, self.parts[2])
+
+    @property
+    def rss(self) -> np.ndarray:
+        """RSS_ij over every line of every FRF at the fitted masslines."""
+        return self.problem.data.rss_at(self.masslines)
+
+
+def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
+    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt, finite-difference Jacobian)."""
+    blocks = tuple(blocks)
+    x0 = problem.start(previous, blocks)
+    result = least_squares(
+        problem.residual, x0, args=(blocks,), method="lm", x_scale="jac", xtol=1e-9, ftol=1e-9, max_nfev=MAX_EVALUATIONS
+    )
+    chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
+    J = result.jac
+    information = J.T @ J
+    p = problem.model.p
+    try:
+        cov = np.linalg.pinv(information)[:p, :p]
+    except np.linalg.LinAlgError:
+        cov = np.full((p, p), np.nan)
+    dof = max(len(result.fun) - len(x0), 1)
+    cov = cov * max(2 * result.cost / dof, 1.0) * np.outer(problem.model.scale, problem.model.scale)
+    return Fit(problem, blocks, result.x, chi2, cov)
+
+
+def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:
+    """∂r/∂x by central differences (only ``columns`` when given)."""
+    h = 1e-6 * np.maximum(np.abs(x), 1e-2)
+    out = []
+    for k in range(len(x)) if columns is None else columns:
+        e = np.zeros_like(x)
+        e[k] = h[k]
+        out.append((problem.residual(x + e, blocks) - problem.residual(x - e, blocks)) / (2 * h[k]))
+    return np.array(out).reshape(-1, len(problem.residual(x, blocks))).T
+
+
+def score(current: Fit, block: Block, J: np.ndarray) -> float:
+    """Rao's score statistic: the χ² one Gauss–Newton step with ``block`` added would remove (notes §5.4).
+
+    ``J`` is ∂r/∂x at the current fit; only the new block's columns are differenced.
+    """
+    problem, blocks = current.problem, current.blocks + (block,)
+    x = problem.start(current, blocks)
+    r_now = problem.residual(current.x, current.blocks)
+    r = problem.residual(x, blocks)
+    J_new = np.hstack([J, jacobian(problem, x, blocks, range(len(current.x), len(x)))])
+    if block.effect == "sensor_direction":  # the widened prior's rows: ∂(τ_k / t_k)/∂τ_k = 1/t_k
+        scale = np.where(problem.released(blocks), MISALIGNMENT, problem.transverse)
+        rows = np.arange(len(r) - problem.n_tau, len(r))
+        J_new[rows, problem.model.p + np.arange(problem.n_tau)] = np.repeat(1 / scale, 2)
+    step, *_ = np.linalg.lstsq(J_new, r, rcond=None)
+    return float(r_now @ r_now - np.sum((r - J_new @ step) ** 2))
+
+
+def penalty(problem: Problem, block: Block) -> float:
+    """What ``block`` adds to the BIC besides χ²: k ln n, or the Occam factor of a widened axis prior."""
+    if block.effect == "sensor_direction":
+        return 2 * len(problem.layout.groups[block.target]) * 2 * np.log(MISALIGNMENT / problem.transverse)
+    return problem.layout.size(block) * np.log(problem.n_values)
