@@ -15,7 +15,7 @@ from rich.console import Console
 from massline import __version__
 from massline.placement.errors import MasslineError
 
-from . import demo, identify_command, plan, simulate
+from . import demo, identify_command, plan, report_command, simulate
 from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
 from .tables import body_table
@@ -56,6 +56,10 @@ def build_parser() -> argparse.ArgumentParser:
     simulate_parser = sub.add_parser("simulate", help="the virtual test of a plan, written as a UFF recording")
     simulate.add_arguments(simulate_parser)
     simulate_parser.set_defaults(run=simulate.run)
+
+    report_parser = sub.add_parser("report", help="the placement report of a plan, as one HTML file")
+    report_command.add_arguments(report_parser)
+    report_parser.set_defaults(run=report_command.run)
 
     identify_parser = sub.add_parser("identify", help="mass, CoG and inertia with their 1-σ from a UFF recording")
     identify_command.add_arguments(identify_parser)

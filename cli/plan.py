@@ -20,6 +20,7 @@ from massline.placement.planner import Budget, plan
 
 from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
+from .report_command import write_report
 
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -55,7 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--relaxation", choices=["first-order", "cvxpy"], default="first-order")
     parser.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
     parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
-    parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json")
+    parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
 
 
 def _fixed(rows, scale) -> Lines | None:
@@ -114,9 +115,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise MasslineError(f"--out {out} is a file: give a folder")
-    target = out / "plan.json"
-    if target.exists() and not args.force:
-        raise MasslineError(f"{target} exists; pass --force to overwrite it or choose another --out")
+    target, report = out / "plan.json", out / "report.html"
+    for path in (target, report):
+        if path.exists() and not args.force:
+            raise MasslineError(f"{path} exists; pass --force to overwrite it or choose another --out")
     body = body_from_arguments(args)
     scale = UNITS[body.units]
     options = CandidateOptions(
@@ -155,3 +157,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
     claim_output(target, args.force)
     write_atomic(target, to_json(plan_to_dict(result, str(args.mesh), body.units, body.density)), args.force)
     console.print(f"wrote {target}")
+    write_report(target, report, args.force, console)

@@ -1,0 +1,155 @@
+"""What the report's pictures show: the body, its numbered accelerometers and hits, their arrows.
+
+Geometry only, in the mesh's frame O xyz and in metres: the plan's lines are
+grouped into markers (a triaxial accelerometer is one marker with three
+directions), each marker is put on the face it sits on, and its arrows are laid
+outside the body.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+from massline.placement.lines import Lines
+
+ARROW = 0.16  # arrow length, fraction of the body's largest extent
+SENSOR, HIT = "sensor", "hit"
+COLOURS = {SENSOR: (31, 95, 180), HIT: (200, 40, 30)}  # RGB of each kind of marker
+
+
+@dataclass(frozen=True, eq=False)
+class Marker:
+    """One accelerometer (one number for 1 or 3 measuring lines) or one hammer hit.
+
+    Attributes
+    ----------
+    label : str
+        "A1", "A2", … for accelerometers, "H1", … for hits.
+    kind : str
+        ``SENSOR`` or ``HIT``.
+    point : (3,) array
+        Mounting or hit point, m.
+    directions : (k, 3) array
+        Unit measuring (or force) directions, k = 1 or 3.
+    lines : tuple of int
+        Indices of its lines in the plan's sensor (or exciter) list.
+    """
+
+    label: str
+    kind: str
+    point: np.ndarray
+    directions: np.ndarray
+    lines: tuple[int, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """What the pictures show: the body (m), its markers and CoG, and each marker's face and arrows.
+
+    Attributes
+    ----------
+    mesh : trimesh.Trimesh
+        Closed surface, m, frame O xyz.
+    markers : list of Marker
+        Accelerometers, then hits.
+    cog : (3,) array
+        Nominal centre of gravity, m.
+    normals, faces : (n, 3) array, (n,) int array
+        Outward normal and triangle index of the face each marker sits on.
+    arrows : list of (k, 2, 3) arrays
+        Each marker's arrows, tail and tip, m.
+    length : float
+        Length of a uniaxial marker's arrow, m.
+    """
+
+    mesh: trimesh.Trimesh
+    markers: list[Marker]
+    cog: np.ndarray
+    normals: np.ndarray
+    faces: np.ndarray
+    arrows: list[np.ndarray]
+    length: float
+
+
+def markers_of(sensors: Lines, exciters: Lines) -> list[Marker]:
+    """Accelerometers (triaxial lines grouped under one number) then hammer hits, numbered from 1."""
+    groups: dict[tuple, list[int]] = {}
+    for i, t in enumerate(sensors.triaxial):
+        groups.setdefault(("t", int(t)) if t >= 0 else ("u", i), []).append(i)
+    markers = [
+        Marker(f"A{k}", SENSOR, sensors.points[idx[0]], sensors.directions[idx], tuple(idx))
+        for k, idx in enumerate(groups.values(), 1)
+    ]
+    markers += [
+        Marker(f"H{k}", HIT, p, d[None], (k - 1,))
+        for k, (p, d) in enumerate(zip(exciters.points, exciters.directions), 1)
+    ]
+    return markers
+
+
+def outward_normals(mesh: trimesh.Trimesh, markers: list[Marker]) -> tuple[np.ndarray, np.ndarray]:
+    """The face each marker sits on: outward unit normals (n, 3) and triangle indices (n,).
+
+    The nearest triangle to the marker's point; on an edge or a corner, of the
+    triangles touching the point, the one whose normal is most nearly along one
+    of the marker's directions (the face it is glued on or hit on).
+    """
+    tolerance = 1e-6 * float(mesh.extents.max())
+    normals, faces = [], []
+    for m in markers:
+        near = trimesh.triangles.closest_point(mesh.triangles, np.tile(m.point, (len(mesh.faces), 1)))
+        distance = np.linalg.norm(near - m.point, axis=1)
+        touching = np.flatnonzero(distance <= distance.min() + tolerance)
+        along = np.abs(mesh.face_normals[touching] @ m.directions.T).max(axis=1)
+        faces.append(int(touching[np.argmax(along)]))
+        normals.append(mesh.face_normals[faces[-1]])
+    return np.array(normals).reshape(-1, 3), np.array(faces, dtype=int)
+
+
+def face_name(normal: np.ndarray) -> str:
+    """'+x face', '−z face', … for a normal within ~25° of an axis; 'oblique' otherwise."""
+    k = int(np.argmax(np.abs(normal)))
+    if abs(normal[k]) < 0.9:
+        return "oblique"
+    return f"{'+' if normal[k] > 0 else '−'}{'xyz'[k]} face"
+
+
+def arrows_of(marker: Marker, normal: np.ndarray, length: float, sensor_points: np.ndarray) -> np.ndarray:
+    """The marker's arrows (k, 2, 3): tail and tip in m, drawn outside the body.
+
+    ``normal`` is the outward normal of the face the marker sits on. An
+    accelerometer's arrow points along its measuring direction, from the point
+    when that side is outside, else up to the point. A hit's arrow ends at the
+    point, coming from outside, like the hammer; where the hit shares its point
+    with an accelerometer it is moved aside by a third of its length.
+    """
+    p, arrows = marker.point, []
+    size = length if marker.directions.shape[0] == 1 else 0.75 * length
+    for d in marker.directions:
+        outward = d @ normal > -1e-9
+        if marker.kind == SENSOR:
+            arrows.append((p, p + size * d) if outward else (p - size * d, p))
+            continue
+        base = p
+        if len(sensor_points) and np.linalg.norm(sensor_points - p, axis=1).min() < 0.2 * length:
+            side = np.cross(d, np.eye(3)[int(np.argmin(np.abs(d)))])
+            base = p + length / 3 * side / np.linalg.norm(side)
+        arrows.append((base + size * d, base) if outward else (base - size * d, base))
+    return np.array(arrows)
+
+
+def outer_end(marker: Marker, arrows: np.ndarray) -> np.ndarray:
+    """The end of the marker's arrows (k, 2, 3) farthest from its point, m: where its label goes."""
+    ends = arrows.reshape(-1, 3)
+    return ends[np.argmax(np.linalg.norm(ends - marker.point, axis=1))]
+
+
+def scene_of(mesh: trimesh.Trimesh, sensors: Lines, exciters: Lines, cog: np.ndarray) -> Scene:
+    """The scene of a plan: markers numbered, placed on their faces, with arrows ``ARROW`` × the body long."""
+    markers = markers_of(sensors, exciters)
+    normals, faces = outward_normals(mesh, markers)
+    length = ARROW * float(mesh.extents.max())
+    arrows = [arrows_of(m, n, length, sensors.points) for m, n in zip(markers, normals)]
+    return Scene(mesh, markers, np.asarray(cog, dtype=float), normals, faces, arrows, length)
