@@ -113,9 +113,3 @@ def place_labels(
         leader[i] = rings[k] >= LEADER_AFTER
         placed.append(i)
     return boxes, leader
-
-
-def overlapping_pairs(boxes: np.ndarray) -> list[tuple[int, int]]:
-    """Index pairs of boxes (n, 4) that share area."""
-    i, j = np.nonzero(np.triu(overlap_matrix(boxes, boxes), k=1))
-    return list(zip(i.tolist(), j.tolist()))

@@ -9,18 +9,22 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import bundled
+from conftest import FIXTURE_MESHES, bundled
 from PIL import Image
 from rich.console import Console
 from test_cli import massline
 
-from massline.label_layout import overlapping_pairs, place_labels
+from massline.label_layout import overlap_matrix, place_labels
 from massline.output import to_json
 from massline.placement.candidates import CandidateOptions
 from massline.placement.information import NoiseModel
+from massline.placement.lines import Lines
+from massline.placement.mesh import load_body
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
+from massline.plan_scene import scene_of
 from massline.report_command import build_report
+from massline.viewer3d import MAX_FACES, viewer_html
 
 A4_WIDTH_PX = 794  # 210 mm at 96 px per inch
 A4_PRINTABLE_PX = 186 / 25.4 * 96  # 210 mm less the report's 12 mm page margins
@@ -59,6 +63,12 @@ def reports(tmp_path_factory):
         path.write_text(to_json(plan_to_dict(found, name, "m", body.density)))
         out[name] = build_report(path, Console(quiet=True))
     return out
+
+
+def overlapping_pairs(boxes: np.ndarray) -> list[tuple[int, int]]:
+    """Index pairs of boxes (n, 4) that share area."""
+    i, j = np.nonzero(np.triu(overlap_matrix(boxes, boxes), k=1))
+    return list(zip(i.tolist(), j.tolist()))
 
 
 def pictures(html: str) -> list[np.ndarray]:
@@ -131,6 +141,16 @@ def test_label_layout_separates_a_crowd():
     assert overlapping_pairs(boxes) == []
     assert (boxes[:, :2] >= 0).all() and (boxes[:, 2:] <= (800, 600)).all()
     assert leader.any()
+
+
+def test_the_3d_view_of_a_large_cad_mesh_is_decimated():
+    body = load_body(FIXTURE_MESHES / "ADIS16480.STL", "m", 2700)
+    assert len(body.mesh.faces) > MAX_FACES
+    points = body.mesh.vertices[[0, 100, 2000]]
+    scene = scene_of(body.mesh, Lines(points, np.eye(3)), Lines(points[:1], np.eye(3)[:1]), body.nominal.cog)
+    data = json.loads(re.search(r'id="view3d-data">(.*?)</script>', viewer_html(scene)).group(1))
+    assert 0.8 * MAX_FACES <= len(data["faces"]) <= MAX_FACES
+    assert np.max(data["faces"]) < len(data["vertices"]) and len(data["arrows"]) == 4
 
 
 def chromium(*args, timeout=90):
