@@ -61,10 +61,12 @@ def png_data_uri(image: np.ndarray) -> str:
 
 
 def _e(text) -> str:
+    """Text escaped for HTML."""
     return html.escape(str(text))
 
 
 def _num(value, fmt: str = ".4g") -> str:
+    """A number for a table, with a true minus sign; '—' for a missing one."""
     return "—" if value is None or not np.isfinite(value) else format(value, fmt).replace("-", "−")
 
 
@@ -176,6 +178,7 @@ def band_html(rows: list[BandRow], fe_note: str) -> str:
 
 
 def _figure(rendering: Rendering, markers: list[Marker]) -> str:
+    """One view as a figure: the embedded picture, its name and the markers it hides."""
     hidden = [m.label for m in markers if m.label not in rendering.visible]
     note = f"; hidden: {', '.join(hidden)}" if hidden else ""
     name = _e(rendering.view.name)

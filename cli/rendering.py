@@ -107,6 +107,7 @@ def check_offscreen() -> None:
 
 
 def _font() -> ImageFont.FreeTypeFont:
+    """The labels' font (Pillow's bundled one), ``FONT_PX`` high."""
     return ImageFont.load_default(size=FONT_PX)
 
 
@@ -220,9 +221,10 @@ def render_views(scene: Scene) -> list[Rendering]:
     plotter.enable_anti_aliasing("ssaa")
     plotter.show(auto_close=False)  # the first render; later ones keep the cameras set here
     points = np.vstack([scene.mesh.vertices, *[a.reshape(-1, 3) for a in scene.arrows]])
-    renderings = [_render(plotter, view, scene, points) for view in choose_views(scene.normals)]
-    plotter.close()
-    return renderings
+    try:
+        return [_render(plotter, view, scene, points) for view in choose_views(scene.normals)]
+    finally:
+        plotter.close()
 
 
 def _render(plotter, view: View, scene: Scene, points: np.ndarray) -> Rendering:
