@@ -15,7 +15,7 @@ from rich.console import Console
 from massline import __version__
 from massline.placement.errors import MasslineError
 
-from . import demo, identify_command, plan, report_command, simulate
+from . import demo, diagnose_command, identify_command, plan, report_command, simulate
 from .meshargs import add_mesh_arguments, body_from_arguments
 from .output import claim_output, to_json, write_atomic
 from .tables import body_table
@@ -64,6 +64,10 @@ def build_parser() -> argparse.ArgumentParser:
     identify_parser = sub.add_parser("identify", help="mass, CoG and inertia with their 1-σ from a UFF recording")
     identify_command.add_arguments(identify_parser)
     identify_parser.set_defaults(run=identify_command.run)
+
+    diagnose_parser = sub.add_parser("diagnose", help="which physics the model left out, modelled and refitted")
+    diagnose_command.add_arguments(diagnose_parser)
+    diagnose_parser.set_defaults(run=diagnose_command.run)
 
     demo_parser = sub.add_parser("demo", help="the paper's methods on the bundled bodies")
     demo_parser.set_defaults(run=cmd_demo)

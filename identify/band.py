@@ -113,3 +113,12 @@ def given_band(frequencies: np.ndarray, low: float, high: float) -> Zones:
             f"({f[0]:g}–{f[-1]:g} Hz): widen it"
         )
     return Zones(float(low), float(high), np.nan, np.nan, "given")
+
+
+def estimation_band(frequencies: np.ndarray, frf: np.ndarray, given: Zones) -> Zones:
+    """The band identify would find for the properties; the diagnosis band when none is found (a support so
+    stiff that no resonance-free stretch is clear of it)."""
+    try:
+        return find_band(frequencies, frf)
+    except MasslineError:
+        return given

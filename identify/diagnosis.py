@@ -25,13 +25,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from cvxpy.error import SolverError
 
+from massline.placement.accuracy import predicted_std
+from massline.placement.errors import MasslineError
 from massline.placement.likelihood import starting_body
 from massline.placement.masslines import Masslines
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
 
-from .effect_model import Block, Fit, Layout, Problem, fit, jacobian, penalty, score
+from .effect_model import Block, Fit, Layout, Problem, fit, penalty, score
 from .estimator import TRANSVERSE, estimate
 from .finding import Finding
 from .mass_loading import MassLoading, mass_loading
@@ -49,14 +52,18 @@ PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of 
 class Diagnosis:
     """Findings, most important first, with the fit and properties before and after.
 
-    ``flips`` and ``swaps`` are the discrete corrections applied to the recording; ``corrected``
-    is the body after every accepted effect (and without the loading masses).
+    ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
+    shown); ``estimates`` the same two models on the estimation band with both tail laws (the
+    properties reported, as identify would give them). ``flips`` and ``swaps`` are the discrete
+    corrections applied to the recording; ``corrected`` is the body after every accepted effect
+    (and without the loading masses), None when no body fits.
     """
 
     findings: list
     before: Fit
     after: Fit
-    corrected: RigidBody
+    estimates: tuple
+    corrected: RigidBody | None
     band: BandData
     noise: float
     flips: tuple
@@ -68,6 +75,15 @@ class Diagnosis:
         result = self.before if which == "before" else self.after
         energy = result.problem.energy
         return np.sqrt(np.sum(result.rss, axis=axis) / np.sum(energy, axis=axis))
+
+
+def property_std(result: Fit) -> dict | None:
+    """1-σ of every property (identify's std keys) from the fit's covariance (None for no body)."""
+    if result.body is None:
+        return None
+    model = RigidModel(result.body, result.problem.layout.planar)
+    scaled = result.covariance / np.outer(model.scale, model.scale)
+    return predicted_std(model, np.linalg.pinv(scaled))
 
 
 def relative_noise(band: BandData) -> float:
@@ -86,20 +102,36 @@ def corrected_band(band: BandData, flips, swaps) -> BandData:
     return BandData(band.frequencies, frf)
 
 
-def problem_for(band: BandData, layout: Layout, laws: frozenset, model: RigidModel, transverse: float) -> Problem:
-    data = band.reduced(laws)
+def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float) -> Problem:
+    """The fit problem on ``band`` with the tail ``laws`` (or "free": identify's per-FRF tails)."""
+    data = band.free if laws == "free" else band.reduced(laws)
     return Problem(layout, data, band.noise, model, transverse, band.n_values, band.energy)
 
 
+def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, transverse: float) -> RigidBody:
+    """A body to start the fit from: the weighted estimate, else the paper's, else one of the data's scale
+    (data with a gross fault may admit no body at all)."""
+    for attempt in (
+        lambda: estimate(masslines, sigma, layout.planar, 0.0 if layout.planar else transverse).body,
+        lambda: starting_body(masslines, layout.planar),
+    ):
+        try:
+            body = attempt()
+            if np.isfinite(body.theta).all() and body.mass > 0 and np.linalg.eigvalsh(body.inertia_cog).min() > 0:
+                return body
+        except (np.linalg.LinAlgError, SolverError, MasslineError):
+            continue
+    points = layout.sensors.points
+    size = np.linalg.norm(points - points.mean(axis=0), axis=1).max()
+    mass = 1 / np.median(np.abs(masslines.values))
+    return RigidBody(mass, points.mean(axis=0), mass * size**2 * np.eye(3))
+
+
 def base_fit(band: BandData, layout: Layout, laws: frozenset, transverse: float) -> Fit:
-    """The nominal model fitted: started from the weighted estimator on the reduced masslines."""
+    """The nominal model fitted (no effects), started from ``starting_point``."""
     data = band.reduced(laws)
     masslines = Masslines(data.massline, layout.sensors, layout.exciters)
-    sigma = band.noise / np.sqrt(data.kappa)
-    try:
-        start = estimate(masslines, sigma, layout.planar, 0.0 if layout.planar else transverse).body
-    except np.linalg.LinAlgError:
-        start = starting_body(masslines, layout.planar)
+    start = starting_point(masslines, band.noise / np.sqrt(data.kappa), layout, transverse)
     return fit(problem_for(band, layout, laws, RigidModel(start, layout.planar), transverse))
 
 
@@ -123,6 +155,11 @@ def plausible(result: Fit, block: Block, size: float) -> bool:
     return bool(np.linalg.norm(v) < 1.0)  # excitation_direction: under 45°
 
 
+def roomy(layout: Layout) -> bool:
+    """More channels than rigid motions plus one: only then can one channel be checked against the others."""
+    return len(layout.sensors) > (3 if layout.planar else 6) + 1
+
+
 def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData, Fit, list]:
     """Flip and swap channels while the BIC says so; returns flips, swaps, the corrected band, its fit
     and the findings."""
@@ -130,11 +167,12 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
     laws, layout, transverse = frozenset(), before.problem.layout, before.problem.transverse
     current = before
     S = kinematic_matrix(layout.sensors, layout.planar)
+    if not roomy(layout):
+        return (), (), band, current, findings
     for _ in range(len(layout.sensors)):
         A = corrected_band(band, flips, swaps).reduced(laws).massline
         ranked = discrete_fixes(A, S)
-        roomy = len(S) > S.shape[1] + 1
-        proposals = [r for r in ranked if r[0] < PROPOSALS][:3] if roomy else ranked[: 3 * len(S)]
+        proposals = [r for r in ranked if r[0] < PROPOSALS][:3]
         best = None
         for _, effect, channels in proposals:
             trial_flips = flips + ([channels[0]] if effect == "sensor_polarity" else [])
@@ -157,7 +195,7 @@ def forward_stage(band: BandData, start: Fit, noise: float, size: float) -> tupl
     energy = float(np.sum(band.energy))
     layout = start.problem.layout
     while True:
-        J = jacobian(current.problem, current.x, current.blocks)
+        J = current.problem.jacobian(current.x, current.blocks)
         taken = set(current.blocks)
         scored = [(score(current, b, J) - penalty(current.problem, b), b) for b in layout.candidates()]
         scored = sorted((s for s in scored if s[1] not in taken), key=lambda s: -s[0])[:REFITS]
@@ -218,7 +256,8 @@ def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list)
         if trial.bic - result.bic < EVIDENCE:
             result, laws = trial, trial_laws
         else:
-            kept.append((what, {**evidence, "moved": _moved(trial.body, result.body)}))
+            moved = None if trial.body is None or result.body is None else _moved(trial.body, result.body)
+            kept.append((what, {**evidence, "moved": moved}))
     return result, laws, kept
 
 
@@ -231,27 +270,47 @@ def _moved(without: RigidBody, with_: RigidBody) -> dict:
     }
 
 
+def covers(wide: BandData, band: BandData) -> bool:
+    """Whether ``wide`` spans ``band``'s lines (to a line's width)."""
+    step = np.diff(band.frequencies).max()
+    return wide.frequencies[0] <= band.frequencies[0] + step and wide.frequencies[-1] >= band.frequencies[-1] - step
+
+
 def diagnose(
     band: BandData,
     layout: Layout,
     nominal: RigidBody | None = None,
     transverse: float = TRANSVERSE,
+    estimation: BandData | None = None,
 ) -> Diagnosis:
-    """The whole procedure on the band's FRFs; ``nominal`` (from the mesh) enables mass loading."""
+    """The whole procedure on the band's FRFs.
+
+    ``nominal`` (the mesh's body) enables mass loading. ``estimation``: the band identify would
+    use; when it holds the diagnosis band, the final model is refitted there with identify's
+    per-FRF tails for the properties (more lines, every small tail modelled). Otherwise (a fault that moved the
+    found band inside the planned one) the properties are the diagnosis band's final fit.
+    """
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
     flips, swaps, fixed, start, findings = discrete_stage(before, band)
-    size = 3 * start.body.radius_of_gyration
+    points = layout.sensors.points
+    size = 3 * np.linalg.norm(points - points.mean(axis=0), axis=1).max()  # an offset larger than the layout is none
     result, laws, accepted = forward_stage(fixed, start, noise, size)
     result, laws, accepted = backward_stage(fixed, result, laws, accepted)
     findings += [_finding(result, fixed, what, evidence) for what, evidence in accepted]
-    corrected, loading = result.body, None
-    if nominal is not None:
-        loading = mass_loading(result, nominal)
+    estimates = (before, result)
+    if estimation is not None and covers(estimation, band):
+        estimates = (
+            refit(before, estimation, "free", ()),
+            refit(result, corrected_band(estimation, flips, swaps), "free", result.blocks),
+        )
+    corrected, loading = estimates[1].body, None
+    if nominal is not None and corrected is not None:
+        loading = mass_loading(estimates[1], nominal)
         if loading is not None:
             corrected = loading.bare
             findings.append(loading.finding())
-    return Diagnosis(findings, before, result, corrected, fixed, noise, flips, swaps, loading)
+    return Diagnosis(findings, before, result, estimates, corrected, fixed, noise, flips, swaps, loading)
 
 
 def _finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
@@ -259,13 +318,11 @@ def _finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
     if isinstance(what, str):
         size = band.tail_size(result.problem.data, what)
         edge = band.frequencies[0] if what == "suspension" else band.frequencies[-1]
-        typical = float(np.median(size))
-        equivalent = edge * np.sqrt(typical) if what == "suspension" else edge / np.sqrt(max(typical, 1e-300))
         parameters = {
             "edge_hz": float(edge),
-            "tail_median": typical,
+            "tail_median": float(np.median(size)),
             "tail_max": float(size.max()),
-            "equivalent_mode_hz": float(equivalent),
+            "mode_hz": band.pole_hz(result.problem.data, what),
         }
         return Finding(what, (), None, parameters, evidence)
     layout = result.problem.layout

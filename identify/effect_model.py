@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.model import RigidModel
 
@@ -35,7 +36,7 @@ from .tails import Reduced
 
 SENSOR_EFFECTS = ("sensor_direction", "sensor_gain", "sensor_location")
 EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
-MAX_EVALUATIONS = 200  # a fit still moving after this many steps is far from any model that could be accepted
+MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
 MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
 
 
@@ -132,14 +133,17 @@ class Problem:
 
     @property
     def n_tau(self) -> int:
-        return 0 if self.layout.planar else 2 * len(self.layout.sensors)
+        """Transverse components estimated: none for a plate or when the axes are taken as exact."""
+        return 0 if self.layout.planar or self.transverse <= 0 else 2 * len(self.layout.sensors)
 
-    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
-        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
+    def lines(self, tau: np.ndarray, blocks, values):
+        """The lines as measured: sensor points, unit axes, their norms before normalising, gains; hit
+        directions and points."""
         lay = self.layout
         T, U = lay.sensor_bases, lay.exciter_bases
-        d = lay.sensors.directions + (0 if lay.planar else np.einsum("nak,nk->na", T, tau))
-        d = d / np.linalg.norm(d, axis=1, keepdims=True)  # a tilted axis, not a gain
+        d = lay.sensors.directions + (np.einsum("nak,nk->na", T, tau) if tau.size else 0.0)
+        norm = np.linalg.norm(d, axis=1)
+        d = d / norm[:, None]  # a tilted axis, not a gain
         p, gain = lay.sensors.points.copy(), np.ones(len(d))
         f, r = lay.exciters.directions.copy(), lay.exciters.points.copy()
         for block, v in zip(blocks, values):
@@ -153,10 +157,43 @@ class Problem:
                 f[j] /= np.linalg.norm(f[j])
             elif block.effect == "excitation_location":
                 r[j] += U[j] @ v
-        s = line_coordinates(p, d * gain[:, None], lay.planar)
-        e = line_coordinates(r, f, lay.planar)
+        return p, d, norm, gain, f, r
+
+    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
+        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
+        p, d, _, gain, f, r = self.lines(tau, blocks, values)
+        s = line_coordinates(p, d * gain[:, None], self.layout.planar)
+        e = line_coordinates(r, f, self.layout.planar)
         M = self.model.mass_matrix(self.model.scale * theta_scaled)
         return s @ np.linalg.solve(M, e.T)
+
+    def jacobian(self, x: np.ndarray, blocks) -> np.ndarray:
+        """∂r/∂x: analytic in θ̃ (∂M⁻¹ = −M⁻¹ B_k M⁻¹) and τ (∂d'/∂τ = (I − d'd'ᵀ) T / ‖d + Tτ‖),
+        central differences in the few effect values."""
+        theta, tau, values = self.unpack(x, blocks)
+        p, d, norm, gain, f, r = self.lines(tau, blocks, values)
+        s = line_coordinates(p, d * gain[:, None], self.layout.planar)
+        e = line_coordinates(r, f, self.layout.planar)
+        M_inv = np.linalg.inv(self.model.mass_matrix(self.model.scale * theta))
+        U, V = s @ M_inv, e @ M_inv
+        w = np.sqrt(self.data.kappa) / self.sigma
+        n_s, n_e = w.shape
+        columns = [(np.einsum("ia,kab,jb->ijk", U, self.model.basis, V) * w[..., None]).reshape(n_s * n_e, -1)]
+        if self.n_tau:
+            projector = np.eye(3) - np.einsum("na,nb->nab", d, d)
+            delta = np.einsum("nab,nbc->nac", projector, self.layout.sensor_bases) / norm[:, None, None]
+            ds = gain[:, None, None] * np.concatenate([delta, np.cross(p[:, :, None], delta, axis=1)], axis=1)
+            dH = np.einsum("iac,ja->ijc", ds, V)
+            J_tau = np.zeros((n_s, n_e, n_s, 2))
+            J_tau[np.arange(n_s), :, np.arange(n_s)] = -dH * w[..., None]
+            columns.append(J_tau.reshape(n_s * n_e, -1))
+        J = np.hstack(columns)
+        if self.n_tau:
+            scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
+            prior = np.hstack([np.zeros((self.n_tau, self.model.p)), np.diag(np.repeat(1 / scale, 2))])
+            J = np.vstack([J, prior])
+        extra = range(self.model.p + self.n_tau, len(x))
+        return np.hstack([J, jacobian(self, x, blocks, extra)]) if len(extra) else J
 
     def released(self, blocks) -> np.ndarray:
         """Channels whose transverse prior is released by a ``sensor_direction`` block."""
@@ -223,7 +260,7 @@ class Fit:
     def n_parameters(self) -> int:
         """Free parameters: θ, the effect blocks' and the tails' (widened priors are counted in ``bic``)."""
         lay = self.problem.layout
-        tails = 3 * len(self.problem.data.laws) * self.problem.data.massline.size
+        tails = self.problem.data.n_tail_parameters
         free = [lay.size(b) for b in self.blocks if b.effect != "sensor_direction"]
         return self.problem.model.p + sum(free) + tails
 
@@ -240,7 +277,13 @@ class Fit:
 
     @property
     def body(self):
-        return self.problem.model.body(self.theta)
+        """The fitted body; None when θ is no body (a negative mass or inertia: the data need the effects first)."""
+        try:
+            body = self.problem.model.body(self.theta)
+        except MasslineError:
+            return None
+        physical = np.isfinite(body.theta).all() and np.linalg.eigvalsh(body.inertia_cog).min() > 0
+        return body if physical else None
 
     @property
     def parts(self):
@@ -257,11 +300,21 @@ class Fit:
 
 
 def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
-    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt, finite-difference Jacobian)."""
+    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt)."""
     blocks = tuple(blocks)
     x0 = problem.start(previous, blocks)
+    if not np.isfinite(x0).all():  # a start no body could have (a hopeless trial): never the best model
+        return Fit(problem, blocks, x0, np.inf, np.full((problem.model.p,) * 2, np.nan))
     result = least_squares(
-        problem.residual, x0, args=(blocks,), method="lm", x_scale="jac", xtol=1e-9, ftol=1e-9, max_nfev=MAX_EVALUATIONS
+        problem.residual,
+        x0,
+        jac=problem.jacobian,
+        args=(blocks,),
+        method="lm",
+        x_scale="jac",
+        xtol=1e-10,
+        ftol=1e-10,
+        max_nfev=MAX_EVALUATIONS,
     )
     chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
     J = result.jac
@@ -277,7 +330,7 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
 
 
 def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:
-    """∂r/∂x by central differences (only ``columns`` when given)."""
+    """∂r/∂x by central differences (only ``columns`` when given; a check of ``Problem.jacobian``)."""
     h = 1e-6 * np.maximum(np.abs(x), 1e-2)
     out = []
     for k in range(len(x)) if columns is None else columns:

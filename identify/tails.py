@@ -1,45 +1,66 @@
 """The band's spectral lines, reduced to one massline per FRF for any set of tail laws.
 
 Over the massline band each FRF is the rigid body's massline A plus, when the
-model admits them, the tails of its neighbours (mismatch notes A1, A3):
+model admits them, the tails of its neighbours (mismatch notes A1, A3), each a
+single mode whose frequency is shared by every FRF (x = ω²/ω_mid²):
 
-    suspension             B/ω² + B₂/ω⁴   (B complex: the support's damping; B₂ its second order)
-    residual_flexibility   Cω² + Dω⁴      (C complex: the modes' damping; D the next term)
+    suspension             b/(x − x_s) + i b'/x       a support mode at x_s below the band
+    residual_flexibility   c x/(1 − x/x_r) + i c' x   an elastic mode at x_r above it
 
-For a given set of laws the tail coefficients of each FRF enter linearly and
-are projected out (variable projection). The residual sum of squares of FRF
-ij over all its lines is then a parabola in its massline,
+(b, b', c, c' per FRF; the imaginary parts carry the damping). As x_s → 0 and
+x_r → ∞ they become the first-order tails B/ω² and Cω²; the pole is what keeps
+a tail that reaches tens of per cent inside the band from leaking into the
+massline. For given poles the per-FRF coefficients enter linearly and are
+projected out (variable projection); the poles are chosen by a bounded search
+on the total weighted RSS. The residual sum of squares of FRF ij over all its
+lines is then a parabola in its massline,
 
     RSS_ij(A) = rss_ij + κ (A − â_ij)²,
 
 so a rigid-body model is fitted to the n_s × n_e numbers â_ij with weights
 κ/σ_ij², while every χ², BIC and relative residual still counts each spectral
-line. σ_ij, the noise of one real component of one line, comes from the fullest
-fit (massline and both tails), whose residual is the measurement scatter.
+line. σ_ij, the noise of one real component of one line, comes from a free
+fit of each FRF (massline, B/ω² + B₂/ω⁴, Cω² + Dω⁴ per FRF), whose residual is
+the measurement scatter.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from scipy.optimize import minimize, minimize_scalar
 
 from massline.placement.errors import MasslineError
 
 TAIL_LAWS = ("suspension", "residual_flexibility")
 MIN_LINES = 12
+POLE_RANGE = 1e3  # the poles are searched from the band edge to this factor beyond it (in x)
 
 
-def tail_columns(omega: np.ndarray, laws: frozenset) -> np.ndarray:
-    """Columns (2n, k) of the tail laws over [Re; Im] of n lines; x = ω²/ω_mid² keeps them O(1)."""
-    x = (omega / np.sqrt(omega[0] * omega[-1])) ** 2
+def scaled_frequency(omega: np.ndarray) -> np.ndarray:
+    """x = ω²/ω_mid², ω_mid the geometric middle of the band."""
+    return (omega / np.sqrt(omega[0] * omega[-1])) ** 2
+
+
+def free_columns(omega: np.ndarray) -> np.ndarray:
+    """Each FRF's own tails for the noise estimate: B/ω² (complex), B₂/ω⁴, Cω² (complex), Dω⁴ over [Re; Im]."""
+    x = scaled_frequency(omega)
+    zero = np.zeros_like(x)
+    columns = [(1 / x, zero), (zero, 1 / x), (1 / x**2, zero), (x, zero), (zero, x), (x**2, zero)]
+    return np.array([np.concatenate(c) for c in columns]).T
+
+
+def tail_columns(omega: np.ndarray, poles: dict) -> np.ndarray:
+    """Columns (2n, 2 per law) over [Re; Im] of n lines for the laws in ``poles`` (law → pole in x)."""
+    x = scaled_frequency(omega)
     zero = np.zeros_like(x)
     columns = []
-    if "suspension" in laws:
-        columns += [(1 / x, zero), (zero, 1 / x), (1 / x**2, zero)]
-    if "residual_flexibility" in laws:
-        columns += [(x, zero), (zero, x), (x**2, zero)]
+    if "suspension" in poles:
+        columns += [(1 / (x - poles["suspension"]), zero), (zero, 1 / x)]
+    if "residual_flexibility" in poles:
+        columns += [(x / (1 - x / poles["residual_flexibility"]), zero), (zero, x)]
     return np.array([np.concatenate(c) for c in columns]).reshape(-1, 2 * len(x)).T
 
 
@@ -56,20 +77,38 @@ class Reduced:
     rss : (n_s, n_e) array
         RSS_ij at â_ij, ((m/s²)/N)².
     tails : (n_s, n_e, k) array
-        The tail coefficients at â_ij (scaled laws of ``tail_columns``).
-    laws : frozenset
-        The tail laws admitted.
+        The tail coefficients at â_ij (of ``tail_columns``).
+    poles : dict
+        Each admitted law's pole, in x = ω²/ω_mid².
     """
 
     massline: np.ndarray
     kappa: float
     rss: np.ndarray
     tails: np.ndarray
-    laws: frozenset
+    poles: dict = field(default_factory=dict)
+    free: bool = False
+
+    @property
+    def laws(self) -> frozenset:
+        return frozenset(TAIL_LAWS) if self.free else frozenset(self.poles)
+
+    @property
+    def n_tail_parameters(self) -> int:
+        """Per-FRF coefficients and the shared poles."""
+        return self.tails.shape[2] * self.massline.size + len(self.poles)
 
     def rss_at(self, A: np.ndarray) -> np.ndarray:
         """RSS_ij of every FRF with masslines A (n_s, n_e)."""
         return self.rss + self.kappa * (A - self.massline) ** 2
+
+
+def _project_out(X: np.ndarray, Y: np.ndarray, u: np.ndarray):
+    """(I − QQᵀ) of the unit massline column u and of the data Y (…, 2n), Q spanning X's columns."""
+    if X.shape[1] == 0:
+        return u, Y
+    Q, _ = np.linalg.qr(X)
+    return u - Q @ (Q.T @ u), Y - (Y @ Q) @ Q.T
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,6 +125,7 @@ class BandData:
 
     frequencies: np.ndarray
     frf: np.ndarray
+    _reductions: dict = field(default_factory=dict, init=False, repr=False)
 
     @classmethod
     def from_recording(cls, frequencies: np.ndarray, frf: np.ndarray, low: float, high: float) -> "BandData":
@@ -98,6 +138,10 @@ class BandData:
         return cls(frequencies[keep], frf[:, :, keep])
 
     @cached_property
+    def omega(self) -> np.ndarray:
+        return 2 * np.pi * self.frequencies
+
+    @cached_property
     def values(self) -> np.ndarray:
         """[Re; Im] of every FRF, (n_s, n_e, 2n)."""
         return np.concatenate([self.frf.real, self.frf.imag], axis=2)
@@ -107,43 +151,88 @@ class BandData:
         return self.values.size
 
     @cached_property
+    def unit(self) -> np.ndarray:
+        """The massline's column over [Re; Im]: 1 on the real parts."""
+        n = len(self.frequencies)
+        return np.concatenate([np.ones(n), np.zeros(n)])
+
+    @cached_property
     def noise(self) -> np.ndarray:
-        """σ_ij (n_s, n_e): scatter of one real component of one line, from the fullest fit's residual."""
-        full = self.reduced(frozenset(TAIL_LAWS))
-        dof = self.values.shape[2] - 1 - full.tails.shape[2]
-        return np.sqrt(np.maximum(full.rss / dof, 1e-300))
+        """σ_ij (n_s, n_e): scatter of one real component of one line, from each FRF's free fit."""
+        dof = self.values.shape[2] - 1 - free_columns(self.omega).shape[1]
+        return np.sqrt(np.maximum(self.free.rss / dof, 1e-300))
+
+    @cached_property
+    def free(self) -> Reduced:
+        """Each FRF with its own tails (identify's band fit): robust to several support and elastic modes."""
+        return self._reduce(free_columns(self.omega), {}, free=True)
 
     @cached_property
     def energy(self) -> np.ndarray:
         """Σ over lines of |H_ij|², per FRF: the scale of the relative residuals."""
         return np.sum(self.values**2, axis=2)
 
-    def reduced(self, laws: frozenset) -> Reduced:
-        """Project the tails of ``laws`` out of every FRF (one QR, shared by all FRFs)."""
-        omega = 2 * np.pi * self.frequencies
-        n = len(omega)
-        u = np.concatenate([np.ones(n), np.zeros(n)])
-        X = tail_columns(omega, laws)
-        Y = self.values
+    def at_poles(self, poles: dict) -> Reduced:
+        """The reduction with the tails of ``poles`` projected out (one QR shared by all FRFs)."""
+        return self._reduce(tail_columns(self.omega, poles), poles)
+
+    def _reduce(self, X: np.ndarray, poles: dict, free: bool = False) -> Reduced:
+        u, PY = _project_out(X, self.values, self.unit)
+        kappa = float(u @ u)
+        massline = PY @ u / kappa
+        rss = np.sum((PY - massline[..., None] * u) ** 2, axis=2)  # not ‖PY‖² − κâ²: that cancels
         if X.shape[1]:
-            Q, _ = np.linalg.qr(X)
-            project = lambda v: v - (v @ Q) @ Q.T  # noqa: E731  (I − QQᵀ) v, on the last axis
+            rest = self.values - massline[..., None] * self.unit
+            tails = np.linalg.lstsq(X, rest.reshape(-1, X.shape[0]).T, rcond=None)[0].T.reshape(*massline.shape, -1)
         else:
-            project = lambda v: v  # noqa: E731
-        Pu, PY = project(u), project(Y)
-        kappa = float(Pu @ Pu)
-        massline = PY @ Pu / kappa
-        rss = np.sum(PY**2, axis=2) - kappa * massline**2
-        tails = np.linalg.lstsq(X, np.moveaxis(Y - massline[..., None] * u, 2, 0).reshape(2 * n, -1), rcond=None)[0]
-        tails = tails.T.reshape(*massline.shape, X.shape[1]) if X.shape[1] else np.zeros((*massline.shape, 0))
-        return Reduced(massline, kappa, np.maximum(rss, 0.0), tails, laws)
+            tails = np.zeros((*massline.shape, 0))
+        return Reduced(massline, kappa, rss, tails, dict(poles), free)
+
+    def reduced(self, laws: frozenset) -> Reduced:
+        """The reduction for ``laws``, each pole placed where the weighted RSS over all FRFs is least."""
+        laws = frozenset(laws)
+        if laws not in self._reductions:
+            self._reductions[laws] = self._search(laws)
+        return self._reductions[laws]
+
+    def _search(self, laws: frozenset) -> Reduced:
+        x = scaled_frequency(self.omega)
+        bounds = {
+            "suspension": (np.log(x[0] / POLE_RANGE), np.log(0.95 * x[0])),
+            "residual_flexibility": (np.log(1.05 * x[-1]), np.log(x[-1] * POLE_RANGE)),
+        }
+        poles = {law: np.exp(bounds[law][0] if law == "suspension" else bounds[law][1]) for law in laws}
+        weight = 1 / self.noise**2
+
+        def cost(law, log_pole):
+            return float(np.sum(self.at_poles({**poles, law: np.exp(log_pole)}).rss * weight))
+
+        order = sorted(laws, key=TAIL_LAWS.index)
+        for law in order:  # one at a time, then both together
+            best = minimize_scalar(
+                lambda t: cost(law, t), bounds=bounds[law], method="bounded", options={"xatol": 1e-9}
+            )
+            poles[law] = float(np.exp(best.x))
+        if len(order) == 2:
+            joint = minimize(
+                lambda t: float(np.sum(self.at_poles(dict(zip(order, np.exp(t)))).rss * weight)),
+                np.log([poles[law] for law in order]),
+                method="Nelder-Mead",
+                bounds=[bounds[law] for law in order],
+                options={"xatol": 1e-9, "fatol": 0.0, "maxiter": 300},
+            )
+            poles = dict(zip(order, np.exp(joint.x)))
+        return self.at_poles(poles)
 
     def tail_size(self, reduced: Reduced, law: str) -> np.ndarray:
         """Each FRF's fitted ``law`` tail at the band edge where it is largest, relative to its massline."""
-        omega = 2 * np.pi * self.frequencies
-        n = len(omega)
+        n = len(self.omega)
         line = 0 if law == "suspension" else n - 1
-        X = tail_columns(omega, reduced.laws)[[line, n + line]]  # Re and Im rows of the edge line
+        X = tail_columns(self.omega, reduced.poles)[[line, n + line]]  # Re and Im rows of the edge line
         k = sorted(reduced.laws, key=TAIL_LAWS.index).index(law)
-        value = np.einsum("rk,ijk->ijr", X[:, 3 * k : 3 * k + 3], reduced.tails[..., 3 * k : 3 * k + 3])
+        value = np.einsum("rk,ijk->ijr", X[:, 2 * k : 2 * k + 2], reduced.tails[..., 2 * k : 2 * k + 2])
         return np.hypot(value[..., 0], value[..., 1]) / np.maximum(np.abs(reduced.massline), 1e-300)
+
+    def pole_hz(self, reduced: Reduced, law: str) -> float:
+        """The law's mode frequency, Hz."""
+        return float(np.sqrt(reduced.poles[law] * self.frequencies[0] * self.frequencies[-1]))

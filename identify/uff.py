@@ -389,6 +389,8 @@ def to_recording(contents: UffContents) -> Recording:
         exciters=_lines(contents, exciters, False),
         coherence=np.array([[frf.coherence for frf in row] for row in grid]) if weighted else None,
         description=contents.description,
+        sensor_labels=tuple(sensors),
+        exciter_labels=tuple(exciters),
     )
 
 

@@ -25,6 +25,8 @@ class Recording:
         Ordinary coherence of each FRF, when it was estimated from averages.
     description : str
         Free text carried into the file header.
+    sensor_labels, exciter_labels : tuple of (node, direction code) or None
+        The channels as the file names them (UFF node and ±1..±3), when read from a file.
     """
 
     frequencies: np.ndarray
@@ -33,6 +35,8 @@ class Recording:
     exciters: Lines
     coherence: np.ndarray | None = None
     description: str = ""
+    sensor_labels: tuple | None = None
+    exciter_labels: tuple | None = None
 
     def __post_init__(self):
         f = np.asarray(self.frequencies, dtype=float)

@@ -1,0 +1,153 @@
+"""``massline diagnose FILE.uff``: where the recording departs from the rigid body, and which physics was left out."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from massline.identify.band import estimation_band, find_band, given_band
+from massline.identify.diagnosis import Diagnosis, diagnose, property_std, roomy
+from massline.identify.effect_model import Layout
+from massline.identify.estimator import TRANSVERSE
+from massline.identify.tails import BandData
+from massline.identify.uff import read_uff, to_recording
+from massline.identify.uff_datasets import channel_name
+from massline.meshes import BUNDLED
+from massline.placement.masslines import Masslines
+from massline.placement.mesh import UNITS, load_body
+
+from .identify_command import is_planar, payload
+from .notes import finding_note, finding_payload
+from .output import claim_output, to_json, write_atomic, write_atomic_bytes
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
+    parser.add_argument("--band", type=float, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (the plan's)")
+    parser.add_argument("--mesh", metavar="MESH", help="the nominal body's surface mesh or a bundled body")
+    parser.add_argument("--units", choices=sorted(UNITS), help="length unit of the mesh file")
+    material = parser.add_mutually_exclusive_group()
+    material.add_argument("--density", type=float, metavar="KG_M3", help="material density, kg/m³")
+    material.add_argument("--mass", type=float, metavar="KG", help="total mass, kg (uniform density)")
+    parser.add_argument(
+        "--transverse", type=float, default=TRANSVERSE, metavar="FRACTION", help="accelerometers' cross-axis prior"
+    )
+    parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON")
+    parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
+    parser.add_argument("--force", action="store_true", help="overwrite OUT and PNG")
+
+
+def nominal_body(args: argparse.Namespace):
+    """The mesh's body when --mesh is given (bundled bodies know units and density)."""
+    if not args.mesh:
+        return None
+    bundled = BUNDLED.get(args.mesh)
+    if bundled is not None and not Path(args.mesh).exists():
+        density = args.density if args.density is not None or args.mass is not None else bundled.density
+        return load_body(bundled.path, args.units or "m", density, args.mass).nominal
+    return load_body(args.mesh, args.units, args.density, args.mass).nominal
+
+
+def labels(recording) -> tuple[list[str], list[str]]:
+    """'node:±X' names of the channels, or their numbers when the recording carries no labels."""
+    if recording.sensor_labels is None:
+        return [f"sensor {i + 1}" for i in range(len(recording.sensors))], [
+            f"hit {j + 1}" for j in range(len(recording.exciters))
+        ]
+    return [channel_name(*c) for c in recording.sensor_labels], [channel_name(*c) for c in recording.exciter_labels]
+
+
+def properties_table(result: Diagnosis, nominal) -> Table:
+    table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ of the fit)")
+    table.caption = "estimated over the found band with the suspension and residual-flexibility tails, as identify does"
+    for col in ("quantity", "before", "after", "± 1-σ", "nominal (mesh)", "unit"):
+        table.add_column(col, justify="right")
+    before, after, std = result.estimates[0].body, result.corrected, property_std(result.estimates[1])
+    rows = [("mass", lambda b: b.mass, lambda s: s["mass"], "kg", 1.0)]
+    rows += [(f"CoG {a}", lambda b, k=k: b.cog[k], lambda s, k=k: s["cog"][k], "mm", 1e3) for k, a in enumerate("xyz")]
+    rows += [
+        (
+            f"principal moment {k + 1}",
+            lambda b, k=k: b.principal_moments[k],
+            lambda s, k=k: s["principal_moments"][k],
+            "kg·m²",
+            1.0,
+        )
+        for k in range(3)
+    ]
+    for name, get, sigma, unit, scale in rows:
+        shown = "" if nominal is None else f"{get(nominal) * scale:.6g}"
+        old = "no body" if before is None else f"{get(before) * scale:.6g}"
+        new = "no body" if after is None else f"{get(after) * scale:.6g}"
+        table.add_row(name, old, new, "" if std is None else f"{sigma(std) * scale:.2g}", shown, unit)
+    return table
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    for path in (args.json, args.plot):
+        if path:
+            claim_output(path, args.force)
+    nominal = nominal_body(args)
+    recording = to_recording(read_uff(args.uff))
+    f = recording.frequencies
+    zones = given_band(f, *args.band) if args.band else find_band(f, recording.frf)
+    found = estimation_band(f, recording.frf, zones)
+    band = BandData.from_recording(f, recording.frf, zones.low, zones.high)
+    wide = BandData.from_recording(f, recording.frf, found.low, found.high)
+    planar = is_planar(
+        Masslines(np.zeros((len(recording.sensors), len(recording.exciters))), recording.sensors, recording.exciters)
+    )
+    layout = Layout.of(recording.sensors, recording.exciters, planar)
+    if not roomy(layout):
+        console.print(
+            f"[yellow]note:[/] {len(layout.sensors)} sensor channels leave no redundancy: a faulty channel cannot be "
+            "told from the body's properties (diagnosis needs at least 8 channels, 5 for a plate)"
+        )
+    with console.status("diagnosing: discrete faults, then the effect library one at a time"):
+        result = diagnose(band, layout, nominal, args.transverse, wide)
+    sensors, hits = labels(recording)
+    before, after = result.relative_rms("before"), result.relative_rms("after")
+    console.print(
+        f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
+        f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {result.noise:.2%} of the FRFs (RMS)"
+    )
+    if not result.findings:
+        console.print(f"no findings: the rigid body fits every line within the noise ({before / result.noise:.2f}× it)")
+    for k, finding in enumerate(result.findings, 1):
+        console.print(f"{k}. {finding_note(finding, sensors, hits)}")
+    console.print(
+        f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
+        f"({before / result.noise:.2f}× → {after / result.noise:.2f}× the noise)"
+    )
+    console.print(properties_table(result, nominal))
+    if args.plot:
+        from .diagnosis_figures import diagnosis_figure
+
+        write_atomic_bytes(args.plot, diagnosis_figure(result, sensors, hits), args.force)
+        console.print(f"wrote {args.plot}")
+    if args.json:
+        document = {
+            "findings": [finding_payload(x, recording) for x in result.findings],
+            "fit": {"before": before, "after": after, "noise": result.noise},
+            "fit_per_channel": {
+                "before": result.relative_rms("before", axis=1).tolist(),
+                "after": result.relative_rms("after", axis=1).tolist(),
+            },
+            "properties": {
+                "before": None
+                if result.estimates[0].body is None
+                else payload(
+                    result.estimates[0].body, property_std(result.estimates[0]), (found.low, found.high), planar
+                ),
+                "after": None
+                if result.corrected is None
+                else payload(result.corrected, property_std(result.estimates[1]), (found.low, found.high), planar),
+            },
+            "band_hz": [zones.low, zones.high],
+        }
+        write_atomic(args.json, to_json(document), args.force)
+        console.print(f"wrote {args.json}")

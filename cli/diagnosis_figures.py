@@ -1,0 +1,52 @@
+"""The diagnosis in pictures: residual maps over sensors × hits, and FRF overlays, before and after."""
+
+from __future__ import annotations
+
+import io
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from massline.identify.diagnosis import Diagnosis  # noqa: E402
+from massline.identify.tails import tail_columns  # noqa: E402
+
+
+def diagnosis_figure(result: Diagnosis, sensors: list[str], hits: list[str]) -> bytes:
+    """PNG bytes: per-FRF relative RMS residual (in noise units) before and after, and the worst FRF overlaid."""
+    band = result.band
+    noise = np.sqrt(band.values.shape[2] * band.noise**2 / band.energy)  # each FRF's own noise, relative
+    maps = [np.sqrt(fit.rss / band.energy) / noise for fit in (result.before, result.after)]
+    fig, axes = plt.subplots(1, 3, figsize=(13, 0.25 * len(sensors) + 3), gridspec_kw={"width_ratios": [1, 1, 2]})
+    top = max(float(maps[0].max()), 2.0)
+    for ax, values, title in zip(axes[:2], maps, ("before", "after")):
+        image = ax.imshow(values, cmap="magma_r", vmin=0, vmax=top, aspect="auto")
+        ax.set_xticks(range(len(hits)), hits, rotation=90, fontsize=7)
+        ax.set_yticks(range(len(sensors)), sensors, fontsize=7)
+        ax.set_title(f"residual / noise, {title}", fontsize=9)
+    fig.colorbar(image, ax=axes[:2], shrink=0.8)
+    i, j = np.unravel_index(np.argmax(maps[0]), maps[0].shape)
+    f = band.frequencies
+    ax = axes[2]
+    ax.plot(f, band.frf[i, j].real, color="0.3", lw=0.8, label="recorded (real part)")
+    for fit, style, name in ((result.before, "--", "model before"), (result.after, "-", "model after")):
+        level = fit.masslines[i, j]
+        tails = fit.problem.data.tails[i, j]
+        ax.plot(f, _with_tails(f, level, tails, fit.problem.data.poles), style, lw=1.4, label=name)
+    ax.set_title(f"worst FRF before: {sensors[i]} / {hits[j]}", fontsize=9)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("Re H ((m/s²)/N)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def _with_tails(frequencies: np.ndarray, level: float, tails: np.ndarray, poles: dict) -> np.ndarray:
+    """The model's real part over the band: the massline plus its tail laws (as fitted)."""
+    X = tail_columns(2 * np.pi * frequencies, poles)[: len(frequencies)]
+    return level + (X @ tails if X.shape[1] else np.zeros(len(frequencies)))

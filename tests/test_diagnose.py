@@ -1,0 +1,134 @@
+"""Diagnosis: the band reduction, the effect model, the discrete screen and the command."""
+
+import json
+
+import numpy as np
+import pytest
+from conftest import bundled
+from test_cli import massline
+
+from massline.identify.diagnosis import base_fit, diagnose
+from massline.identify.effect_model import Block, Layout, fit
+from massline.identify.mass_loading import unit_mass
+from massline.identify.screens import discrete_fixes, kinematic_matrix
+from massline.identify.tails import BandData
+from massline.identify.uff import read_uff, to_recording
+from massline.placement.hand_layouts import structure_exciters
+from massline.placement.lines import Lines
+from massline.placement.masslines import synthesise
+from massline.placement.rigid_body import RigidBody
+from massline.placement.virtual.effects import Effect
+from massline.placement.virtual.measurement import Noise
+from massline.placement.virtual.uff_export import write_uff
+from massline.placement.virtual.virtual_test import Acquisition, run
+
+
+@pytest.fixture(scope="module")
+def structure():
+    return bundled("structure").nominal
+
+
+def test_tail_reduction_recovers_the_massline_and_its_parabola():
+    """One support mode (8 Hz) and one elastic mode (900 Hz) with per-FRF amplitudes: masslines to 1e-9."""
+    f = np.linspace(20.0, 200.0, 300)
+    w = 2 * np.pi * f
+    ws, wr = 2 * np.pi * 8.0, 2 * np.pi * 900.0
+    A = np.array([[0.3, -0.1], [0.05, 0.2]])
+    b = np.array([[2000.0, -500.0], [300.0, 800.0]])
+    c = np.array([[-0.02, 0.01], [0.005, -0.03]])
+    H = A[:, :, None] + b[:, :, None] / (w**2 - ws**2) + c[:, :, None] * w**2 / (wr**2 - w**2)
+    band = BandData(f, H.astype(complex))
+    full = band.reduced(frozenset({"suspension", "residual_flexibility"}))
+    np.testing.assert_allclose(full.massline, A, rtol=1e-9)
+    assert band.pole_hz(full, "suspension") == pytest.approx(8.0, rel=1e-6)
+    assert band.pole_hz(full, "residual_flexibility") == pytest.approx(900.0, rel=1e-4)
+    plain = band.reduced(frozenset())
+    assert np.abs(plain.massline - A).max() > 1e-3  # without the tails the average is off
+    trial = A + 0.01  # RSS(A) = rss + κ(A − â)² is the direct residual of a constant
+    direct = np.sum(np.abs(H - trial[:, :, None]) ** 2, axis=2)
+    np.testing.assert_allclose(plain.rss_at(trial), direct, rtol=1e-9)
+
+
+def _band(recording, low=5.0, high=95.0):
+    return BandData.from_recording(recording.frequencies, recording.frf, low, high)
+
+
+@pytest.mark.parametrize(
+    "effect, block",
+    [
+        ("sensor_gain=0.2@5", Block("sensor_gain", 4)),
+        ("sensor_location=0.01@3", Block("sensor_location", 2)),
+        ("excitation_direction=10@2", Block("excitation_direction", 1)),
+        ("excitation_location=0.01@3", Block("excitation_location", 2)),
+    ],
+)
+def test_effect_model_recovers_an_effect_exactly(structure, effect, block):
+    """Masslines with 1e-8 noise of a layout with one effect: the model with that block reproduces them."""
+    rng = np.random.default_rng(2)
+    sensors = Lines(rng.normal(size=(10, 3)) * 0.1, rng.normal(size=(10, 3)))
+    setup = Acquisition(100.0, 100, Noise(1e-8, 0))
+    rec, truth = run(structure, sensors, structure_exciters(), effects=(Effect.parse(effect),), setup=setup, seed=3)
+    layout = Layout.of(rec.sensors, rec.exciters, False)
+    start = base_fit(_band(rec), layout, frozenset(), 0.0)
+    found = fit(start.problem, (block,), start)
+    assert found.body.mass == pytest.approx(structure.mass, rel=1e-7)
+    np.testing.assert_allclose(
+        found.body.inertia_cog, structure.inertia_cog, atol=1e-7 * structure.principal_moments[2]
+    )
+    assert start.chi2 > 1e4 * found.chi2
+
+
+def test_discrete_screen_names_a_flip_and_a_swap(structure):
+    rng = np.random.default_rng(0)
+    sensors = Lines(rng.normal(size=(10, 3)) * 0.1, rng.normal(size=(10, 3)))
+    A = synthesise(structure, sensors, structure_exciters()).values
+    S = kinematic_matrix(sensors, False)
+    flipped = A.copy()
+    flipped[3] *= -1
+    assert discrete_fixes(flipped, S)[0][1:] == ("sensor_polarity", (3,))
+    swapped = A.copy()
+    swapped[[2, 7]] = swapped[[7, 2]]
+    assert discrete_fixes(swapped, S)[0][1:] == ("channel_swap", (2, 7))
+
+
+def test_point_mass_vector_is_the_parameters_of_a_point_mass():
+    p = np.array([0.1, -0.2, 0.3])
+    heavy = RigidBody(2.0, np.zeros(3), np.diag([1.0, 2.0, 3.0]))
+    loaded_theta = heavy.theta + 0.5 * unit_mass(p)
+    m, c = 2.5, 0.5 * p / 2.5
+    assert RigidBody.from_theta(loaded_theta).mass == pytest.approx(m)
+    np.testing.assert_allclose(RigidBody.from_theta(loaded_theta).cog, c, atol=1e-15)
+
+
+def twelve_lines():
+    """Twelve accelerometer lines around the structure: room to check each against the others."""
+    rng = np.random.default_rng(4)
+    return Lines(rng.normal(size=(12, 3)) * 0.1, rng.normal(size=(12, 3)))
+
+
+def test_clean_noisy_free_test_has_no_findings(structure):
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=1)
+    result = diagnose(_band(rec), Layout.of(rec.sensors, rec.exciters, False), structure)
+    assert result.findings == []
+    assert result.relative_rms("after") < 1.1 * result.noise
+
+
+def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):
+    effects = (Effect.parse("sensor_polarity@4"),)
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400))
+    path = tmp_path / "flip.uff"
+    write_uff(path, rec)
+    out, png = tmp_path / "d.json", tmp_path / "d.png"
+    result = massline("diagnose", path, "--band", "5", "95", "--mesh", "structure", "--json", out, "--plot", png)
+    assert result.returncode == 0, result.stderr
+    assert "polarity flipped" in result.stdout
+    found = json.loads(out.read_text())
+    first = found["findings"][0]
+    assert first["effect"] == "sensor_polarity" and first["sensor"]["node"] is not None
+    assert found["fit"]["after"] < 1.5 * found["fit"]["noise"] < found["fit"]["before"]
+    assert found["properties"]["after"]["mass"] == pytest.approx(structure.mass, rel=0.003)
+    node, code = to_recording(read_uff(path)).sensor_labels[3]
+    assert first["sensor"] == {"node": node, "dir": code}
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    again = massline("diagnose", path, "--band", "5", "95", "--json", out)
+    assert again.returncode == 2 and "--force" in again.stderr
