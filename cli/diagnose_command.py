@@ -10,9 +10,10 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.band import estimation_band, find_band, given_band
-from massline.identify.diagnosis import Diagnosis, diagnose, property_std, roomy
+from massline.identify.diagnosis import Diagnosis, diagnose, property_std, relative_noise, roomy
 from massline.identify.effect_model import Layout
 from massline.identify.estimator import TRANSVERSE
+from massline.identify.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.tails import BandData
 from massline.identify.uff import read_uff, to_recording
 from massline.identify.uff_datasets import channel_name
@@ -20,6 +21,7 @@ from massline.meshes import BUNDLED
 from massline.placement.masslines import Masslines
 from massline.placement.mesh import UNITS, load_body
 
+from .diagnosis_figures import diagnosis_figure
 from .identify_command import is_planar, payload
 from .notes import finding_note, finding_payload
 from .output import claim_output, to_json, write_atomic, write_atomic_bytes
@@ -87,6 +89,39 @@ def properties_table(result: Diagnosis, nominal) -> Table:
     return table
 
 
+def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
+    """The model-free screens in a line or two."""
+    if screens["channel_consistency"] is not None:
+        worst = np.argsort(screens["channel_consistency"])[::-1][:3]
+        listed = ", ".join(f"{sensors[k]} ({screens['channel_consistency'][k]:.1%})" for k in worst)
+        console.print(f"model-free: channels farthest from the others' rigid motion (LOCO misfit): {listed}")
+    if screens["negative_driving_points"]:
+        console.print(f"model-free: driving points with a non-positive massline: {screens['negative_driving_points']}")
+
+
+def document(result: Diagnosis, recording, zones, found, planar: bool, screens: dict) -> dict:
+    """DESIGN.md's diagnose JSON (and the per-channel fit and screens)."""
+    before, after = result.estimates[0].body, result.corrected
+    return {
+        "findings": [finding_payload(x, recording) for x in result.findings],
+        "fit": {"before": result.relative_rms("before"), "after": result.relative_rms("after"), "noise": result.noise},
+        "fit_per_channel": {
+            "before": result.relative_rms("before", axis=1).tolist(),
+            "after": result.relative_rms("after", axis=1).tolist(),
+        },
+        "properties": {
+            "before": None
+            if before is None
+            else payload(before, property_std(result.estimates[0]), (found.low, found.high), planar),
+            "after": None
+            if after is None
+            else payload(after, property_std(result.estimates[1]), (found.low, found.high), planar),
+        },
+        "band_hz": [zones.low, zones.high],
+        "screens": screens,
+    }
+
+
 def run(args: argparse.Namespace, console: Console) -> None:
     for path in (args.json, args.plot):
         if path:
@@ -98,56 +133,39 @@ def run(args: argparse.Namespace, console: Console) -> None:
     found = estimation_band(f, recording.frf, zones)
     band = BandData.from_recording(f, recording.frf, zones.low, zones.high)
     wide = BandData.from_recording(f, recording.frf, found.low, found.high)
-    planar = is_planar(
-        Masslines(np.zeros((len(recording.sensors), len(recording.exciters))), recording.sensors, recording.exciters)
-    )
+    empty = np.zeros((len(recording.sensors), len(recording.exciters)))
+    planar = is_planar(Masslines(empty, recording.sensors, recording.exciters))
     layout = Layout.of(recording.sensors, recording.exciters, planar)
+    sensors, hits = labels(recording)
+    noise = relative_noise(band)
+    console.print(
+        f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
+        f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"
+    )
     if not roomy(layout):
         console.print(
             f"[yellow]note:[/] {len(layout.sensors)} sensor channels leave no redundancy: a faulty channel cannot be "
             "told from the body's properties (diagnosis needs at least 8 channels, 5 for a plate)"
         )
+    screens = screen(band, layout)
+    print_screens(console, screens, sensors)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         result = diagnose(band, layout, nominal, args.transverse, wide)
-    sensors, hits = labels(recording)
     before, after = result.relative_rms("before"), result.relative_rms("after")
-    console.print(
-        f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
-        f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {result.noise:.2%} of the FRFs (RMS)"
-    )
     if not result.findings:
-        console.print(f"no findings: the rigid body fits every line within the noise ({before / result.noise:.2f}× it)")
+        console.print(f"no findings: the rigid body fits every line within the noise ({before / noise:.2f}× it)")
     for k, finding in enumerate(result.findings, 1):
         console.print(f"{k}. {finding_note(finding, sensors, hits)}")
     console.print(
         f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
-        f"({before / result.noise:.2f}× → {after / result.noise:.2f}× the noise)"
+        f"({before / noise:.2f}× → {after / noise:.2f}× the noise)"
     )
     console.print(properties_table(result, nominal))
     if args.plot:
-        from .diagnosis_figures import diagnosis_figure
-
-        write_atomic_bytes(args.plot, diagnosis_figure(result, sensors, hits), args.force)
+        S = kinematic_matrix(layout.sensors, layout.planar)
+        off = np.linalg.norm(rigid_subspace_residual(band.frf, S), axis=1) if roomy(layout) else None
+        write_atomic_bytes(args.plot, diagnosis_figure(result, band, sensors, hits, off), args.force)
         console.print(f"wrote {args.plot}")
     if args.json:
-        document = {
-            "findings": [finding_payload(x, recording) for x in result.findings],
-            "fit": {"before": before, "after": after, "noise": result.noise},
-            "fit_per_channel": {
-                "before": result.relative_rms("before", axis=1).tolist(),
-                "after": result.relative_rms("after", axis=1).tolist(),
-            },
-            "properties": {
-                "before": None
-                if result.estimates[0].body is None
-                else payload(
-                    result.estimates[0].body, property_std(result.estimates[0]), (found.low, found.high), planar
-                ),
-                "after": None
-                if result.corrected is None
-                else payload(result.corrected, property_std(result.estimates[1]), (found.low, found.high), planar),
-            },
-            "band_hz": [zones.low, zones.high],
-        }
-        write_atomic(args.json, to_json(document), args.force)
+        write_atomic(args.json, to_json(document(result, recording, zones, found, planar, screens)), args.force)
         console.print(f"wrote {args.json}")

@@ -11,15 +11,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from massline.identify.diagnosis import Diagnosis  # noqa: E402
-from massline.identify.tails import tail_columns  # noqa: E402
+from massline.identify.tails import BandData, tail_columns  # noqa: E402
 
 
-def diagnosis_figure(result: Diagnosis, sensors: list[str], hits: list[str]) -> bytes:
-    """PNG bytes: per-FRF relative RMS residual (in noise units) before and after, and the worst FRF overlaid."""
+def diagnosis_figure(
+    result: Diagnosis, recorded: BandData, sensors: list[str], hits: list[str], off_rigid=None
+) -> bytes:
+    """PNG bytes: per-FRF relative RMS residual (in noise units) before and after, the worst FRF as recorded
+    (and as corrected for flips and swaps) with both models, and (``off_rigid``, (n_s, n_f)) how far each
+    recorded channel sits from the rigid motions over the band."""
     band = result.band
     noise = np.sqrt(band.values.shape[2] * band.noise**2 / band.energy)  # each FRF's own noise, relative
     maps = [np.sqrt(fit.rss / band.energy) / noise for fit in (result.before, result.after)]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 0.25 * len(sensors) + 3), gridspec_kw={"width_ratios": [1, 1, 2]})
+    panels = 3 if off_rigid is None else 4
+    fig, axes = plt.subplots(
+        1, panels, figsize=(4.3 * panels, 0.25 * len(sensors) + 3), gridspec_kw={"width_ratios": [1, 1, 2, 2][:panels]}
+    )
     top = max(float(maps[0].max()), 2.0)
     for ax, values, title in zip(axes[:2], maps, ("before", "after")):
         image = ax.imshow(values, cmap="magma_r", vmin=0, vmax=top, aspect="auto")
@@ -30,7 +37,9 @@ def diagnosis_figure(result: Diagnosis, sensors: list[str], hits: list[str]) -> 
     i, j = np.unravel_index(np.argmax(maps[0]), maps[0].shape)
     f = band.frequencies
     ax = axes[2]
-    ax.plot(f, band.frf[i, j].real, color="0.3", lw=0.8, label="recorded (real part)")
+    ax.plot(f, recorded.frf[i, j].real, color="0.3", lw=0.8, label="recorded (real part)")
+    if result.flips or result.swaps:
+        ax.plot(f, band.frf[i, j].real, color="0.6", lw=0.8, ls=":", label="with flips and swaps undone")
     for fit, style, name in ((result.before, "--", "model before"), (result.after, "-", "model after")):
         level = fit.masslines[i, j]
         tails = fit.problem.data.tails[i, j]
@@ -40,6 +49,15 @@ def diagnosis_figure(result: Diagnosis, sensors: list[str], hits: list[str]) -> 
     ax.set_ylabel("Re H ((m/s²)/N)")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
+    if off_rigid is not None:
+        ax = axes[3]
+        for k in np.argsort(np.median(off_rigid, axis=1))[::-1][:5]:
+            ax.semilogy(f, off_rigid[k], lw=1.0, label=sensors[k])
+        ax.semilogy(f, np.median(off_rigid, axis=0), "k--", lw=1.0, label="median channel")
+        ax.set_title("recorded: distance from the rigid motions (model-free)", fontsize=9)
+        ax.set_xlabel("frequency (Hz)")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, which="both")
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
     plt.close(fig)

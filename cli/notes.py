@@ -26,24 +26,27 @@ def finding_note(finding: Finding, sensors: list[str], hits: list[str]) -> str:
     shift = f"; modelling it moves the mass by {moved['mass_percent']:+.3f} %" if moved else ""
     text = {
         "sensor_direction": lambda: (
-            f"{who} reads {max(p['angle_deg']):.1f}° off its labelled axis: "
+            f"{who} reads {max(p['angle_deg']):.1f} ± {max(p['angle_std_deg']):.1f}° off its labelled axis: "
             "misalignment or transverse sensitivity beyond the datasheet (the data cannot tell them apart)"
         ),
         "sensor_gain": lambda: (
             f"{who} reads {100 * (p['gain'] - 1):+.1f} % of what it should "
-            f"(gain {p['gain']:.3f}): check its sensitivity in the channel table"
+            f"(gain {p['gain']:.3f} ± {p['gain_std']:.3f}): check its sensitivity in the channel table"
         ),
         "sensor_polarity": lambda: (
             f"{who} has its polarity flipped: its readings are the rigid body's with the opposite sign; corrected"
         ),
         "channel_swap": lambda: f"{who} are swapped: each channel reads what the other should; corrected",
         "sensor_location": lambda: (
-            f"{who} sits {p['distance_mm']:.1f} mm from its labelled point "
+            f"{who} sits {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
             f"(offset {_mm(p['offset_m'])}; along its axis an offset cannot be seen)"
         ),
-        "excitation_direction": lambda: f"{hit} went in {p['angle_deg']:.1f}° off its labelled direction",
+        "excitation_direction": lambda: (
+            f"{hit} went in {p['angle_deg']:.1f} ± {p['angle_std_deg']:.1f}° off its labelled direction"
+        ),
         "excitation_location": lambda: (
-            f"{hit} landed {p['distance_mm']:.1f} mm from its labelled point (offset {_mm(p['offset_m'])})"
+            f"{hit} landed {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
+            f"(offset {_mm(p['offset_m'])})"
         ),
         "suspension": lambda: (
             f"the suspension's tail reaches {p['tail_max']:.1%} of the massline at "

@@ -328,6 +328,7 @@ def _finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
     layout = result.problem.layout
     theta, tau, values = result.parts
     v = values[result.blocks.index(what)]
+    sigma = result.block_std(what)
     if what.effect.startswith("sensor"):
         channels = layout.channels(what)
         d = layout.sensors.directions[channels]
@@ -335,22 +336,36 @@ def _finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
             T = layout.sensor_bases[list(channels)]
             axis = d + np.einsum("nak,nk->na", T, tau[list(channels)])
             angles = np.degrees(np.arctan(np.linalg.norm(tau[list(channels)], axis=1)))
+            spread = np.degrees(np.linalg.norm(result.tau_std[list(channels)], axis=1))
             parameters = {
                 "angle_deg": angles.tolist(),
+                "angle_std_deg": spread.tolist(),
                 "effective_axis": (axis / np.linalg.norm(axis, axis=1)[:, None]).tolist(),
             }
         elif what.effect == "sensor_gain":
-            parameters = {"gain": float(1 + v[0])}
+            parameters = {"gain": float(1 + v[0]), "gain_std": float(sigma[0])}
         else:
             offset = v if len(v) == 3 else layout.sensor_bases[channels[0]] @ v
-            parameters = {"offset_m": offset.tolist(), "distance_mm": float(1e3 * np.linalg.norm(offset))}
+            parameters = {
+                "offset_m": offset.tolist(),
+                "distance_mm": float(1e3 * np.linalg.norm(offset)),
+                "distance_std_mm": float(1e3 * np.linalg.norm(sigma)),
+            }
         return Finding(what.effect, tuple(channels), None, parameters, evidence)
     j = what.target
     U = layout.exciter_bases[j]
     if what.effect == "excitation_direction":
         f = layout.exciters.directions[j] + U @ v
         angle = np.degrees(np.arccos(np.clip(f @ layout.exciters.directions[j] / np.linalg.norm(f), -1, 1)))
-        parameters = {"angle_deg": float(angle), "direction": (f / np.linalg.norm(f)).tolist()}
+        parameters = {
+            "angle_deg": float(angle),
+            "angle_std_deg": float(np.degrees(np.linalg.norm(sigma))),
+            "direction": (f / np.linalg.norm(f)).tolist(),
+        }
     else:
-        parameters = {"offset_m": (U @ v).tolist(), "distance_mm": float(1e3 * np.linalg.norm(v))}
+        parameters = {
+            "offset_m": (U @ v).tolist(),
+            "distance_mm": float(1e3 * np.linalg.norm(v)),
+            "distance_std_mm": float(1e3 * np.linalg.norm(sigma)),
+        }
     return Finding(what.effect, (), j, parameters, evidence)

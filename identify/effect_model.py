@@ -246,15 +246,37 @@ class Fit:
         Scaled θ̃, τ (n_s × 2), then each block's values.
     chi2 : float
         Σ RSS_ij/σ_ij² over all lines plus the prior's rows.
-    covariance : (p, p) array
-        Covariance of θ in SI units (from the Jacobian, scaled by the reduced χ² when above 1).
+    spread : (len(x), len(x)) array
+        Covariance of x (from the Jacobian, scaled by the reduced χ² when above 1).
     """
 
     problem: Problem
     blocks: tuple
     x: np.ndarray
     chi2: float
-    covariance: np.ndarray
+    spread: np.ndarray
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """Covariance of θ in SI units."""
+        p, scale = self.problem.model.p, self.problem.model.scale
+        return self.spread[:p, :p] * np.outer(scale, scale)
+
+    def block_std(self, block: Block) -> np.ndarray:
+        """1-σ of a block's values (empty for a widened axis prior: see ``tau_std``)."""
+        k = self.problem.model.p + self.problem.n_tau
+        for b in self.blocks:
+            n = 0 if b.effect == "sensor_direction" else self.problem.layout.size(b)
+            if b == block:
+                return np.sqrt(np.diag(self.spread)[k : k + n])
+            k += n
+        raise KeyError(block)
+
+    @property
+    def tau_std(self) -> np.ndarray:
+        """1-σ of every channel's transverse components (n_s, 2)."""
+        p = self.problem.model.p
+        return np.sqrt(np.diag(self.spread)[p : p + self.problem.n_tau]).reshape(-1, 2)
 
     @property
     def n_parameters(self) -> int:
@@ -304,7 +326,7 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
     blocks = tuple(blocks)
     x0 = problem.start(previous, blocks)
     if not np.isfinite(x0).all():  # a start no body could have (a hopeless trial): never the best model
-        return Fit(problem, blocks, x0, np.inf, np.full((problem.model.p,) * 2, np.nan))
+        return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
     result = least_squares(
         problem.residual,
         x0,
@@ -317,16 +339,12 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
         max_nfev=MAX_EVALUATIONS,
     )
     chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
-    J = result.jac
-    information = J.T @ J
-    p = problem.model.p
     try:
-        cov = np.linalg.pinv(information)[:p, :p]
+        spread = np.linalg.pinv(result.jac.T @ result.jac)
     except np.linalg.LinAlgError:
-        cov = np.full((p, p), np.nan)
+        spread = np.full((len(x0),) * 2, np.nan)
     dof = max(len(result.fun) - len(x0), 1)
-    cov = cov * max(2 * result.cost / dof, 1.0) * np.outer(problem.model.scale, problem.model.scale)
-    return Fit(problem, blocks, result.x, chi2, cov)
+    return Fit(problem, blocks, result.x, chi2, spread * max(2 * result.cost / dof, 1.0))
 
 
 def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:

@@ -15,7 +15,8 @@ import numpy as np
 
 from massline.placement.lines import Lines
 
-from .effect_model import line_coordinates
+from .effect_model import Layout, line_coordinates
+from .tails import BandData
 
 
 def kinematic_matrix(sensors: Lines, planar: bool) -> np.ndarray:
@@ -92,3 +93,32 @@ def driving_points(sensors: Lines, exciters: Lines, tolerance: float = 1e-3) -> 
             if same_point and same_axis:
                 pairs.append((i, j))
     return pairs
+
+
+def screen(band: BandData, layout: Layout) -> dict:
+    """The model-free screens of a recording's band, JSON-ready.
+
+    ``channel_consistency``: each channel's LOCO misfit (None without redundancy);
+    ``negative_driving_points``: (sensor, hit) pairs, 1-based, whose massline is not positive;
+    ``off_rigid``: each channel's median distance from the rigid motions over the band (relative);
+    ``tails_low`` / ``tails_high``: median over FRFs of the free fit's 1/ω² tail at the lower edge and
+    ω² tail at the upper edge, relative to the massline (the per-FRF trends, summarised).
+    """
+    S = kinematic_matrix(layout.sensors, layout.planar)
+    free = band.free
+    A = free.massline
+    redundant = len(S) > S.shape[1] + 1
+    off = rigid_subspace_residual(band.frf, S) if redundant else np.full(band.frf.shape, np.nan)
+    x = (band.omega[[0, -1]] / np.sqrt(band.omega[0] * band.omega[-1])) ** 2
+    scale = np.maximum(np.abs(A), 1e-300)
+    low = np.abs(free.tails[..., 0] / x[0] + free.tails[..., 2] / x[0] ** 2) / scale
+    high = np.abs(free.tails[..., 3] * x[1] + free.tails[..., 5] * x[1] ** 2) / scale
+    return {
+        "channel_consistency": channel_consistency(A, S).tolist() if redundant else None,
+        "negative_driving_points": [
+            [i + 1, j + 1] for i, j in driving_points(layout.sensors, layout.exciters) if A[i, j] <= 0
+        ],
+        "off_rigid": np.median(off, axis=(1, 2)).tolist(),
+        "tails_low": float(np.median(low)),
+        "tails_high": float(np.median(high)),
+    }
