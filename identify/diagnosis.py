@@ -34,9 +34,10 @@ from massline.placement.masslines import Masslines
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
 
-from .effect_model import Block, Fit, Layout, Problem, fit, penalty, score
+from .effect_fit import Fit, fit, penalty, score
+from .effect_model import Block, Layout, Problem
 from .estimator import TRANSVERSE, estimate
-from .finding import Finding
+from .finding import Finding, accepted_finding
 from .mass_loading import MassLoading, mass_loading
 from .screens import channel_consistency, discrete_fixes, kinematic_matrix
 from .tails import TAIL_LAWS, BandData
@@ -297,7 +298,7 @@ def diagnose(
     size = 3 * np.linalg.norm(points - points.mean(axis=0), axis=1).max()  # an offset larger than the layout is none
     result, laws, accepted = forward_stage(fixed, start, noise, size)
     result, laws, accepted = backward_stage(fixed, result, laws, accepted)
-    findings += [_finding(result, fixed, what, evidence) for what, evidence in accepted]
+    findings += [accepted_finding(result, fixed, what, evidence) for what, evidence in accepted]
     estimates = (before, result)
     if estimation is not None and covers(estimation, band):
         estimates = (
@@ -311,61 +312,3 @@ def diagnose(
             corrected = loading.bare
             findings.append(loading.finding())
     return Diagnosis(findings, before, result, estimates, corrected, fixed, noise, flips, swaps, loading)
-
-
-def _finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
-    """The accepted effect with its fitted parameters (SI, with 1-σ where the fit gives them)."""
-    if isinstance(what, str):
-        size = band.tail_size(result.problem.data, what)
-        edge = band.frequencies[0] if what == "suspension" else band.frequencies[-1]
-        parameters = {
-            "edge_hz": float(edge),
-            "tail_median": float(np.median(size)),
-            "tail_max": float(size.max()),
-            "mode_hz": band.pole_hz(result.problem.data, what),
-        }
-        return Finding(what, (), None, parameters, evidence)
-    layout = result.problem.layout
-    theta, tau, values = result.parts
-    v = values[result.blocks.index(what)]
-    sigma = result.block_std(what)
-    if what.effect.startswith("sensor"):
-        channels = layout.channels(what)
-        d = layout.sensors.directions[channels]
-        if what.effect == "sensor_direction":
-            T = layout.sensor_bases[list(channels)]
-            axis = d + np.einsum("nak,nk->na", T, tau[list(channels)])
-            angles = np.degrees(np.arctan(np.linalg.norm(tau[list(channels)], axis=1)))
-            spread = np.degrees(np.linalg.norm(result.tau_std[list(channels)], axis=1))
-            parameters = {
-                "angle_deg": angles.tolist(),
-                "angle_std_deg": spread.tolist(),
-                "effective_axis": (axis / np.linalg.norm(axis, axis=1)[:, None]).tolist(),
-            }
-        elif what.effect == "sensor_gain":
-            parameters = {"gain": float(1 + v[0]), "gain_std": float(sigma[0])}
-        else:
-            offset = v if len(v) == 3 else layout.sensor_bases[channels[0]] @ v
-            parameters = {
-                "offset_m": offset.tolist(),
-                "distance_mm": float(1e3 * np.linalg.norm(offset)),
-                "distance_std_mm": float(1e3 * np.linalg.norm(sigma)),
-            }
-        return Finding(what.effect, tuple(channels), None, parameters, evidence)
-    j = what.target
-    U = layout.exciter_bases[j]
-    if what.effect == "excitation_direction":
-        f = layout.exciters.directions[j] + U @ v
-        angle = np.degrees(np.arccos(np.clip(f @ layout.exciters.directions[j] / np.linalg.norm(f), -1, 1)))
-        parameters = {
-            "angle_deg": float(angle),
-            "angle_std_deg": float(np.degrees(np.linalg.norm(sigma))),
-            "direction": (f / np.linalg.norm(f)).tolist(),
-        }
-    else:
-        parameters = {
-            "offset_m": (U @ v).tolist(),
-            "distance_mm": float(1e3 * np.linalg.norm(v)),
-            "distance_std_mm": float(1e3 * np.linalg.norm(sigma)),
-        }
-    return Finding(what.effect, (), j, parameters, evidence)

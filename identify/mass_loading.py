@@ -22,7 +22,7 @@ from scipy.stats import chi2 as chi2_distribution
 
 from massline.placement.rigid_body import RigidBody, six_from_tensor, steiner
 
-from .effect_model import Fit
+from .effect_fit import Fit
 from .finding import Finding
 
 CHANCE = 1e-3  # tail probability beyond which a χ² is no longer chance

@@ -8,7 +8,8 @@ from conftest import bundled
 from test_cli import massline
 
 from massline.identify.diagnosis import base_fit, diagnose
-from massline.identify.effect_model import Block, Layout, fit
+from massline.identify.effect_fit import fit
+from massline.identify.effect_model import Block, Layout
 from massline.identify.mass_loading import unit_mass
 from massline.identify.screens import discrete_fixes, kinematic_matrix
 from massline.identify.tails import BandData
