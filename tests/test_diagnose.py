@@ -1,11 +1,13 @@
 """Diagnosis: the band reduction, the effect model, the discrete screen and the command."""
 
 import json
+import re
 
 import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
+from test_uff_reader import bad_file
 
 from massline.identify.diagnosis import base_fit, diagnose
 from massline.identify.effect_fit import fit
@@ -133,3 +135,21 @@ def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, 
     assert png.read_bytes()[:4] == b"\x89PNG"
     again = massline("diagnose", path, "--band", "5", "95", "--json", out)
     assert again.returncode == 2 and "--force" in again.stderr
+
+
+@pytest.mark.parametrize("case", ["truncated ascii", "NaN", "missing pair"])  # the reader is identify's, tested there
+def test_diagnose_command_refuses_bad_files_in_one_line(tmp_path, case):
+    path, words = bad_file(tmp_path, case)
+    result = massline("diagnose", path)
+    assert result.returncode == 2, result.stderr
+    assert re.search(words, result.stderr) and "Traceback" not in result.stderr
+    assert result.stderr.count("\n") == 1
+
+
+def test_diagnose_command_refuses_a_missing_mesh_and_a_band_outside_the_record(structure, tmp_path):
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400))
+    path = tmp_path / "clean.uff"
+    write_uff(path, rec)
+    for extra in (["--mesh", str(tmp_path / "nowhere.stl"), "--units", "mm"], ["--band", "150", "180"]):
+        result = massline("diagnose", path, *extra)
+        assert result.returncode == 2 and result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
