@@ -16,7 +16,8 @@ from massline.placement.lines import Lines
 
 ARROW = 0.16  # arrow length, fraction of the body's largest extent
 SENSOR, HIT = "sensor", "hit"
-COLOURS = {SENSOR: (31, 95, 180), HIT: (200, 40, 30)}  # RGB of each kind of marker
+AXIS, FLAGGED = "axis", "flagged"  # the identification report's principal axes, and a channel a finding names
+COLOURS = {SENSOR: (31, 95, 180), HIT: (200, 40, 30), AXIS: (20, 135, 60), FLAGGED: (225, 110, 0)}  # RGB
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,6 +63,8 @@ class Scene:
         Each marker's arrows, tail and tip, m.
     length : float
         Length of a uniaxial marker's arrow, m.
+    opacity : float
+        Of the body's surface: below 1 it shows what lies inside (the principal axes at the CoG).
     """
 
     mesh: trimesh.Trimesh
@@ -71,6 +74,7 @@ class Scene:
     faces: np.ndarray
     arrows: list[np.ndarray]
     length: float
+    opacity: float = 1.0
 
 
 def markers_of(sensors: Lines, exciters: Lines) -> list[Marker]:

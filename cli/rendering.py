@@ -21,7 +21,7 @@ from PIL import Image, ImageDraw, ImageFont
 from massline.placement.errors import MasslineError
 
 from .label_layout import place_labels
-from .plan_scene import COLOURS, HIT, SENSOR, Scene, outer_end
+from .plan_scene import COLOURS, SENSOR, Scene, outer_end
 
 SIZE = (800, 600)  # px of one view
 FONT_PX = 26
@@ -198,9 +198,9 @@ def render_views(scene: Scene) -> list[Rendering]:
     plotter = pv.Plotter(off_screen=True, window_size=SIZE)
     plotter.set_background("white")
     body = pv.wrap(scene.mesh)
-    plotter.add_mesh(body, color=BODY, smooth_shading=False, ambient=0.25)
+    plotter.add_mesh(body, color=BODY, smooth_shading=False, ambient=0.25, opacity=scene.opacity)
     plotter.add_mesh(body.extract_feature_edges(30.0), color=EDGES, line_width=1.5)
-    for kind in (SENSOR, HIT):
+    for kind in COLOURS:
         glyphs = [
             pv.Arrow(
                 start=tail, direction=tip - tail, tip_length=0.3, tip_radius=0.09, shaft_radius=0.035, scale="auto"

@@ -2,8 +2,8 @@
 
 No library and no network: the triangles (mm, frame O xyz of the mesh) and the
 arrows are embedded as JSON and drawn back to front (painter's algorithm, back
-faces culled) on a 2-D canvas. Dragging turns the body about the vertical z
-axis and tilts it.
+faces culled; a translucent body shows what lies inside) on a 2-D canvas.
+Dragging turns the body about the vertical z axis and tilts it.
 """
 
 from __future__ import annotations
@@ -57,9 +57,12 @@ SCRIPT = """
       if (it.face) {
         const shade = Math.round(110 + 130 * it.light);
         g.fillStyle = g.strokeStyle = `rgb(${shade},${shade},${shade + 6})`;
+        g.globalAlpha = data.opacity;
         g.beginPath();
         it.face.forEach((k, i) => { const p = screen(t[k]); i ? g.lineTo(...p) : g.moveTo(...p); });
-        g.closePath(); g.fill(); g.stroke();
+        g.closePath(); g.fill();
+        if (data.opacity === 1) g.stroke();
+        g.globalAlpha = 1;
         continue;
       }
       const a = screen(it.tail), b = screen(it.tip), dx = b[0] - a[0], dy = b[1] - a[1];
@@ -126,7 +129,7 @@ def viewer_html(scene: Scene) -> str:
             label = "" if k else marker.label
             items.append({"tail": _mm(tail), "tip": _mm(tip), "colour": colour, "label": label, "anchor": anchor})
     data = {"vertices": _mm(vertices), "faces": np.asarray(faces).tolist(), "arrows": items}
-    data |= {"cog": _mm(scene.cog), "arrow": scene.length * 1e3}
+    data |= {"cog": _mm(scene.cog), "arrow": scene.length * 1e3, "opacity": scene.opacity}
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
     return (
         '<canvas id="view3d" width="680" height="440" aria-label="3-D view of the plan; drag to turn"></canvas>\n'
