@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from massline.identify.band import estimation_band, find_band, given_band
+from massline.identify.band import Zones, estimation_band, find_band, given_band
 from massline.identify.diagnosis import Diagnosis, diagnose, property_std, relative_noise, roomy
 from massline.identify.effect_model import Layout
 from massline.identify.estimator import TRANSVERSE
@@ -17,12 +17,12 @@ from massline.identify.screens import kinematic_matrix, rigid_subspace_residual,
 from massline.identify.tails import BandData
 from massline.identify.uff import read_uff, to_recording
 from massline.identify.uff_datasets import channel_name
-from massline.meshes import BUNDLED
 from massline.placement.masslines import Masslines
-from massline.placement.mesh import UNITS, load_body
+from massline.placement.virtual.recording import Recording
 
 from .diagnosis_figures import diagnosis_figure
 from .identify_command import is_planar, payload
+from .meshargs import add_nominal_arguments, nominal_mesh
 from .notes import finding_note, finding_payload
 from .output import claim_output, to_json, write_atomic, write_atomic_bytes
 
@@ -30,28 +30,14 @@ from .output import claim_output, to_json, write_atomic, write_atomic_bytes
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
     parser.add_argument("--band", type=float, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (the plan's)")
-    parser.add_argument("--mesh", metavar="MESH", help="the nominal body's surface mesh or a bundled body")
-    parser.add_argument("--units", choices=sorted(UNITS), help="length unit of the mesh file")
-    material = parser.add_mutually_exclusive_group()
-    material.add_argument("--density", type=float, metavar="KG_M3", help="material density, kg/m³")
-    material.add_argument("--mass", type=float, metavar="KG", help="total mass, kg (uniform density)")
+    add_nominal_arguments(parser)
     parser.add_argument(
         "--transverse", type=float, default=TRANSVERSE, metavar="FRACTION", help="accelerometers' cross-axis prior"
     )
     parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
-    parser.add_argument("--force", action="store_true", help="overwrite OUT and PNG")
-
-
-def nominal_body(args: argparse.Namespace):
-    """The mesh's body when --mesh is given (bundled bodies know units and density)."""
-    if not args.mesh:
-        return None
-    bundled = BUNDLED.get(args.mesh)
-    if bundled is not None and not Path(args.mesh).exists():
-        density = args.density if args.density is not None or args.mass is not None else bundled.density
-        return load_body(bundled.path, args.units or "m", density, args.mass).nominal
-    return load_body(args.mesh, args.units, args.density, args.mass).nominal
+    parser.add_argument("--report", metavar="OUT.html", help="write the diagnosis report (one HTML page)")
+    parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
 
 
 def labels(recording) -> tuple[list[str], list[str]]:
@@ -122,50 +108,91 @@ def document(result: Diagnosis, recording, zones, found, planar: bool, screens: 
     }
 
 
-def run(args: argparse.Namespace, console: Console) -> None:
-    for path in (args.json, args.plot):
-        if path:
-            claim_output(path, args.force)
-    nominal = nominal_body(args)
-    recording = to_recording(read_uff(args.uff))
+@dataclass(frozen=True, eq=False)
+class DiagnosisRun:
+    """A diagnosis of a recording with what it was run on: the bands, the layout, the channel names, the screens."""
+
+    recording: Recording
+    zones: Zones
+    found: Zones
+    band: BandData
+    layout: Layout
+    planar: bool
+    sensors: list[str]
+    hits: list[str]
+    noise: float
+    screens: dict
+    result: Diagnosis
+
+    def off_rigid(self) -> np.ndarray | None:
+        """How far each recorded channel sits from the rigid motions at every band line (None without redundancy)."""
+        if not roomy(self.layout):
+            return None
+        S = kinematic_matrix(self.layout.sensors, self.layout.planar)
+        return np.linalg.norm(rigid_subspace_residual(self.band.frf, S), axis=1)
+
+
+def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
+    """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band."""
     f = recording.frequencies
-    zones = given_band(f, *args.band) if args.band else find_band(f, recording.frf)
+    zones = given_band(f, *band) if band else find_band(f, recording.frf)
     found = estimation_band(f, recording.frf, zones)
-    band = BandData.from_recording(f, recording.frf, zones.low, zones.high)
+    data = BandData.from_recording(f, recording.frf, zones.low, zones.high)
     wide = BandData.from_recording(f, recording.frf, found.low, found.high)
     empty = np.zeros((len(recording.sensors), len(recording.exciters)))
     planar = is_planar(Masslines(empty, recording.sensors, recording.exciters))
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     sensors, hits = labels(recording)
-    noise = relative_noise(band)
+    screens = screen(data, layout)
+    result = diagnose(data, layout, nominal, transverse, wide)
+    return DiagnosisRun(
+        recording, zones, found, data, layout, planar, sensors, hits, relative_noise(data), screens, result
+    )
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    for path in (args.json, args.plot, args.report):
+        if path:
+            claim_output(path, args.force)
+    mesh = nominal_mesh(args)
+    nominal = None if mesh is None else mesh.nominal
+    recording = to_recording(read_uff(args.uff))
+    with console.status("diagnosing: discrete faults, then the effect library one at a time"):
+        found = diagnose_recording(recording, args.band, nominal, args.transverse)
+    zones, band, noise, result, sensors = found.zones, found.band, found.noise, found.result, found.sensors
     console.print(
         f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
         f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"
     )
-    if not roomy(layout):
+    if not roomy(found.layout):
         console.print(
-            f"[yellow]note:[/] {len(layout.sensors)} sensor channels leave no redundancy: a faulty channel cannot be "
-            "told from the body's properties (diagnosis needs at least 8 channels, 5 for a plate)"
+            f"[yellow]note:[/] {len(found.layout.sensors)} sensor channels leave no redundancy: a faulty channel "
+            "cannot be told from the body's properties (diagnosis needs at least 8 channels, 5 for a plate)"
         )
-    screens = screen(band, layout)
-    print_screens(console, screens, sensors)
-    with console.status("diagnosing: discrete faults, then the effect library one at a time"):
-        result = diagnose(band, layout, nominal, args.transverse, wide)
+    print_screens(console, found.screens, sensors)
     before, after = result.relative_rms("before"), result.relative_rms("after")
     if not result.findings:
         console.print(f"no findings: the rigid body fits every line within the noise ({before / noise:.2f}× it)")
     for k, finding in enumerate(result.findings, 1):
-        console.print(f"{k}. {finding_note(finding, sensors, hits)}")
+        console.print(f"{k}. {finding_note(finding, sensors, found.hits)}")
     console.print(
         f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
         f"({before / noise:.2f}× → {after / noise:.2f}× the noise)"
     )
     console.print(properties_table(result, nominal))
     if args.plot:
-        S = kinematic_matrix(layout.sensors, layout.planar)
-        off = np.linalg.norm(rigid_subspace_residual(band.frf, S), axis=1) if roomy(layout) else None
-        write_atomic_bytes(args.plot, diagnosis_figure(result, band, sensors, hits, off), args.force)
+        write_atomic_bytes(
+            args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force
+        )
         console.print(f"wrote {args.plot}")
     if args.json:
-        write_atomic(args.json, to_json(document(result, recording, zones, found, planar, screens)), args.force)
+        doc = document(result, recording, zones, found.found, found.planar, found.screens)
+        write_atomic(args.json, to_json(doc), args.force)
         console.print(f"wrote {args.json}")
+    if args.report:
+        from .identification_report import diagnose_report
+
+        with console.status("writing the report: rendering the body and its principal axes"):
+            report = diagnose_report(found, args.uff, mesh)
+        write_atomic(args.report, report.html, args.force)
+        console.print(f"wrote {args.report} ({len(report.html) / 1e3:.0f} kB)")

@@ -15,18 +15,28 @@ from massline.identify.tails import BandData, tail_columns  # noqa: E402
 
 
 def diagnosis_figure(
-    result: Diagnosis, recorded: BandData, sensors: list[str], hits: list[str], off_rigid=None
+    result: Diagnosis, recorded: BandData, sensors: list[str], hits: list[str], off_rigid=None, grid: bool = False
 ) -> bytes:
     """PNG bytes: per-FRF relative RMS residual (in noise units) before and after, the worst FRF as recorded
     (and as corrected for flips and swaps) with both models, and (``off_rigid``, (n_s, n_f)) how far each
-    recorded channel sits from the rigid motions over the band."""
+    recorded channel sits from the rigid motions over the band. The panels stand in a row, or with ``grid``
+    the maps above the curves, a page wide."""
     band = result.band
     noise = np.sqrt(band.values.shape[2] * band.noise**2 / band.energy)  # each FRF's own noise, relative
     maps = [np.sqrt(fit.rss / band.energy) / noise for fit in (result.before, result.after)]
     panels = 3 if off_rigid is None else 4
-    fig, axes = plt.subplots(
-        1, panels, figsize=(4.3 * panels, 0.25 * len(sensors) + 3), gridspec_kw={"width_ratios": [1, 1, 2, 2][:panels]}
-    )
+    if grid:
+        fig = plt.figure(figsize=(8.6, 0.2 * len(sensors) + 5.5))
+        layout = fig.add_gridspec(2, 2, height_ratios=[0.2 * len(sensors) + 1.5, 3.2], hspace=0.45)
+        bottom = [layout[1, :]] if off_rigid is None else [layout[1, 0], layout[1, 1]]
+        axes = [fig.add_subplot(cell) for cell in [layout[0, 0], layout[0, 1], *bottom]]
+    else:
+        fig, axes = plt.subplots(
+            1,
+            panels,
+            figsize=(4.3 * panels, 0.25 * len(sensors) + 3),
+            gridspec_kw={"width_ratios": [1, 1, 2, 2][:panels]},
+        )
     top = max(float(maps[0].max()), 2.0)
     for ax, values, title in zip(axes[:2], maps, ("before", "after")):
         image = ax.imshow(values, cmap="magma_r", vmin=0, vmax=top, aspect="auto")

@@ -1,0 +1,410 @@
+"""The identification and diagnosis reports: one self-contained HTML page each, printable on A4, readable offline.
+
+Assembly only: what ``massline identify`` (:class:`.identify_command.Identification`) or ``massline
+diagnose`` (:class:`.diagnose_command.DiagnosisRun`) found, and the nominal mesh when one was given, come
+in; the page goes out, with the pictures of :mod:`.rendering` (the body, its channels and the principal
+axes of :mod:`.body_scene`), the plots of :mod:`.identification_figures` and :mod:`.diagnosis_figures`,
+and the 3-D view of :mod:`.viewer3d`. The page's look and its small HTML helpers are the placement
+report's. Values are in the recording's frame; lengths are shown in mm.
+"""
+
+from __future__ import annotations
+
+import base64
+from pathlib import Path
+
+import numpy as np
+
+from massline import __version__
+from massline.identify.diagnosis import property_std
+from massline.placement.mesh import BodyMesh
+from massline.placement.rigid_body import RigidBody
+
+from .body_scene import identification_scene, principal_frame
+from .diagnose_command import DiagnosisRun, labels
+from .diagnosis_figures import diagnosis_figure
+from .identification_figures import fit_figure, frf_figure, representative
+from .identify_command import Identification, quantities, sigmas
+from .notes import finding_note
+from .placement_report import STYLE, _e, _figure, _num, _table
+from .plan_scene import AXIS, FLAGGED, Scene
+from .rendering import render_views
+from .report_command import Report
+from .viewer3d import viewer_html
+
+
+def png_uri(data: bytes) -> str:
+    """PNG bytes as a data: URI."""
+    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+
+
+def _plot(data: bytes, alt: str, caption: str) -> str:
+    """A plot as a figure with its caption."""
+    return f'<figure><img src="{png_uri(data)}" alt="{_e(alt)}"><figcaption>{caption}</figcaption></figure>'
+
+
+def _page(title: str, parts: list[str]) -> str:
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"<title>{_e(title)}</title><style>{STYLE}</style></head>\n<body>\n" + "\n".join(parts) + "\n</body></html>\n"
+    )
+
+
+def _recording_line(recording, path) -> str:
+    f = recording.frequencies
+    n_s, n_e = recording.frf.shape[:2]
+    return (
+        f"Recording {_e(Path(path).name)}: {n_s} accelerometer channels × {n_e} hits, {len(f)} spectral lines, "
+        f"{_num(f[0], '.3g')}–{_num(f[-1], '.4g')} Hz. Frame of the file; written by massline {__version__}."
+    )
+
+
+def _with_sigma(value: float, sigma: float, scale: float) -> str:
+    if not np.isfinite(value):
+        return "unobservable"
+    shown = _num(value * scale, ".6g")
+    return shown if sigma is None or not np.isfinite(sigma) else f"{shown} ± {_num(sigma * scale, '.2g')}"
+
+
+def properties_table(body: RigidBody, std: dict, nominal: RigidBody | None, planar: bool) -> str:
+    """Every property with its 1-σ, beside the mesh's value when there is one (difference, and in σ)."""
+    rows = []
+    reference = quantities(nominal) if nominal is not None else [None] * len(quantities(body))
+    for (name, value, unit, scale), sigma, ref in zip(quantities(body), sigmas(std), reference):
+        if name.startswith("principal axis"):
+            continue
+        if planar and not np.isfinite(sigma):
+            value = np.nan
+        cells = [_e(name), _with_sigma(value, sigma, scale)]
+        if ref is not None:
+            difference = value - ref[1]
+            in_sigma = difference / sigma if np.isfinite(sigma) and sigma > 0 else np.nan
+            cells += [
+                _num(ref[1] * scale, ".6g"),
+                _num(difference * scale, "+.3g"),
+                _num(round(in_sigma, 1) + 0.0, "+.1f"),
+            ]
+        rows.append([*cells, unit])
+    head = ["property", "identified ± 1-σ", "unit"]
+    if nominal is not None:
+        head[2:2] = ["nominal (mesh)", "difference", "in σ"]
+        return _table(head, rows, "lrrrrl", [22, 27, 17, 14, 8, 12])
+    return _table(head, rows, "lrl", [35, 45, 20])
+
+
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle between two axes (no sign), degrees."""
+    return float(np.degrees(np.arccos(np.clip(abs(a @ b), 0.0, 1.0))))
+
+
+def axes_table(body: RigidBody, std: dict | None, nominal: RigidBody | None, planar: bool) -> str:
+    """The principal axes drawn: direction, moment ± 1-σ, radius of gyration, the axis' 1-σ and its angle to
+    the mesh's axis of the same rank."""
+    moments, axes = principal_frame(body, planar)
+    if nominal is not None:
+        _, reference = principal_frame(nominal, planar)
+    rows = []
+    for k in range(axes.shape[1]):
+        sigma = None if std is None else std["principal_moments"][k]
+        direction = "(" + ", ".join(_num(c + 0.0, ".3f") for c in axes[:, k]) + ")"
+        row = [f"I{k + 1}", direction, _with_sigma(moments[k], sigma, 1.0)]
+        row += [_num(1e3 * np.sqrt(max(moments[k], 0.0) / body.mass), ".1f")]
+        row += ["" if std is None else _num(std["principal_axes_deg"][k], ".2g")]
+        if nominal is not None:
+            row.append(_num(_angle_deg(axes[:, k], reference[:, k]), ".2f"))
+        rows.append(row)
+    head = ["axis", "direction (x, y, z)", "moment (kg·m²)", "radius of gyration (mm)", "axis 1-σ (°)"]
+    if nominal is not None:
+        head.append("to the mesh's axis (°)")
+        return _table(head, rows, "lrrrrr", [7, 27, 22, 16, 12, 16])
+    return _table(head, rows, "lrrrr", [8, 32, 26, 18, 16])
+
+
+def _legend(scene: Scene, what: str) -> str:
+    flagged = any(m.kind == FLAGGED for m in scene.markers)
+    mark = ' <span style="color:#e16e00;font-weight:bold">Orange</span>: a channel or hit a finding names.'
+    return (
+        '<p class="note"><span class="sensor">Blue</span>: accelerometers, numbered by their UFF node (arrow along '
+        'the measuring direction; triaxials: three arrows); <span class="hit">red</span>: hammer hits (node), arrow '
+        'into the surface; <span style="color:#14873c;font-weight:bold">green I1–I3</span>: the principal axes of '
+        f"the {what} body from its CoG (the black and white disc), each as long as the radius of gyration about it "
+        "(ascending moments). The body is drawn see-through; parallel projections, axes in the corner."
+        + (mark if flagged else "")
+        + "</p>"
+    )
+
+
+def _views(scene: Scene) -> tuple[list, str]:
+    """The four labelled views of the scene, and their figures (naming the channels a view hides)."""
+    renderings = render_views(scene)
+    markers = [m for m in scene.markers if m.kind != AXIS]
+    return renderings, '<div class="views">' + "".join(_figure(r, markers) for r in renderings) + "</div>"
+
+
+def _turn_it(scene: Scene) -> str:
+    return (
+        '<section class="screen"><h2>Turn it</h2><p class="note">Drag to turn the body (screen only).</p>'
+        + viewer_html(scene)
+        + "</section>"
+    )
+
+
+def _body_line(mesh: BodyMesh | None) -> str:
+    if mesh is None:
+        return (
+            "No mesh was given (--mesh): the body is drawn as the hull of the test points and there are no nominal "
+            "values to compare with."
+        )
+    density, mass = _num(mesh.density, "g"), _num(mesh.nominal.mass)
+    return f"Nominal body: mesh {_e(mesh.name)}, density {density} kg/m³, mass {mass} kg."
+
+
+def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = None) -> Report:
+    """The identification report of ``found`` (``massline identify --report``), against ``mesh`` when given."""
+    recording, zones, fit = found.recording, found.zones, found.fit
+    sensors, hits = labels(recording)
+    nominal = None if mesh is None else mesh.nominal
+    scene = identification_scene(
+        None if mesh is None else mesh.mesh,
+        recording.sensors,
+        recording.exciters,
+        sensors,
+        hits,
+        found.body,
+        found.planar,
+    )
+    renderings, views = _views(scene)
+    picks = representative(recording.sensors, recording.exciters, fit.values)
+    notes = {
+        (i, j): f"massline {_num(fit.values[i, j], '.4g')} ± {_num(fit.std[i, j], '.2g')}, "
+        f"fit RMS {100 * fit.quality[i, j]:.2f} %"
+        for i, j in picks
+    }
+    frfs = frf_figure(
+        recording.frequencies,
+        recording.frf,
+        (zones.low, zones.high),
+        picks,
+        sensors,
+        hits,
+        {"massline (band fit)": fit.values},
+        (zones.suspension_top, zones.first_elastic),
+        notes,
+    )
+    model = found.data.values - found.best.residual
+    fitted = fit_figure(found.data.values, found.sigma, model, sensors, hits)
+    bounds = [
+        f"the highest suspension resonance at {_num(zones.suspension_top, '.2f')} Hz"
+        if np.isfinite(zones.suspension_top)
+        else "",
+        f"the first elastic one at {_num(zones.first_elastic, '.0f')} Hz" if np.isfinite(zones.first_elastic) else "",
+    ]
+    bounds = " and ".join(b for b in bounds if b)
+    band_note = (
+        f"Band {_num(zones.low, '.1f')}–{_num(zones.high, '.1f')} Hz ({_e(zones.rule)}"
+        + (f"; above {bounds}" if bounds else "")
+        + ", dash-dot). Every FRF is fitted there with A + B/ω² + Cω² + Dω⁴ so that the suspension and "
+        f"residual-flexibility tails do not bias its massline A. Band fits: median RMS residual "
+        f"{100 * np.median(fit.quality):.2f} % of the massline, worst {100 * fit.quality.max():.2f} %; a plain "
+        f"average over the band would be off by up to {100 * fit.bias.max():.1f} %."
+    )
+    method = "weighted estimate over all masslines, physically consistent" if found.method == "best" else found.method
+    fit_note = (
+        f"Reduced χ² {_num(found.best.chi2, '.3g')} over {found.data.values.size} masslines"
+        + ("; the physical-consistency constraint is active" if found.best.constrained else "")
+        + ". The ± is the larger of the information-based 1-σ (scaled by the reduced χ²) and a bootstrap over the "
+        "sensors."
+    )
+    summary = _summary(found.body, found.std, nominal, found.planar)
+    parts = [
+        f"<h1>Identification: {_e(Path(uff_path).name)}</h1>",
+        f'<p class="note">{_recording_line(recording, uff_path)} {_body_line(mesh)}</p>',
+        f"<p>{summary}</p>",
+        f"<section><h2>Properties ({_e(method)})</h2>"
+        + properties_table(found.body, found.std, nominal, found.planar)
+        + f'<p class="note">{fit_note} J about the CoG, tensor sign (off-diagonals are minus the products of '
+        "inertia).</p></section>",
+        "<section><h2>Principal axes on the body</h2>"
+        + _legend(scene, "identified")
+        + views
+        + axes_table(found.body, found.std, nominal, found.planar)
+        + "</section>",
+        _turn_it(scene),
+        "<section><h2>FRFs and the massline band</h2>" + _plot(frfs, "representative FRFs", band_note) + "</section>",
+        "<section><h2>How well the identified body fits the masslines</h2>"
+        + _plot(fitted, "masslines against the identified body", "Each point is one FRF's massline with its 1-σ.")
+        + "</section>",
+    ]
+    return Report(_page(f"Identification: {Path(uff_path).name}", parts), renderings)
+
+
+def _summary(body: RigidBody, std: dict, nominal: RigidBody | None, planar: bool) -> str:
+    """One sentence: mass, CoG and principal moments with their 1-σ, and how far they are from the mesh's."""
+    text = (
+        f"<b>Mass {_num(body.mass, '.5g')} ± {_num(std['mass'], '.2g')} kg</b>, CoG ("
+        + ", ".join(_num(1e3 * c, ".1f") if np.isfinite(s) else "—" for c, s in zip(body.cog, std["cog"]))
+        + ") mm"
+    )
+    if not planar:
+        text += ", principal moments " + ", ".join(_num(v, ".4g") for v in body.principal_moments) + " kg·m²"
+    if nominal is not None:
+        text += f"; against the mesh: mass {100 * (body.mass / nominal.mass - 1):+.2f} %"
+        cog = np.linalg.norm((body.cog - nominal.cog)[: 2 if planar else 3])
+        text += f", CoG {_num(1e3 * cog, '.2f')} mm off"
+        if not planar:
+            worst = np.abs(body.principal_moments / nominal.principal_moments - 1).max()
+            text += f", principal moments within {100 * worst:.2f} %"
+    return text + "."
+
+
+def _flagged(findings) -> tuple[set, set]:
+    """Sensor lines and hits the findings name (0-based)."""
+    sensors = {c for x in findings for c in x.channels}
+    hits = {x.exciter for x in findings if x.exciter is not None}
+    return sensors, hits
+
+
+def channel_table(run: DiagnosisRun) -> str:
+    """Per channel: relative RMS residual before and after, also in units of the noise; the ones a finding names."""
+    result, noise = run.result, run.noise
+    before, after = result.relative_rms("before", axis=1), result.relative_rms("after", axis=1)
+    named, _ = _flagged(result.findings)
+    rows = [
+        [
+            _e(name),
+            f"{100 * before[k]:.2f} %",
+            f"{100 * after[k]:.2f} %",
+            _num(before[k] / noise, ".2f"),
+            _num(after[k] / noise, ".2f"),
+            "named by a finding" if k in named else "",
+        ]
+        for k, name in enumerate(run.sensors)
+    ]
+    head = ["channel", "residual before", "after", "before / noise", "after / noise", ""]
+    return _table(head, rows, "lrrrrl", [16, 17, 14, 15, 15, 23])
+
+
+def before_after_table(run: DiagnosisRun, nominal: RigidBody | None) -> str:
+    """Mass, CoG, principal moments before and after the diagnosis with their 1-σ, and the mesh's."""
+    result = run.result
+    before, after = result.estimates[0].body, result.corrected
+    s0, s1 = property_std(result.estimates[0]), property_std(result.estimates[1])
+    picked = ("mass", "CoG x", "CoG y", "CoG z", "principal moment 1", "principal moment 2", "principal moment 3")
+    columns = []
+    for body, std in ((before, s0), (after, s1), (nominal, None)):
+        if body is None:
+            columns.append(None)
+            continue
+        sig = sigmas(std) if std is not None else [None] * len(quantities(body))
+        columns.append({q[0]: (q[1], q[3], s) for q, s in zip(quantities(body), sig)})
+    rows = []
+    for name in picked:
+        unit = "mm" if name.startswith("CoG") else "kg" if name == "mass" else "kg·m²"
+        cells = []
+        for k, column in enumerate(columns):
+            if column is None:
+                cells.append("no body" if k < 2 else "—")
+                continue
+            value, scale, sigma = column[name]
+            if run.planar and (name == "CoG z" or name.startswith("principal")):
+                cells.append("unobservable" if k < 2 else _num(value * scale, ".6g"))
+                continue
+            cells.append(_with_sigma(value, sigma, scale))
+        rows.append([_e(name), *cells, unit])
+    return _table(
+        ["property", "before ± 1-σ", "after ± 1-σ", "nominal (mesh)", "unit"], rows, "lrrrl", [22, 27, 27, 14, 10]
+    )
+
+
+def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -> Report:
+    """The diagnosis report of ``run`` (``massline diagnose --report``), against ``mesh`` when given."""
+    result, recording, noise = run.result, run.recording, run.noise
+    nominal = None if mesh is None else mesh.nominal
+    sensors, hits = run.sensors, run.hits
+    before, after = result.relative_rms("before"), result.relative_rms("after")
+    if result.findings:
+        findings = "<ol>" + "".join(f"<li>{_e(finding_note(x, sensors, hits))}</li>" for x in result.findings) + "</ol>"
+    else:
+        findings = f"<p>No findings: the rigid body fits every line within the noise ({before / noise:.2f}× it).</p>"
+    fit_line = (
+        f"<p>Fit: relative RMS residual <b>{100 * before:.2f} % before, {100 * after:.2f} % after</b> "
+        f"({before / noise:.2f}× → {after / noise:.2f}× the noise of {100 * noise:.2f} %).</p>"
+    )
+    flagged_sensors, flagged_hits = _flagged(result.findings)
+    body = result.corrected if result.corrected is not None else result.estimates[0].body
+    scene = None
+    renderings, views = [], '<p class="note">No body fits the recording: nothing to draw.</p>'
+    if body is not None:
+        scene = identification_scene(
+            None if mesh is None else mesh.mesh,
+            recording.sensors,
+            recording.exciters,
+            sensors,
+            hits,
+            body,
+            run.planar,
+            flagged_sensors,
+            flagged_hits,
+        )
+        renderings, views = _views(scene)
+        views = (
+            _legend(scene, "corrected")
+            + views
+            + axes_table(body, property_std(result.estimates[1]), nominal, run.planar)
+        )
+    off_rigid = run.off_rigid()
+    maps = diagnosis_figure(result, run.band, sensors, hits, off_rigid, grid=True)
+    maps_caption = (
+        "Top: each FRF's RMS residual over the band in units of its own noise, before and after the diagnosis. "
+        "Bottom: the worst FRF before, as recorded, with both models (massline and tails as fitted)"
+        + ("." if off_rigid is None else "; each recorded channel's distance from the rigid motions (model-free).")
+    )
+    levels = {"model before": result.before.masslines, "model after": result.after.masslines}
+    first = _worst_of_findings(run)
+    picks = representative(recording.sensors, recording.exciters, result.before.masslines, 6, first)
+    band = run.band
+    f_band = (float(band.frequencies[0]), float(band.frequencies[-1]))
+    frfs = frf_figure(recording.frequencies, recording.frf, f_band, picks, sensors, hits, levels)
+    swapped = bool(result.flips or result.swaps)
+    frf_caption = (
+        f"Recorded FRFs (the channels the findings name first) with the diagnosis band {_num(f_band[0], '.1f')}–"
+        f"{_num(f_band[1], '.1f')} Hz ({_e(run.zones.rule)}) and each model's massline for that FRF"
+        + ("; after the diagnosis, flipped or swapped channels are modelled as corrected" if swapped else "")
+        + ". The properties are estimated over the band identify would use, "
+        f"{_num(run.found.low, '.1f')}–{_num(run.found.high, '.1f')} Hz, with every FRF's tails."
+    )
+    parts = [
+        f"<h1>Diagnosis: {_e(Path(uff_path).name)}</h1>",
+        f'<p class="note">{_recording_line(recording, uff_path)} {_body_line(mesh)} The model: the '
+        "rigid body, every channel reading a little across its axis (the datasheet's transverse sensitivity).</p>",
+        "<section><h2>Findings</h2>" + findings + fit_line + "</section>",
+        "<section><h2>Properties before and after</h2>"
+        + before_after_table(run, nominal)
+        + '<p class="note">After: with every finding modelled (and loading masses taken away).</p></section>',
+        "<section><h2>Residual maps and overlays</h2>" + _plot(maps, "residual maps", maps_caption) + "</section>",
+        "<section><h2>Fit per channel</h2>"
+        + channel_table(run)
+        + '<p class="note">Relative RMS residual of each channel over the band and every hit.</p></section>',
+        "<section><h2>Principal axes on the body (after)</h2>" + views + "</section>",
+    ]
+    if scene is not None:
+        parts.append(_turn_it(scene))
+    parts.append(
+        "<section><h2>FRFs and the band</h2>" + _plot(frfs, "FRFs with both models", frf_caption) + "</section>"
+    )
+    return Report(_page(f"Diagnosis: {Path(uff_path).name}", parts), renderings)
+
+
+def _worst_of_findings(run: DiagnosisRun) -> list:
+    """For each finding, the FRF of its channel (or hit) the nominal model fitted worst."""
+    rss = run.result.before.rss
+    picks = []
+    for finding in run.result.findings:
+        if finding.channels:
+            i = finding.channels[0]
+            picks.append((i, int(np.argmax(rss[i]))))
+        elif finding.exciter is not None:
+            j = finding.exciter
+            picks.append((int(np.argmax(rss[:, j])), j))
+    return picks
