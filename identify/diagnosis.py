@@ -22,7 +22,7 @@ The procedure of the mismatch notes (§6), on the band's spectral lines:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from cvxpy.error import SolverError
@@ -271,6 +271,19 @@ def _moved(without: RigidBody, with_: RigidBody) -> dict:
     }
 
 
+def with_model_form(result: Fit, other: Fit) -> Fit:
+    """``result`` with the spread between two tail models added to θ's covariance.
+
+    A single shared mode is the tail's physics when one support or elastic mode dominates; each
+    FRF's own first- and second-order tails are the model-free alternative. Where they disagree
+    the data cannot choose, and the difference is as much the properties' uncertainty as the noise.
+    """
+    delta = (other.x - result.x)[: result.problem.model.p]
+    spread = result.spread.copy()
+    spread[: len(delta), : len(delta)] += np.outer(delta, delta)
+    return replace(result, spread=spread)
+
+
 def covers(wide: BandData, band: BandData) -> bool:
     """Whether ``wide`` spans ``band``'s lines (to a line's width)."""
     step = np.diff(band.frequencies).max()
@@ -299,7 +312,7 @@ def diagnose(
     result, laws, accepted = forward_stage(fixed, start, noise, size)
     result, laws, accepted = backward_stage(fixed, result, laws, accepted)
     findings += [accepted_finding(result, fixed, what, evidence) for what, evidence in accepted]
-    estimates = (before, result)
+    estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)
     if estimation is not None and covers(estimation, band):
         estimates = (
             refit(before, estimation, "free", ()),
