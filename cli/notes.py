@@ -50,15 +50,25 @@ def finding_note(finding: Finding, sensors: list[str], hits: list[str]) -> str:
         ),
         "suspension": lambda: (
             f"the suspension's tail reaches {p['tail_max']:.1%} of the massline at "
-            f"{p['edge_hz']:.1f} Hz (median {p['tail_median']:.1%}): a support mode near {p['mode_hz']:.1f} Hz, "
-            "stiffer than the band allows; modelled as that mode's tail in every FRF (the ± of the properties "
-            f"says how much that leaves open: a softer support, or a band from {3 * p['mode_hz']:.0f} Hz, does better)"
+            f"{p['edge_hz']:.1f} Hz (median {p['tail_median']:.1%}): a support mode near {p['mode_hz']:.1f} Hz; "
+            "modelled as that mode's tail in every FRF"
+            + (
+                " (the ± of the properties says how much that leaves open: a softer support, or a band from "
+                f"{3 * p['mode_hz']:.0f} Hz, does better)"
+                if 3 * p["mode_hz"] > p["edge_hz"]
+                else ""
+            )
         ),
         "residual_flexibility": lambda: (
             f"elastic modes above the band pull the masslines by up to "
             f"{p['tail_max']:.1%} at {p['edge_hz']:.0f} Hz (median {p['tail_median']:.1%}): an elastic mode near "
-            f"{p['mode_hz']:.0f} Hz; modelled as that mode's tail in every FRF (the ± of the properties says how "
-            f"much that leaves open: a band up to {p['mode_hz'] / 3:.0f} Hz does better)"
+            f"{p['mode_hz']:.0f} Hz; modelled as that mode's tail in every FRF"
+            + (
+                f" (the ± of the properties says how much that leaves open: a band up to {p['mode_hz'] / 3:.0f} Hz "
+                "does better)"
+                if p["mode_hz"] / 3 < p["edge_hz"]
+                else ""
+            )
         ),
         "sensor_mass_loading": lambda: (
             f"the body is {1e3 * p['mass_kg']:.1f} ± {1e3 * p['mass_std_kg']:.1f} g "
