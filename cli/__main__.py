@@ -34,10 +34,6 @@ def cmd_props(args: argparse.Namespace, console: Console) -> None:
         console.print(f"wrote {args.json}")
 
 
-def cmd_demo(args: argparse.Namespace, console: Console) -> None:
-    demo.run(console)
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="massline", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"massline {__version__}")
@@ -69,8 +65,11 @@ def build_parser() -> argparse.ArgumentParser:
     diagnose_command.add_arguments(diagnose_parser)
     diagnose_parser.set_defaults(run=diagnose_command.run)
 
-    demo_parser = sub.add_parser("demo", help="the paper's methods on the bundled bodies")
-    demo_parser.set_defaults(run=cmd_demo)
+    demo_parser = sub.add_parser(
+        "demo", help="the whole story on the bundled structure: plan, test, identify, diagnose"
+    )
+    demo.add_arguments(demo_parser)
+    demo_parser.set_defaults(run=demo.run)
     return parser
 
 

@@ -1,69 +1,277 @@
-"""``massline demo``: the paper's methods and the planner on the bundled bodies.
+"""``massline demo``: the whole story on the bundled 3-D structure, written into one folder.
 
-Exact masslines of the bundled plate and 3-D structure, laid out as in the
-paper, identified by every method; each value is printed beside the mesh's
-nominal one with its relative error, and the condition numbers met. Then the
-planner lays out the minimal test of the 3-D structure and compares its
-predicted accuracy with the paper-like hand layout's.
+Plan a test with room to spare (14 accelerometers, 4 hits), simulate it as a careful lab would record
+it (FE modes, a soft cord, 1 % noise, every channel a little sensitive across its axis) with one fault
+concealed in it, write the UFF, identify the properties from the file alone, diagnose it with the
+planned band and the mesh, and write the plan, the placement report, the identification report and
+the diagnosis report. The tool never reads what was concealed (``truth.json`` keeps it for the reader).
 """
 
 from __future__ import annotations
 
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
 
+from massline.identify.diagnosis import property_std
+from massline.identify.uff import read_uff, to_recording
 from massline.meshes import BUNDLED
-from massline.placement import identify, synthesise
-from massline.placement.hand_layouts import (
-    plate_table1,
-    structure_exciters,
-    structure_origin_sensors,
-    structure_sensors,
-)
-from massline.placement.accuracy import layout_worst_std
-from massline.placement.information import fisher
+from massline.placement.errors import MasslineError
 from massline.placement.mesh import load_body
+from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
+from massline.placement.virtual.elastic import ElasticBody, Material
+from massline.placement.virtual.scenarios import FAULTS, Bench, scenario
+from massline.placement.virtual.uff_export import write_uff
 
-from .plan import layout_table, std_table
-from .tables import comparison_table
+from .diagnose_command import diagnose_recording
+from .identification_report import diagnose_report, identify_report
+from .identify_command import identify_recording
+from .notes import finding_note
+from .output import claim_output, to_json, write_atomic
+from .report_command import build_report
+
+BODY = "structure"
+BUDGET = Budget(sensors=14, exciters=4)  # 14 channels for 10 parameters: room to tell a faulty channel
+MODES = 12  # elastic modes of the virtual test
+BANDWIDTH = 2.5  # the recording reaches the first elastic mode / BANDWIDTH
+FAULT, SEED = "sensor_gain", 3
+FILES = {
+    "plan": "plan.json",
+    "placement": "placement-report.html",
+    "uff": "test.uff",
+    "truth": "truth.json",
+    "identification": "identification-report.html",
+    "diagnosis": "diagnosis-report.html",
+}
 
 
-def run(console: Console) -> None:
-    plate = load_body(BUNDLED["plate"].path, "m", BUNDLED["plate"].density).nominal
-    sensors, exciters = plate_table1()
-    result = identify(synthesise(plate, sensors, exciters), "plate")
-    console.print(comparison_table("Plate (Table 1): 3 exciters × 4 sensors, eqs. (10)–(13)", plate, {"plate": result}))
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--out", default="massline-demo", metavar="DIR", help="output folder (default ./massline-demo)")
+    parser.add_argument("--fault", default=FAULT, choices=FAULTS, help=f"the fault concealed (default {FAULT})")
+    parser.add_argument("--seed", type=int, default=SEED, help=f"its size and place (default {SEED})")
+    parser.add_argument("--force", action="store_true", help="overwrite the files of an earlier demo in DIR")
 
-    body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density).nominal
-    six = structure_exciters(2)
-    runs = {
-        "eq.6+m3 (18)": (structure_sensors(), six[:3], "method2", "method3"),
-        "eq.6+m2 (24)": (structure_sensors(), six[:4], "method2", "method2"),
-        "eq.6+m1 (36)": (structure_sensors(), six, "method2", "method1"),
-        "eq.7+m3 (18)": (structure_sensors(), six[:3], "method2-difference", "method3"),
-        "eq.5+m3 (18)": (structure_origin_sensors(), six[:3], "method1", "method3"),
-    }
-    results, conditions = {}, []
-    for name, (s, e, kin, dyn) in runs.items():
-        results[name] = identify(synthesise(body, s, e), kin, dyn)
-        conditions.append(f"  {name}: " + ", ".join(f"κ_{k} {v:.3g}" for k, v in results[name].condition.items()))
-    console.print(comparison_table("3-D steel structure: exact masslines, every method (measurements)", body, results))
-    console.print("[bold]Condition numbers[/bold] of the systems each method solved")
-    console.print("\n".join(conditions))
 
-    console.print("\n[bold]Planning the minimal test of the 3-D structure[/bold] (6 accelerometers × 3 hits)")
-    structure = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
-    planned = plan(structure, Budget(6, 3))
-    console.print(layout_table("Planned accelerometers", planned.sensors, planned.sensor_nodes))
-    console.print(layout_table("Planned hammer hits", planned.exciters, planned.exciter_nodes))
-    console.print(std_table(planned))
-    model = planned.model
-    hand = layout_worst_std(
-        model,
-        fisher(model, structure_sensors().coordinates, structure_exciters().coordinates, planned.noise),
+def _outputs(out: Path, force: bool) -> dict:
+    """The demo's files in ``out`` (created), refused before any work when one exists and not ``force``."""
+    if out.exists() and not out.is_dir():
+        raise MasslineError(f"--out {out} is a file: give a folder")
+    paths = {key: out / name for key, name in FILES.items()}
+    for path in paths.values():
+        if path.exists() and not force:
+            raise MasslineError(f"{path} exists; pass --force to overwrite the demo's files or choose another --out")
+    out.mkdir(parents=True, exist_ok=True)
+    for path in paths.values():
+        claim_output(path, force)
+    return paths
+
+
+def _line_index(lines, point, direction) -> int:
+    """Index of the line through ``point`` along ``direction`` (as read back from the file)."""
+    misfit = np.linalg.norm(lines.points - point, axis=1) + np.linalg.norm(lines.directions - direction, axis=1)
+    return int(np.argmin(misfit))
+
+
+def concealed(truth: dict, planned, recording, sensors: list[str], hits: list[str]) -> tuple[str, list, int | None]:
+    """The fault in words, the channels (0-based, in the file's order) and the hit it sits on."""
+    fault, size, lines = truth["fault"]["name"], truth["fault"]["size"], truth["fault"]["lines"] or []
+    channels, hit = [], None
+    if fault.startswith("excitation"):
+        k = lines[0] - 1
+        hit = _line_index(recording.exciters, planned.exciters.points[k], planned.exciters.directions[k])
+    else:
+        for line in lines:
+            k = line - 1
+            channels.append(_line_index(recording.sensors, planned.sensors.points[k], planned.sensors.directions[k]))
+    low, high = truth["planned_band_hz"]
+    where = sensors[channels[0]] if channels else None
+    text = {
+        "sensor_gain": lambda: f"sensor {where} reads {100 * size:+.1f} % of what it should (its sensitivity is wrong)",
+        "sensor_direction": lambda: f"sensor {where} is tilted {size:.1f}° off its labelled axis",
+        "sensor_location": lambda: f"sensor {where} sits {1e3 * size:.1f} mm from its labelled point",
+        "sensor_polarity": lambda: f"sensor {where} is wired with its polarity flipped",
+        "channel_swap": lambda: f"channels {sensors[channels[0]]} and {sensors[channels[-1]]} are swapped",
+        "sensor_mass_loading": lambda: f"an extra {1e3 * size:.0f} g sits at sensor {where}",
+        "excitation_direction": lambda: f"hit {hits[hit]} goes in {size:.1f}° off its labelled direction",
+        "excitation_location": lambda: f"hit {hits[hit]} lands {1e3 * size:.1f} mm from its labelled point",
+        "suspension": lambda: (
+            f"the body rests on a stiff support bouncing at {size:.1f} Hz, not the planned soft cord "
+            f"(planned band from {low:.1f} Hz)"
+        ),
+        "residual_flexibility": lambda: (
+            f"the body is softer than its mesh: first elastic mode at {size:.0f} Hz (planned band to {high:.0f} Hz)"
+        ),
+    }[fault]()
+    return text, channels, hit
+
+
+def _named(finding, fault: str, channels: list, hit: int | None) -> bool:
+    """Whether the finding names the concealed fault at its place."""
+    if finding is None or finding.effect != fault:
+        return False
+    if fault == "channel_swap":
+        return set(finding.channels) == set(channels)
+    if hit is not None:
+        return finding.exciter == hit
+    return not channels or channels[0] in finding.channels
+
+
+def _errors(body, nominal) -> str:
+    """Mass, CoG and principal moments against the mesh's, in one phrase."""
+    mass = _round(100 * (body.mass / nominal.mass - 1))
+    cog = 1e3 * np.linalg.norm(body.cog - nominal.cog)
+    moments = 100 * np.abs(body.principal_moments / nominal.principal_moments - 1).max()
+    return f"mass {mass:+.2f} %, CoG {cog:.2f} mm off, principal moments within {moments:.2f} %"
+
+
+ROWS = [("mass", "kg", 1.0)] + [(f"CoG {a}", "mm", 1e3) for a in "xyz"]
+ROWS += [(f"I{k}", "kg·m²", 1.0) for k in (1, 2, 3)]  # principal moments
+
+
+def _round(value: float) -> float:
+    """Rounded to two decimals, without a minus sign on zero."""
+    return round(float(value), 2) + 0.0
+
+
+def _values(body) -> np.ndarray:
+    """Mass, CoG and principal moments, SI, in the order of ``ROWS``."""
+    return np.concatenate([[body.mass], body.cog, body.principal_moments])
+
+
+def _sigmas(std: dict) -> np.ndarray:
+    return np.concatenate([[std["mass"]], std["cog"], std["principal_moments"]])
+
+
+def properties_table(nominal, columns: list) -> Table:
+    """The mesh's mass, CoG and principal moments, and each (name, body, std) of ``columns`` as its error
+    against them ± its 1-σ (per cent; mm for the CoG)."""
+    table = Table(
+        title="Against the mesh: identify's and the diagnosis' error ± 1-σ",
+        caption="I1–I3: principal moments; errors in % of the mesh's value, in mm for the CoG",
     )
+    table.add_column("quantity")
+    table.add_column("mesh", justify="right")
+    for name, _, _ in columns:
+        table.add_column(name, justify="right")
+    reference = _values(nominal)
+    found = [(None, None) if body is None else (_values(body), _sigmas(std)) for _, body, std in columns]
+    for k, (name, unit, scale) in enumerate(ROWS):
+        cells = [f"{reference[k] * scale:.5g}"]
+        for values, sigmas in found:
+            if values is None:
+                cells.append("no body")
+                continue
+            relative = 1e3 if unit == "mm" else 100 / reference[k]
+            error, sigma = (values[k] - reference[k]) * relative, sigmas[k] * abs(relative)
+            cells.append(f"{_round(error):+.2f} ± {sigma:.2g}" + ("" if unit == "mm" else " %"))
+        table.add_row(f"{name} ({unit})", *cells)
+    return table
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    start = time.perf_counter()
+    out = Path(args.out)
+    paths = _outputs(out, args.force)
     console.print(
-        f"worst relative 1-σ (mass, CoG / radius of gyration, principal moments): planned "
-        f"{planned.worst_relative_std:.2%}, paper-like hand layout {hand:.2%}; the plan is certified within "
-        f"{planned.d_efficiency_lower_bound:.1%} D-efficiency of the best possible layout"
+        f"[bold]massline demo[/]: the bundled {BUNDLED[BODY].description}. Plan the test, simulate it with one "
+        f"fault concealed, identify and diagnose from the UFF alone, and write the reports into {out}/."
+    )
+    quiet = Console(quiet=True)
+    with Progress(
+        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+    ) as bar:
+        steps = bar.add_task("planning", total=8)
+
+        def step(text: str) -> None:
+            bar.update(steps, advance=1, description=text)
+
+        bar.update(steps, description=f"1/8 planning {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits")
+        mesh = load_body(BUNDLED[BODY].path, "m", BUNDLED[BODY].density)
+        nominal = mesh.nominal
+        planned = plan(mesh, BUDGET)
+        write_atomic(paths["plan"], to_json(plan_to_dict(planned, BODY, "m", mesh.density)), args.force)
+        console.print(
+            f"planned {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits on the structure: certified "
+            f"D-efficiency ≥ {planned.d_efficiency_lower_bound:.1%}, predicted worst 1-σ "
+            f"{planned.worst_relative_std:.2%} → {paths['plan']}"
+        )
+        step("2/8 placement report: band prediction (coarse FE) and views")
+        placement = build_report(paths["plan"], quiet)
+        write_atomic(paths["placement"], placement.html, args.force)
+        step("3/8 FE model of the structure: elastic modes")
+        material = Material(BUNDLED[BODY].youngs, BUNDLED[BODY].poisson, mesh.density)
+        modes = ElasticBody.from_mesh(mesh.mesh, material).modes(MODES)
+        step(f"4/8 simulating the test with a concealed fault ({args.fault})")
+        bench = Bench(nominal, planned.sensors, planned.exciters, modes, modes.frequencies_hz[0] / BANDWIDTH)
+        recording, truth = scenario(bench, args.fault, args.seed)
+        write_uff(paths["uff"], recording, force=args.force)
+        write_atomic(paths["truth"], to_json(truth), args.force)
+        low, high = truth["planned_band_hz"]
+        console.print(
+            f"simulated: FE modes from {modes.frequencies_hz[0]:.0f} Hz, a soft 1 m cord, 1 % noise, every channel "
+            f"up to 2 % sensitive across its axis, {len(recording.frequencies)} lines to {bench.fmax:.0f} Hz; "
+            f"planned band {low:.1f}–{high:.1f} Hz → {paths['uff']}"
+        )
+        step("5/8 identify: band, band fits, estimate, bootstrap")
+        read = to_recording(read_uff(paths["uff"]))  # from here on the tool sees the file only
+        identified = identify_recording(read)
+        step("6/8 identification report")
+        report = identify_report(identified, paths["uff"], mesh)
+        write_atomic(paths["identification"], report.html, args.force)
+        step("7/8 diagnose: planned band and the mesh")
+        diagnosis = diagnose_recording(read, (low, high), nominal)
+        step("8/8 diagnosis report")
+        report = diagnose_report(diagnosis, paths["uff"], mesh)
+        write_atomic(paths["diagnosis"], report.html, args.force)
+        step("done")
+    summary(console, args, paths, nominal, truth, planned, identified, diagnosis, time.perf_counter() - start)
+
+
+def summary(console, args, paths, nominal, truth, planned, identified, diagnosis, seconds) -> None:
+    """What was planned, concealed, identified and diagnosed, and where the reports are."""
+    result = diagnosis.result
+    sensors, hits = diagnosis.sensors, diagnosis.hits
+    fault, channels, hit = concealed(truth, planned, diagnosis.recording, sensors, hits)
+    console.print(f"\n[bold]Concealed fault[/] ({args.fault}, seed {args.seed}; the tool was not told): {fault}.")
+    zones = identified.zones
+    console.print(
+        f"[bold]identify[/] (band {zones.low:.1f}–{zones.high:.1f} Hz, found): {_errors(identified.body, nominal)} "
+        "against the mesh."
+    )
+    if not result.findings:
+        console.print("[bold]diagnose[/]: no findings: the rigid body fits every line within the noise.")
+    for k, finding in enumerate(result.findings, 1):
+        console.print(f"[bold]diagnose[/] {k}. {finding_note(finding, sensors, hits)}")
+    ranks = [k for k, finding in enumerate(result.findings, 1) if _named(finding, args.fault, channels, hit)]
+    verdict = (
+        "[red]not named[/]"
+        if not ranks
+        else "named first, at its place"
+        if ranks[0] == 1
+        else f"[yellow]named at its place, as finding {ranks[0]}[/]"
+    )
+    before, after = result.relative_rms("before"), result.relative_rms("after")
+    console.print(
+        f"the concealed fault is {verdict}; fit {before:.2%} → {after:.2%} RMS (noise {diagnosis.noise:.2%})"
+        + (f"; after: {_errors(result.corrected, nominal)}" if result.corrected is not None else "")
+    )
+    columns = [("identify", identified.body, identified.std)]
+    columns.append(("diagnose, after", result.corrected, property_std(result.estimates[1])))
+    console.print(properties_table(nominal, columns))
+    console.print("[bold]Reports[/] (open in a browser; they print on A4):")
+    for key, what in (
+        ("placement", "placement report: where to put the accelerometers and hits"),
+        ("identification", "identification report: FRFs, band, properties, principal axes"),
+        ("diagnosis", "diagnosis report: findings, residual maps, properties before and after"),
+    ):
+        console.print(f"  {paths[key]}  ({what})")
+    console.print(
+        f"data: {paths['plan']}, {paths['uff']} (massline identify / diagnose read it), {paths['truth']} (what was "
+        f"concealed). Done in {seconds:.0f} s."
     )

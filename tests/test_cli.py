@@ -67,10 +67,11 @@ def test_bad_input_is_one_line_and_exit_2(args, words):
     assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
 
 
-def test_demo_runs():
-    run = massline("demo")
-    assert run.returncode == 0, run.stderr
-    assert "Table 1" in run.stdout and "Condition numbers" in run.stdout
+def test_demo_refuses_to_overwrite_an_earlier_demo(tmp_path):
+    (tmp_path / "plan.json").write_text("precious")
+    run = massline("demo", "--out", tmp_path)
+    assert run.returncode == 2 and "--force" in run.stderr and len(run.stderr.strip().splitlines()) == 1
+    assert (tmp_path / "plan.json").read_text() == "precious" and len(list(tmp_path.iterdir())) == 1
 
 
 def test_plan_writes_plan_json(tmp_path):
