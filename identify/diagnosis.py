@@ -117,7 +117,8 @@ def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, tran
         lambda: starting_body(masslines, layout.planar),
     ):
         try:
-            body = attempt()
+            with np.errstate(invalid="ignore"):  # data with a gross fault can drive the estimate through no-bodies
+                body = attempt()
             if np.isfinite(body.theta).all() and body.mass > 0 and np.linalg.eigvalsh(body.inertia_cog).min() > 0:
                 return body
         except (np.linalg.LinAlgError, SolverError, MasslineError):

@@ -87,7 +87,8 @@ class Fit:
     def body(self):
         """The fitted body; None when θ is no body (a negative mass or inertia: the data need the effects first)."""
         try:
-            body = self.problem.model.body(self.theta)
+            with np.errstate(invalid="ignore"):  # a radius of gyration of a non-body is NaN, and says so below
+                body = self.problem.model.body(self.theta)
         except MasslineError:
             return None
         physical = np.isfinite(body.theta).all() and np.linalg.eigvalsh(body.inertia_cog).min() > 0

@@ -16,7 +16,7 @@ from massline.identify.mass_loading import unit_mass
 from massline.identify.screens import discrete_fixes, kinematic_matrix
 from massline.identify.tails import BandData
 from massline.identify.uff import read_uff, to_recording
-from massline.placement.hand_layouts import structure_exciters
+from massline.placement.hand_layouts import plate_table1, structure_exciters
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.rigid_body import RigidBody
@@ -153,3 +153,20 @@ def test_diagnose_command_refuses_a_missing_mesh_and_a_band_outside_the_record(s
     for extra in (["--mesh", str(tmp_path / "nowhere.stl"), "--units", "mm"], ["--band", "150", "180"]):
         result = massline("diagnose", path, *extra)
         assert result.returncode == 2 and result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize(
+    "effect, channels, exciter",
+    [("sensor_polarity@3", (2,), None), ("sensor_gain=0.2@5", (4,), None), ("excitation_location=0.02@1", (), 0)],
+)
+def test_plate_data_are_diagnosed_with_the_planar_model(effect, channels, exciter):
+    """Eight out-of-plane accelerometers on the paper's plate, its three hits: the plate's 6 parameters."""
+    plate = bundled("plate").nominal
+    rng = np.random.default_rng(3)
+    points = np.column_stack([rng.uniform(-0.2, 0.2, 8), rng.uniform(-0.15, 0.15, 8), np.zeros(8)])
+    sensors = Lines(points + plate.cog * [1, 1, 0], np.tile([0, 0, 1.0], (8, 1)))
+    rec, _ = run(plate, sensors, plate_table1()[1], effects=(Effect.parse(effect),), setup=Acquisition(100.0, 400))
+    result = diagnose(_band(rec), Layout.of(rec.sensors, rec.exciters, True), plate)
+    first = result.findings[0]
+    assert (first.effect, first.channels, first.exciter) == (effect.split("=")[0].split("@")[0], channels, exciter)
+    assert result.corrected.mass == pytest.approx(plate.mass, rel=0.003)
