@@ -60,6 +60,11 @@ def _recording_line(recording, path) -> str:
     )
 
 
+def _fixed(value: float, digits: int) -> str:
+    """A number with ``digits`` decimals and no minus sign on zero."""
+    return _num(round(float(value), digits) + 0.0, f".{digits}f")
+
+
 def _with_sigma(value: float, sigma: float, scale: float) -> str:
     if not np.isfinite(value):
         return "unobservable"
@@ -107,7 +112,7 @@ def axes_table(body: RigidBody, std: dict | None, nominal: RigidBody | None, pla
     rows = []
     for k in range(axes.shape[1]):
         sigma = None if std is None else std["principal_moments"][k]
-        direction = "(" + ", ".join(_num(c + 0.0, ".3f") for c in axes[:, k]) + ")"
+        direction = "(" + ", ".join(_fixed(c, 3) for c in axes[:, k]) + ")"
         row = [f"I{k + 1}", direction, _with_sigma(moments[k], sigma, 1.0)]
         row += [_num(1e3 * np.sqrt(max(moments[k], 0.0) / body.mass), ".1f")]
         row += ["" if std is None else _num(std["principal_axes_deg"][k], ".2g")]
@@ -243,7 +248,7 @@ def _summary(body: RigidBody, std: dict, nominal: RigidBody | None, planar: bool
     """One sentence: mass, CoG and principal moments with their 1-σ, and how far they are from the mesh's."""
     text = (
         f"<b>Mass {_num(body.mass, '.5g')} ± {_num(std['mass'], '.2g')} kg</b>, CoG ("
-        + ", ".join(_num(1e3 * c, ".1f") if np.isfinite(s) else "—" for c, s in zip(body.cog, std["cog"]))
+        + ", ".join(_fixed(1e3 * c, 1) if np.isfinite(s) else "—" for c, s in zip(body.cog, std["cog"]))
         + ") mm"
     )
     if not planar:
