@@ -5,8 +5,9 @@ Two estimates, and the larger is reported for each property:
 * the inverse information at the estimate, with each massline's σ from its
   band fit and scaled by the reduced χ² of the fit over all masslines;
 * a bootstrap over the sensor lines: the sensors are drawn with replacement
-  and the estimate is repeated; its spread carries what differs from sensor
-  to sensor (transverse sensitivity, mounting) that no per-FRF scatter shows.
+  and the estimate is repeated; its spread (robust: the scaled median absolute
+  deviation) carries what differs from sensor to sensor (transverse
+  sensitivity, mounting) that no per-FRF scatter shows.
 """
 
 from __future__ import annotations
@@ -49,17 +50,24 @@ def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, 
     for _ in range(draws):
         pick = rng.integers(len(data.sensors), size=len(data.sensors))
         try:
-            again = estimate(
-                Masslines(data.values[pick], data.sensors[pick], data.exciters),
-                sigma[pick],
-                result.model.planar,
-                result.prior,
-                iterations=8,
-            )
+            with np.errstate(invalid="ignore"):  # a draw can pass through no-bodies (a faulty sensor drawn twice)
+                again = estimate(
+                    Masslines(data.values[pick], data.sensors[pick], data.exciters),
+                    sigma[pick],
+                    result.model.planar,
+                    result.prior,
+                    iterations=8,
+                )
         except (MasslineError, np.linalg.LinAlgError):
             continue  # a draw whose sensors cannot see every motion
         samples.append(aligned(property_vector(again.body, result.model.planar), reference))
     return np.array(samples)
+
+
+def robust_std(samples: np.ndarray) -> np.ndarray:
+    """1.4826 × the median absolute deviation of each column: the standard deviation for a normal spread,
+    unmoved by the few draws that pick a faulty sensor twice and leave the body altogether."""
+    return 1.4826 * np.median(np.abs(samples - np.median(samples, axis=0)), axis=0)
 
 
 def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
@@ -68,7 +76,7 @@ def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: in
     samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, 25))
     if len(samples) < max(draws // 2, 2):
         return informed
-    spread = std_from_vector(samples.std(axis=0, ddof=1))
+    spread = std_from_vector(robust_std(samples))
     combined = {k: np.fmax(informed[k], spread[k]) for k in spread}
     axes_deg = np.degrees(np.sqrt(np.sum(np.asarray(spread["principal_axes"]) ** 2, axis=0)))
     combined["principal_axes_deg"] = np.fmax(informed["principal_axes_deg"], axes_deg)
