@@ -24,7 +24,7 @@ from .diagnosis_figures import diagnosis_figure
 from .identify_command import is_planar, payload
 from .meshargs import add_nominal_arguments, nominal_mesh
 from .notes import finding_note, finding_payload
-from .output import claim_output, to_json, write_atomic, write_atomic_bytes
+from .output import claim_output, to_json, write_atomic, write_atomic_bytes, write_report
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -192,7 +192,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if args.report:
         from .identification_report import diagnose_report
 
-        with console.status("writing the report: rendering the body and its principal axes"):
-            report = diagnose_report(found, args.uff, mesh)
-        write_atomic(args.report, report.html, args.force)
-        console.print(f"wrote {args.report} ({len(report.html) / 1e3:.0f} kB)")
+        write_report(console, args.report, lambda: diagnose_report(found, args.uff, mesh), args.force)

@@ -165,21 +165,27 @@ def _body_line(mesh: BodyMesh | None) -> str:
     return f"Nominal body: mesh {_e(mesh.name)}, density {density} kg/m³, mass {mass} kg."
 
 
-def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = None) -> Report:
-    """The identification report of ``found`` (``massline identify --report``), against ``mesh`` when given."""
-    recording, zones, fit = found.recording, found.zones, found.fit
-    sensors, hits = labels(recording)
-    nominal = None if mesh is None else mesh.nominal
+def _body_views(mesh, recording, sensors, hits, body, planar, flagged=((), ())):
+    """The scene of ``body`` with the test's channels (findings' ones ``flagged``), and its rendered views."""
     scene = identification_scene(
         None if mesh is None else mesh.mesh,
         recording.sensors,
         recording.exciters,
         sensors,
         hits,
-        found.body,
-        found.planar,
+        body,
+        planar,
+        *flagged,
     )
-    renderings, views = _views(scene)
+    return (scene, *_views(scene))
+
+
+def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = None) -> Report:
+    """The identification report of ``found`` (``massline identify --report``), against ``mesh`` when given."""
+    recording, zones, fit = found.recording, found.zones, found.fit
+    sensors, hits = labels(recording)
+    nominal = None if mesh is None else mesh.nominal
+    scene, renderings, views = _body_views(mesh, recording, sensors, hits, found.body, found.planar)
     picks = representative(recording.sensors, recording.exciters, fit.values)
     notes = {
         (i, j): f"massline {_num(fit.values[i, j], '.4g')} ± {_num(fit.std[i, j], '.2g')}, "
@@ -341,18 +347,8 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
     scene = None
     renderings, views = [], '<p class="note">No body fits the recording: nothing to draw.</p>'
     if body is not None:
-        scene = identification_scene(
-            None if mesh is None else mesh.mesh,
-            recording.sensors,
-            recording.exciters,
-            sensors,
-            hits,
-            body,
-            run.planar,
-            flagged_sensors,
-            flagged_hits,
-        )
-        renderings, views = _views(scene)
+        flagged = (flagged_sensors, flagged_hits)
+        scene, renderings, views = _body_views(mesh, recording, sensors, hits, body, run.planar, flagged)
         views = (
             _legend(scene, "corrected")
             + views

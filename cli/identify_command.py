@@ -21,7 +21,7 @@ from massline.placement.rigid_body import RigidBody
 from massline.placement.virtual.recording import Recording
 
 from .meshargs import add_nominal_arguments, nominal_mesh
-from .output import claim_output, to_json, write_atomic
+from .output import claim_output, to_json, write_atomic, write_report
 
 PAPER = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
 PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF frames carry ~6 digits)
@@ -178,7 +178,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if args.report:
         from .identification_report import identify_report
 
-        with console.status("writing the report: rendering the body and its principal axes"):
-            report = identify_report(found, args.uff, mesh)
-        write_atomic(args.report, report.html, args.force)
-        console.print(f"wrote {args.report} ({len(report.html) / 1e3:.0f} kB)")
+        write_report(console, args.report, lambda: identify_report(found, args.uff, mesh), args.force)

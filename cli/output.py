@@ -66,3 +66,11 @@ def _plain(value):
 
 def to_json(data: dict) -> str:
     return json.dumps(_plain(data), indent=2, allow_nan=False) + "\n"
+
+
+def write_report(console, path: str | Path, build, force: bool = False) -> None:
+    """Build an HTML report (``build()`` returns an object with ``.html``) under a status line, then write it."""
+    with console.status("writing the report: rendering the body and its principal axes"):
+        report = build()
+    write_atomic(path, report.html, force)
+    console.print(f"wrote {path} ({len(report.html) / 1e3:.0f} kB)")

@@ -8,9 +8,8 @@ import time
 import numpy as np
 import pytest
 from conftest import bundled
-from PIL import Image
 from test_cli import massline
-from test_report import A4_PRINTABLE_PX, A4_WIDTH_PX, CHROMIUM, PROBE, chromium, overlapping_pairs, pictures
+from test_report import CHROMIUM, assert_a4_page, overlapping_pairs, pictures
 
 from massline.body_scene import stand_in
 from massline.diagnose_command import diagnose_recording
@@ -122,26 +121,7 @@ def test_the_stand_in_of_a_flat_layout_is_a_closed_slab():
 @pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium is absent (.ci/run installs Debian's chromium as root)")
 @pytest.mark.parametrize("name", ["identify", "diagnose"])
 def test_report_opens_in_headless_chromium_at_a4_width(reports, tmp_path, name):
-    html = reports[name].html
-    page = tmp_path / "report.html"
-    page.write_text(html.replace("</body>", PROBE + "</body>"))
-    shot = tmp_path / "shot.png"
-    chromium(f"--window-size={A4_WIDTH_PX},1123", f"--screenshot={shot}", page.as_uri())
-    image = np.asarray(Image.open(shot).convert("RGB"))
-    assert image.shape[:2] == (1123, A4_WIDTH_PX) and image.std() > 20, "the screenshot is blank"
-    dom = chromium(
-        f"--window-size={A4_WIDTH_PX},1123", "--virtual-time-budget=5000", "--dump-dom", page.as_uri()
-    ).stdout
-    probe = json.loads(re.search(r'<pre id="probe">(.*?)</pre>', dom).group(1))
-    count = len(pictures(html))
-    assert probe["images"] == count and probe["loaded"] == count, "every image loaded"
-    assert probe["scrollWidth"] <= A4_WIDTH_PX and probe["right"] <= A4_WIDTH_PX, "nothing is cut off at A4 width"
-    assert probe["bodyWidth"] <= A4_PRINTABLE_PX + 0.5, "the page fits A4 within its print margins"
-    assert probe["painted"] > 10_000, "the 3-D view drew the body"
-    pdf = tmp_path / "report.pdf"
-    chromium("--no-pdf-header-footer", f"--print-to-pdf={pdf}", page.as_uri())
-    boxes = re.findall(rb"/MediaBox \[0 0 ([\d.]+) ([\d.]+)\]", pdf.read_bytes())
-    assert boxes and all(abs(float(w) - 595) < 1 and abs(float(h) - 842) < 1 for w, h in boxes), "A4 pages"
+    assert_a4_page(reports[name].html, tmp_path, images=len(pictures(reports[name].html)))
 
 
 @pytest.mark.slow

@@ -166,8 +166,14 @@ def chromium(*args, timeout=90):
 @pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium is absent (.ci/run installs Debian's chromium as root)")
 @pytest.mark.parametrize("name", BUNDLED_PLANS)
 def test_report_opens_in_headless_chromium_at_a4_width(reports, tmp_path, name):
+    assert_a4_page(reports[name].html, tmp_path, images=4)
+
+
+def assert_a4_page(html: str, tmp_path, images: int) -> None:
+    """Headless Chromium at A4 width: a screenshot that is not blank, every image loaded, nothing cut
+    off, the page within A4's print margins, the 3-D view drawn, and A4 pages when printed."""
     page = tmp_path / "report.html"
-    page.write_text(reports[name].html.replace("</body>", PROBE + "</body>"))
+    page.write_text(html.replace("</body>", PROBE + "</body>"))
     shot = tmp_path / "shot.png"
     chromium(f"--window-size={A4_WIDTH_PX},1123", f"--screenshot={shot}", page.as_uri())
     image = np.asarray(Image.open(shot).convert("RGB"))
@@ -176,7 +182,7 @@ def test_report_opens_in_headless_chromium_at_a4_width(reports, tmp_path, name):
         f"--window-size={A4_WIDTH_PX},1123", "--virtual-time-budget=5000", "--dump-dom", page.as_uri()
     ).stdout
     probe = json.loads(re.search(r'<pre id="probe">(.*?)</pre>', dom).group(1))
-    assert probe["images"] == 4 and probe["loaded"] == 4, "every image loaded"
+    assert probe["images"] == images and probe["loaded"] == images, "every image loaded"
     assert probe["scrollWidth"] <= A4_WIDTH_PX and probe["right"] <= A4_WIDTH_PX, "nothing is cut off at A4 width"
     assert probe["bodyWidth"] <= A4_PRINTABLE_PX + 0.5, "the page fits A4 within its print margins"
     assert probe["painted"] > 10_000, "the 3-D view drew the body"
