@@ -30,7 +30,8 @@ from massline.placement.virtual.scenarios import FAULTS, Bench, scenario
 from massline.placement.virtual.uff_export import write_uff
 
 from .diagnose_command import diagnose_recording
-from .identification_report import diagnose_report, identify_report
+from .diagnosis_report import diagnose_report
+from .identification_report import identify_report
 from .identify_command import identify_recording
 from .notes import finding_note
 from .output import claim_output, to_json, write_atomic

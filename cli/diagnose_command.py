@@ -190,6 +190,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
         write_atomic(args.json, to_json(doc), args.force)
         console.print(f"wrote {args.json}")
     if args.report:
-        from .identification_report import diagnose_report
+        from .diagnosis_report import diagnose_report
 
         write_report(console, args.report, lambda: diagnose_report(found, args.uff, mesh), args.force)

@@ -13,7 +13,8 @@ from test_report import CHROMIUM, assert_a4_page, overlapping_pairs, pictures
 
 from massline.body_scene import stand_in
 from massline.diagnose_command import diagnose_recording
-from massline.identification_report import diagnose_report, identify_report
+from massline.diagnosis_report import diagnose_report
+from massline.identification_report import identify_report
 from massline.identify.uff import read_uff, to_recording
 from massline.identify_command import identify_recording
 from massline.placement.candidates import CandidateOptions
