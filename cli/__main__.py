@@ -45,31 +45,18 @@ def build_parser() -> argparse.ArgumentParser:
     props.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
     props.set_defaults(run=cmd_props)
 
-    plan_parser = sub.add_parser("plan", help="the best sensor and exciter layout on a mesh, certified")
-    plan.add_arguments(plan_parser)
-    plan_parser.set_defaults(run=plan.run)
-
-    simulate_parser = sub.add_parser("simulate", help="the virtual test of a plan, written as a UFF recording")
-    simulate.add_arguments(simulate_parser)
-    simulate_parser.set_defaults(run=simulate.run)
-
-    report_parser = sub.add_parser("report", help="the placement report of a plan, as one HTML file")
-    report_command.add_arguments(report_parser)
-    report_parser.set_defaults(run=report_command.run)
-
-    identify_parser = sub.add_parser("identify", help="mass, CoG and inertia with their 1-σ from a UFF recording")
-    identify_command.add_arguments(identify_parser)
-    identify_parser.set_defaults(run=identify_command.run)
-
-    diagnose_parser = sub.add_parser("diagnose", help="which physics the model left out, modelled and refitted")
-    diagnose_command.add_arguments(diagnose_parser)
-    diagnose_parser.set_defaults(run=diagnose_command.run)
-
-    demo_parser = sub.add_parser(
-        "demo", help="the whole story on the bundled structure: plan, test, identify, diagnose"
+    commands = (
+        ("plan", plan, "the best sensor and exciter layout on a mesh, certified"),
+        ("simulate", simulate, "the virtual test of a plan, written as a UFF recording"),
+        ("report", report_command, "the placement report of a plan, as one HTML file"),
+        ("identify", identify_command, "mass, CoG and inertia with their 1-σ from a UFF recording"),
+        ("diagnose", diagnose_command, "which physics the model left out, modelled and refitted"),
+        ("demo", demo, "the whole story on the bundled structure: plan, test, identify, diagnose"),
     )
-    demo.add_arguments(demo_parser)
-    demo_parser.set_defaults(run=demo.run)
+    for name, module, text in commands:
+        command = sub.add_parser(name, help=text)
+        module.add_arguments(command)
+        command.set_defaults(run=module.run)
     return parser
 
 

@@ -1,13 +1,12 @@
 """Diagnosis: the band reduction, the effect model, the discrete screen and the command."""
 
 import json
-import re
 
 import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
-from test_uff_reader import bad_file
+from test_uff_reader import assert_command_refuses
 
 from massline.identify.diagnosis import base_fit, diagnose
 from massline.identify.effect_fit import fit
@@ -139,11 +138,7 @@ def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, 
 
 @pytest.mark.parametrize("case", ["truncated ascii", "NaN", "missing pair"])  # the reader is identify's, tested there
 def test_diagnose_command_refuses_bad_files_in_one_line(tmp_path, case):
-    path, words = bad_file(tmp_path, case)
-    result = massline("diagnose", path)
-    assert result.returncode == 2, result.stderr
-    assert re.search(words, result.stderr) and "Traceback" not in result.stderr
-    assert result.stderr.count("\n") == 1
+    assert_command_refuses("diagnose", tmp_path, case)
 
 
 def test_diagnose_command_refuses_a_missing_mesh_and_a_band_outside_the_record(structure, tmp_path):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
-from test_report import CHROMIUM, assert_a4_page, overlapping_pairs, pictures
+from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
 
 from massline.body_scene import stand_in
 from massline.diagnose_command import diagnose_recording
@@ -90,13 +90,7 @@ def test_images_decode_and_are_not_blank(reports, name):
 def test_labels_do_not_overlap_and_arrows_are_in_the_pictures(reports, name):
     seen = set()
     for rendering in reports[name].renderings:
-        h, w = rendering.image.shape[:2]
-        boxes = np.array([label.box for label in rendering.labels])
-        assert overlapping_pairs(boxes) == [], rendering.view.name
-        assert (boxes[:, :2] >= 0).all() and (boxes[:, 2] <= w).all() and (boxes[:, 3] <= h).all()
-        assert ((rendering.tips >= 0) & (rendering.tips <= (w, h))).all(), rendering.view.name
-        assert {label.text for label in rendering.labels} == {*rendering.visible, "CoG"}
-        seen |= set(rendering.visible)
+        seen |= assert_legible(rendering)
     assert {"I1", "I2", "I3"} <= seen, "every principal axis is seen"
     assert {str(n) for n in range(1, 11)} | {"101", "102", "103", "104"} <= seen, "every channel, by its UFF node"
 

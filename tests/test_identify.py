@@ -1,13 +1,12 @@
 """Post-test identification: band, band fit, weighted consistent estimator, the identify command."""
 
 import json
-import re
 
 import numpy as np
 import pytest
 from conftest import bundled
 from test_cli import massline
-from test_uff_reader import BAD, bad_file
+from test_uff_reader import BAD, assert_command_refuses
 
 from massline.identify.band import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
@@ -124,11 +123,7 @@ def test_singular_layout_is_refused(structure, tmp_path):
 
 @pytest.mark.parametrize("case", list(BAD))
 def test_identify_command_refuses_bad_files_in_one_line(tmp_path, case):
-    path, words = bad_file(tmp_path, case)
-    result = massline("identify", path)
-    assert result.returncode == 2, result.stderr
-    assert re.search(words, result.stderr) and "Traceback" not in result.stderr
-    assert result.stderr.count("\n") == 1
+    assert_command_refuses("identify", tmp_path, case)
 
 
 @pytest.fixture(scope="module")

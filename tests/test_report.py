@@ -108,18 +108,25 @@ def test_pictures_are_pngs_showing_the_body(reports, name):
         assert blue.sum() > 50, "no accelerometer arrow is drawn"
 
 
+def assert_legible(rendering) -> set:
+    """Labels apart and inside the picture, every arrow tip inside it, a label for each visible marker and
+    the CoG; returns the markers it shows."""
+    h, w = rendering.image.shape[:2]
+    boxes = np.array([label.box for label in rendering.labels])
+    assert overlapping_pairs(boxes) == [], rendering.view.name
+    assert (boxes[:, :2] >= 0).all() and (boxes[:, 2] <= w).all() and (boxes[:, 3] <= h).all()
+    assert ((rendering.tips >= 0) & (rendering.tips <= (w, h))).all(), rendering.view.name
+    assert {label.text for label in rendering.labels} == {*rendering.visible, "CoG"}
+    return set(rendering.visible)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", BUNDLED_PLANS)
 def test_labels_do_not_overlap_and_arrows_are_in_the_pictures(reports, name):
     seen = set()
     for rendering in reports[name].renderings:
-        h, w = rendering.image.shape[:2]
-        boxes = np.array([label.box for label in rendering.labels])
-        assert overlapping_pairs(boxes) == [], rendering.view.name
-        assert (boxes[:, :2] >= 0).all() and (boxes[:, 2] <= w).all() and (boxes[:, 3] <= h).all()
-        assert len(rendering.tips) and ((rendering.tips >= 0) & (rendering.tips <= (w, h))).all(), rendering.view.name
-        assert {label.text for label in rendering.labels} == {*rendering.visible, "CoG"}
-        seen |= set(rendering.visible)
+        assert len(rendering.tips), rendering.view.name
+        seen |= assert_legible(rendering)
     html = reports[name].html
     everyone = set(re.findall(r'<span class="(?:sensor|hit)">([AH]\d+)</span>', html))
     assert everyone and seen == everyone, "every accelerometer and hit is seen in some view"

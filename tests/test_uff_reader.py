@@ -1,5 +1,7 @@
 """The UFF reader on files written here: round trips, kind and unit decisions, coordinate systems, hardened errors."""
 
+import re
+
 import numpy as np
 import pytest
 import pyuff
@@ -351,6 +353,17 @@ def bad_file(tmp_path, case):
     if content is not None:
         path.write_bytes(content)
     return path, message
+
+
+def assert_command_refuses(command: str, tmp_path, case: str) -> None:
+    """``massline COMMAND FILE`` on a BAD case's file exits 2 with one line naming the problem, no traceback."""
+    from test_cli import massline
+
+    path, words = bad_file(tmp_path, case)
+    result = massline(command, path)
+    assert result.returncode == 2, result.stderr
+    assert re.search(words, result.stderr) and "Traceback" not in result.stderr
+    assert result.stderr.count("\n") == 1
 
 
 @pytest.mark.parametrize("case", list(BAD))
