@@ -34,7 +34,7 @@ from massline.placement.masslines import Masslines
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
 
-from .effect_fit import Fit, fit, penalty, score
+from .effect_fit import Fit, fit, is_body, penalty, score
 from .effect_model import Block, Layout, Problem
 from .estimator import TRANSVERSE, estimate
 from .finding import Finding, accepted_finding
@@ -119,14 +119,12 @@ def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, tran
         try:
             with np.errstate(invalid="ignore"):  # data with a gross fault can drive the estimate through no-bodies
                 body = attempt()
-            if np.isfinite(body.theta).all() and body.mass > 0 and np.linalg.eigvalsh(body.inertia_cog).min() > 0:
+            if is_body(body):
                 return body
         except (np.linalg.LinAlgError, SolverError, MasslineError):
             continue
-    points = layout.sensors.points
-    size = np.linalg.norm(points - points.mean(axis=0), axis=1).max()
     mass = 1 / np.median(np.abs(masslines.values))
-    return RigidBody(mass, points.mean(axis=0), mass * size**2 * np.eye(3))
+    return RigidBody(mass, layout.sensors.points.mean(axis=0), mass * layout.extent**2 * np.eye(3))
 
 
 def base_fit(band: BandData, layout: Layout, laws: frozenset, transverse: float) -> Fit:
@@ -143,8 +141,9 @@ def refit(current: Fit, band: BandData, laws: frozenset, blocks) -> Fit:
     return fit(problem, blocks, current)
 
 
-def plausible(result: Fit, block: Block, size: float) -> bool:
-    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason)."""
+def plausible(result: Fit, block: Block) -> bool:
+    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason;
+    an offset of more than three times the layout's size is none)."""
     theta, tau, values = result.parts
     v = values[result.blocks.index(block)]
     if block.effect == "sensor_direction":  # beyond any datasheet's cross-axis reading, under 45°
@@ -153,7 +152,7 @@ def plausible(result: Fit, block: Block, size: float) -> bool:
     if block.effect == "sensor_gain":
         return -0.9 < v[0] < 10.0
     if block.effect in ("sensor_location", "excitation_location"):
-        return np.linalg.norm(v) < size
+        return np.linalg.norm(v) < 3 * result.problem.layout.extent
     return bool(np.linalg.norm(v) < 1.0)  # excitation_direction: under 45°
 
 
@@ -191,7 +190,7 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
     return tuple(flips), tuple(swaps), corrected_band(band, flips, swaps), current, findings
 
 
-def forward_stage(band: BandData, start: Fit, noise: float, size: float) -> tuple[Fit, frozenset, list]:
+def forward_stage(band: BandData, start: Fit, noise: float) -> tuple[Fit, frozenset, list]:
     """Add the best-supported continuous effect while it passes evidence, materiality and plausibility."""
     current, laws, accepted = start, frozenset(), []
     energy = float(np.sum(band.energy))
@@ -212,7 +211,7 @@ def forward_stage(band: BandData, start: Fit, noise: float, size: float) -> tupl
         for trial, what, trial_laws in ranked:
             gain = current.bic - trial.bic
             explained = (np.sum(current.rss) - np.sum(trial.rss)) / energy
-            ok = isinstance(what, str) or plausible(trial, what, size)
+            ok = isinstance(what, str) or plausible(trial, what)
             by_prior = not isinstance(what, str) and what.effect == "sensor_direction"  # judged by its prior
             material = explained > MATERIAL * noise**2 or by_prior
             if gain > EVIDENCE and material and ok:
@@ -308,9 +307,7 @@ def diagnose(
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
     flips, swaps, fixed, start, findings = discrete_stage(before, band)
-    points = layout.sensors.points
-    size = 3 * np.linalg.norm(points - points.mean(axis=0), axis=1).max()  # an offset larger than the layout is none
-    result, laws, accepted = forward_stage(fixed, start, noise, size)
+    result, laws, accepted = forward_stage(fixed, start, noise)
     result, laws, accepted = backward_stage(fixed, result, laws, accepted)
     findings += [accepted_finding(result, fixed, what, evidence) for what, evidence in accepted]
     estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)

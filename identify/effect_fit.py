@@ -20,6 +20,11 @@ from .effect_model import MISALIGNMENT, Block, Problem, jacobian
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
 
 
+def is_body(body) -> bool:
+    """Finite parameters, a positive mass and a positive definite inertia about the CoG."""
+    return bool(np.isfinite(body.theta).all() and body.mass > 0 and np.linalg.eigvalsh(body.inertia_cog).min() > 0)
+
+
 @dataclass(frozen=True, eq=False)
 class Fit:
     """A fitted model: parameters, χ² over every spectral line, and what was fitted.
@@ -91,8 +96,7 @@ class Fit:
                 body = self.problem.model.body(self.theta)
         except MasslineError:
             return None
-        physical = np.isfinite(body.theta).all() and np.linalg.eigvalsh(body.inertia_cog).min() > 0
-        return body if physical else None
+        return body if is_body(body) else None
 
     @property
     def parts(self):

@@ -93,6 +93,12 @@ class Layout:
             "sensor_location": 3 if triaxial else 2,
         }.get(block.effect, 2)
 
+    @property
+    def extent(self) -> float:
+        """The largest distance of a sensor from the sensors' centroid, m: the layout's size."""
+        points = self.sensors.points
+        return float(np.linalg.norm(points - points.mean(axis=0), axis=1).max())
+
     def candidates(self) -> list[Block]:
         """Every effect at every place: direction and location per accelerometer, gain per channel, the
         hit's per exciter (a plate's out-of-plane lines have no transverse readings to tilt)."""

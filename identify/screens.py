@@ -102,7 +102,9 @@ def screen(band: BandData, layout: Layout) -> dict:
     ``negative_driving_points``: (sensor, hit) pairs, 1-based, whose massline is not positive;
     ``off_rigid``: each channel's median distance from the rigid motions over the band (relative);
     ``tails_low`` / ``tails_high``: median over FRFs of the free fit's 1/ω² tail at the lower edge and
-    ω² tail at the upper edge, relative to the massline (the per-FRF trends, summarised).
+    ω² tail at the upper edge, relative to the massline (the per-FRF trends, summarised);
+    ``seventh_singular_value``: σ₇/σ₁ of the FRF matrix at every line of the band, which a rigid body keeps
+    at the noise (None with fewer than 7 sensors or hits: then ``off_rigid`` is the rank test).
     """
     S = kinematic_matrix(layout.sensors, layout.planar)
     free = band.free
@@ -121,4 +123,5 @@ def screen(band: BandData, layout: Layout) -> dict:
         "off_rigid": np.median(off, axis=(1, 2)).tolist(),
         "tails_low": float(np.median(low)),
         "tails_high": float(np.median(high)),
+        "seventh_singular_value": singular_values(band.frf)[:, 6].tolist() if min(band.frf.shape[:2]) >= 7 else None,
     }

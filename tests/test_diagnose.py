@@ -12,7 +12,7 @@ from massline.identify.diagnosis import base_fit, diagnose
 from massline.identify.effect_fit import fit
 from massline.identify.effect_model import Block, Layout
 from massline.identify.mass_loading import unit_mass
-from massline.identify.screens import discrete_fixes, kinematic_matrix
+from massline.identify.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.tails import BandData
 from massline.identify.uff import read_uff, to_recording
 from massline.placement.hand_layouts import plate_table1, structure_exciters
@@ -165,3 +165,24 @@ def test_plate_data_are_diagnosed_with_the_planar_model(effect, channels, excite
     first = result.findings[0]
     assert (first.effect, first.channels, first.exciter) == (effect.split("=")[0].split("@")[0], channels, exciter)
     assert result.corrected.mass == pytest.approx(plate.mass, rel=0.003)
+
+
+def test_screens_without_a_model_locate_a_flipped_channel_and_an_extra_mode(structure):
+    """Fourteen sensors, eight hits. A flipped channel keeps the matrix rank 6 (σ₇/σ₁ at the noise) but breaks the
+    leave-one-out prediction of that channel (misfit 2: it reads minus what the others predict); a seventh,
+    non-rigid motion (a loose part) lifts σ₇/σ₁."""
+    rng = np.random.default_rng(0)
+    sensors = Lines(rng.normal(size=(14, 3)) * 0.1, rng.normal(size=(14, 3)))
+    exciters = Lines(rng.normal(size=(8, 3)) * 0.1, rng.normal(size=(8, 3)))
+    A = synthesise(structure, sensors, exciters).values
+    f = np.linspace(10.0, 100.0, 50)
+    layout = Layout.of(sensors, exciters, False)
+    noisy = A[:, :, None] * (1 + 1e-3 * rng.normal(size=(14, 8, 50)))
+    flipped = noisy.copy()
+    flipped[4] *= -1
+    loose = noisy + 0.05 * np.abs(A).max() * np.outer(rng.normal(size=14), rng.normal(size=8))[:, :, None]
+    clean, flip, part = (screen(BandData(f, H.astype(complex)), layout) for H in (noisy, flipped, loose))
+    assert np.median(clean["seventh_singular_value"]) < 3e-3 and np.median(flip["seventh_singular_value"]) < 3e-3
+    assert flip["channel_consistency"][4] == pytest.approx(2.0, abs=0.05)  # its reading against the others': −1×
+    assert max(clean["channel_consistency"]) < 0.05
+    assert np.median(part["seventh_singular_value"]) > 0.01
