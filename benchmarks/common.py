@@ -6,7 +6,6 @@ import time
 import tracemalloc
 
 import numpy as np
-
 from massline.placement.lines import Lines
 
 

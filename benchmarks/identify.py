@@ -17,21 +17,19 @@ from pathlib import Path
 
 import numpy as np
 import pyuff
-
 from common import measured, surface_lines
-
 from massline.identify.band import find_band
 from massline.identify.estimator import estimate
 from massline.identify.massline_fit import fit_band
-from massline.identify.uff import read_uff, to_recording
 from massline.identify.uncertainty import property_std
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
 from massline.placement.masslines import Masslines
 from massline.placement.mesh import load_body
-from massline.placement.virtual.suspension import Cord, Suspension
-from massline.placement.virtual.uff_export import write_uff
-from massline.placement.virtual.virtual_test import Acquisition, run
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.writer import write_uff
+from massline.virtual.suspension import Cord, Suspension
+from massline.virtual.virtual_test import Acquisition, run
 
 
 def identify_file(path: Path):

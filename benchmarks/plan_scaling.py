@@ -21,7 +21,6 @@ import tracemalloc
 
 import numpy as np
 import trimesh
-
 from massline.meshes import BUNDLED
 from massline.placement import Lines
 from massline.placement.mesh import load_body

@@ -15,17 +15,15 @@ import argparse
 
 import numpy as np
 import scipy.sparse.linalg
-
 from common import measured, surface_lines
-
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
 from massline.placement.mesh import load_body
-from massline.placement.virtual.elastic import ElasticBody, Material
-from massline.placement.virtual.suspended import SuspendedBody
-from massline.placement.virtual.band import recommend_suspension
-from massline.placement.virtual.suspension import point_above
-from massline.placement.virtual.tetmesh import size_for_dofs, tetrahedralise
+from massline.virtual.band import recommend_suspension
+from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import point_above
+from massline.virtual.tetmesh import size_for_dofs, tetrahedralise
 
 
 def main() -> None:

@@ -14,28 +14,26 @@ import time
 from pathlib import Path
 
 import numpy as np
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
-
-from massline.identify.diagnosis import property_std
-from massline.identify.uff import read_uff, to_recording
+from massline.diagnose_command import diagnose_recording
+from massline.identify.diagnose.diagnosis import property_std
+from massline.identify.diagnose.notes import finding_note
+from massline.identify_command import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.mesh import load_body
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
-from massline.placement.virtual.elastic import ElasticBody, Material
-from massline.placement.virtual.scenarios import FAULTS, Bench, scenario
-from massline.placement.virtual.uff_export import write_uff
-
-from .diagnose_command import diagnose_recording
-from .diagnosis_report import diagnose_report
-from .identification_report import identify_report
-from .identify_command import identify_recording
-from .notes import finding_note
-from .output import claim_output, to_json, write_atomic
-from .report_command import build_report
+from massline.report_command import build_report
+from massline.reports.diagnosis_report import diagnose_report
+from massline.reports.identification_report import identify_report
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.writer import write_uff
+from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.scenarios import FAULTS, Bench, scenario
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
 
 BODY = "structure"
 BUDGET = Budget(sensors=14, exciters=4)  # 14 channels for 10 parameters: room to tell a faulty channel

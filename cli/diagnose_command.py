@@ -6,25 +6,23 @@ import argparse
 from dataclasses import dataclass
 
 import numpy as np
+from massline.identify.band import Zones, estimation_band, find_band, given_band
+from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, property_std, relative_noise, roomy
+from massline.identify.diagnose.effect_model import Layout
+from massline.identify.diagnose.notes import finding_note, finding_payload
+from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
+from massline.identify.estimator import TRANSVERSE
+from massline.identify.tails import BandData
+from massline.identify_command import is_planar, payload
+from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.placement.files import claim_output, to_json, write_atomic, write_atomic_bytes, write_report
+from massline.placement.masslines import Masslines
+from massline.reports.diagnosis_figures import diagnosis_figure
+from massline.uff.datasets import channel_name
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.recording import Recording
 from rich.console import Console
 from rich.table import Table
-
-from massline.identify.band import Zones, estimation_band, find_band, given_band
-from massline.identify.diagnosis import Diagnosis, diagnose, property_std, relative_noise, roomy
-from massline.identify.effect_model import Layout
-from massline.identify.estimator import TRANSVERSE
-from massline.identify.screens import kinematic_matrix, rigid_subspace_residual, screen
-from massline.identify.tails import BandData
-from massline.identify.uff import read_uff, to_recording
-from massline.identify.uff_datasets import channel_name
-from massline.placement.masslines import Masslines
-from massline.placement.virtual.recording import Recording
-
-from .diagnosis_figures import diagnosis_figure
-from .identify_command import is_planar, payload
-from .meshargs import add_nominal_arguments, nominal_mesh
-from .notes import finding_note, finding_payload
-from .output import claim_output, to_json, write_atomic, write_atomic_bytes, write_report
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -190,6 +188,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
         write_atomic(args.json, to_json(doc), args.force)
         console.print(f"wrote {args.json}")
     if args.report:
-        from .diagnosis_report import diagnose_report
+        from massline.reports.diagnosis_report import diagnose_report
 
         write_report(console, args.report, lambda: diagnose_report(found, args.uff, mesh), args.force)

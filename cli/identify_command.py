@@ -6,22 +6,20 @@ import argparse
 from dataclasses import dataclass
 
 import numpy as np
-from rich.console import Console
-from rich.table import Table
-
 from massline.identify.band import Zones, find_band, given_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
-from massline.identify.uff import read_uff, to_recording
 from massline.identify.uncertainty import property_std
+from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, to_json, write_atomic, write_report
 from massline.placement.masslines import Masslines
 from massline.placement.methods import DYNAMICS, KINEMATICS, identify
 from massline.placement.rigid_body import RigidBody
-from massline.placement.virtual.recording import Recording
-
-from .meshargs import add_nominal_arguments, nominal_mesh
-from .output import claim_output, to_json, write_atomic, write_report
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.recording import Recording
+from rich.console import Console
+from rich.table import Table
 
 PAPER = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
 PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF frames carry ~6 digits)
@@ -176,6 +174,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
         write_atomic(args.json, to_json(payload(found.body, found.std, band, found.planar)), args.force)
         console.print(f"wrote {args.json}")
     if args.report:
-        from .identification_report import identify_report
+        from massline.reports.identification_report import identify_report
 
         write_report(console, args.report, lambda: identify_report(found, args.uff, mesh), args.force)

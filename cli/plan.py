@@ -6,22 +6,19 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
-
+from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.placement.candidates import CandidateOptions
 from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.information import NoiseModel
 from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
-
-from .meshargs import add_mesh_arguments, body_from_arguments
-from .output import claim_output, to_json, write_atomic
-from .report_command import write_report
-
+from massline.report_command import write_report
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 

@@ -12,20 +12,18 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from rich.console import Console
-
 from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, write_atomic
 from massline.placement.mesh import BodyMesh
 from massline.placement.plan_file import read_plan
-from massline.placement.virtual.band import TOLERANCE, predict_band
-from massline.placement.virtual.suspended import SuspendedBody
-from massline.placement.virtual.tetmesh import default_size, size_for_dofs
-
-from .output import claim_output, write_atomic
-from .placement_report import BandRow, report_html
-from .plan_scene import scene_of
-from .rendering import Rendering, render_views
-from .simulate import body_of_plan, describe, elastic_modes, material_of, suspension_of
+from massline.reports.placement_report import BandRow, report_html
+from massline.reports.plan_scene import scene_of
+from massline.reports.rendering import Rendering, render_views
+from massline.simulate import body_of_plan, describe, elastic_modes, material_of, suspension_of
+from massline.virtual.band import TOLERANCE, predict_band
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.tetmesh import default_size, size_for_dofs
+from rich.console import Console
 
 MODES = 12  # elastic modes kept for the band prediction
 FE_DOFS = 8000  # a coarse FE model: the first elastic frequencies within ~2 % of simulate's default mesh

@@ -10,23 +10,21 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from massline.meshes import BUNDLED
+from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.mesh import BodyMesh, load_body
+from massline.placement.plan_file import read_plan
+from massline.virtual.band import Band, predict_band, recommend_suspension
+from massline.virtual.effects import EFFECTS, Effect, check_targets
+from massline.virtual.measurement import ImpactTest, Noise
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import Cord, Foam, Suspension, lowest_points, point_above
+from massline.virtual.virtual_test import Acquisition, accelerometer_masses
+from massline.virtual.virtual_test import run as run_test
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
-
-from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import BodyMesh, load_body
-from massline.placement.plan_file import read_plan
-from massline.placement.virtual.band import Band, predict_band, recommend_suspension
-from massline.placement.virtual.effects import EFFECTS, Effect, check_targets
-from massline.placement.virtual.measurement import ImpactTest, Noise
-from massline.placement.virtual.suspended import SuspendedBody
-from massline.placement.virtual.suspension import Cord, Foam, Suspension, lowest_points, point_above
-from massline.placement.virtual.virtual_test import Acquisition, accelerometer_masses
-from massline.placement.virtual.virtual_test import run as run_test
-
-from .output import claim_output, to_json, write_atomic
 
 MATERIALS = {"steel": (210e9, 0.30, 7850.0), "aluminium": (70e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0)}
 
@@ -83,7 +81,7 @@ def body_of_plan(doc: dict, plan_path: Path) -> BodyMesh:
 
 def material_of(text: str | None, body: BodyMesh, mesh_name: str, console: Console):
     """Young's modulus and Poisson's ratio: given, bundled, or of the closest-density metal (said aloud)."""
-    from massline.placement.virtual.elastic import Material
+    from massline.virtual.elastic import Material
 
     if text is None and mesh_name in BUNDLED:
         return Material(BUNDLED[mesh_name].youngs, BUNDLED[mesh_name].poisson, body.density)
@@ -186,7 +184,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
             rows.append(("recommended: " + describe(advice), band, advice))
     console.print(band_table(rows))
     if args.plot:
-        from .figures import driving_point_figure
+        from massline.reports.figures import driving_point_figure
 
         models = [SuspendedBody(nominal, modes, s, planned.masses, planned.mass_points) for _, _, s in rows]
         driving_point_figure(
@@ -211,7 +209,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
             "dofs": modes.n_dofs,
             "element_size": modes.element_size,
         }
-    from massline.placement.virtual.uff_export import write_uff
+    from massline.uff.writer import write_uff
 
     write_uff(outputs[0], recording, binary=args.binary, force=args.force)
     write_atomic(outputs[1], to_json(truth), args.force)
@@ -224,8 +222,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
 
 def elastic_modes(body: BodyMesh, material, size: float | None, n: int, console: Console):
     """FE model of the body and its n lowest elastic modes, with a progress bar over the stages."""
-    from massline.placement.virtual.elastic import ElasticBody
-    from massline.placement.virtual.tetmesh import default_size, tetrahedralise
+    from massline.virtual.elastic import ElasticBody
+    from massline.virtual.tetmesh import default_size, tetrahedralise
 
     size = size or default_size(body.mesh)
     stages = ("meshing", "assembling stiffness", "assembling mass", "solving for modes")

@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
 from massline.placement.errors import MasslineError
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance

@@ -30,9 +30,8 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import minimize, minimize_scalar
-
 from massline.placement.errors import MasslineError
+from scipy.optimize import minimize, minimize_scalar
 
 TAIL_LAWS = ("suspension", "residual_flexibility")
 MIN_LINES = 12

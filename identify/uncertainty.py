@@ -13,12 +13,10 @@ Two estimates, and the larger is reported for each property:
 from __future__ import annotations
 
 import numpy as np
-
+from massline.identify.estimator import Estimate, estimate
 from massline.placement.accuracy import predicted_std, property_vector
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
-
-from .estimator import Estimate, estimate
 
 
 def std_from_vector(s: np.ndarray) -> dict:

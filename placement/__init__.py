@@ -3,12 +3,12 @@
 The rigid-body algebra lives here once; ``massline.identify`` builds on it.
 """
 
-from .dynamics import Identification
-from .errors import MasslineError, SingularLayoutError
-from .lines import Lines
-from .masslines import Masslines, synthesise
-from .methods import identify
-from .rigid_body import RigidBody
+from massline.placement.dynamics import Identification
+from massline.placement.errors import MasslineError, SingularLayoutError
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines, synthesise
+from massline.placement.methods import identify
+from massline.placement.rigid_body import RigidBody
 
 __all__ = [
     "Identification",

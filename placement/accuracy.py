@@ -10,9 +10,8 @@ in-plane quantities are observable; the others are NaN.
 from __future__ import annotations
 
 import numpy as np
-
-from .model import RigidModel
-from .rigid_body import RigidBody, principal
+from massline.placement.model import RigidModel
+from massline.placement.rigid_body import RigidBody, principal
 
 STEP = 1e-6  # relative step of the central differences, in scaled parameters
 

@@ -19,10 +19,9 @@ import time
 from typing import Callable
 
 import numpy as np
-
-from .information import log_det
-from .relaxation import relax_cvxpy, relax_first_order
-from .selection import BlockProblem, greedy, swap
+from massline.placement.information import log_det
+from massline.placement.relaxation import relax_cvxpy, relax_first_order
+from massline.placement.selection import BlockProblem, greedy, swap
 
 TARGET_EFFICIENCY = 0.99  # branch and bound stops once the certificate reaches this
 

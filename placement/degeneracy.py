@@ -9,9 +9,8 @@ explained by their directions and points.
 from __future__ import annotations
 
 import numpy as np
-
-from .lines import Lines
-from .linear_system import RANK_TOLERANCE
+from massline.placement.linear_system import RANK_TOLERANCE
+from massline.placement.lines import Lines
 
 
 def _fmt(v) -> str:

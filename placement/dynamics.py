@@ -14,14 +14,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-
-from .degeneracy import exciter_hint
-from .errors import SingularLayoutError
-from .kinematics import RigidAccelerations, default_pairs, difference_rows
-from .linear_system import solve
-from .lines import skew
-from .masslines import Masslines
-from .rigid_body import RigidBody, symmetric_product_matrix, tensor_from_six
+from massline.placement.degeneracy import exciter_hint
+from massline.placement.errors import SingularLayoutError
+from massline.placement.kinematics import RigidAccelerations, default_pairs, difference_rows
+from massline.placement.linear_system import solve
+from massline.placement.lines import skew
+from massline.placement.masslines import Masslines
+from massline.placement.rigid_body import RigidBody, symmetric_product_matrix, tensor_from_six
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,8 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from .model import RigidModel
+from massline.placement.model import RigidModel
 
 
 @dataclass(frozen=True)

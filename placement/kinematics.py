@@ -11,12 +11,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-
-from .degeneracy import _fmt, distinct_points, unseen_motion
-from .errors import MasslineError, SingularLayoutError
-from .linear_system import solve
-from .lines import Lines
-from .masslines import Masslines
+from massline.placement.degeneracy import _fmt, distinct_points, unseen_motion
+from massline.placement.errors import MasslineError, SingularLayoutError
+from massline.placement.linear_system import solve
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines
 
 
 @dataclass(frozen=True, eq=False)

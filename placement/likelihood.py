@@ -9,12 +9,11 @@ planner predicts.
 from __future__ import annotations
 
 import numpy as np
-
-from .information import NoiseModel, weighted_sensitivities
-from .masslines import Masslines
-from .methods import identify
-from .model import RigidModel
-from .rigid_body import RigidBody
+from massline.placement.information import NoiseModel, weighted_sensitivities
+from massline.placement.masslines import Masslines
+from massline.placement.methods import identify
+from massline.placement.model import RigidModel
+from massline.placement.rigid_body import RigidBody
 
 
 def starting_body(data: Masslines, planar: bool) -> RigidBody:

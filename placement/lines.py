@@ -16,8 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from .errors import MasslineError
+from massline.placement.errors import MasslineError
 
 AXES = np.eye(3)
 AXIS_NAMES = ("x", "y", "z")

@@ -9,10 +9,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from .errors import MasslineError
-from .lines import Lines
-from .rigid_body import RigidBody
+from massline.placement.errors import MasslineError
+from massline.placement.lines import Lines
+from massline.placement.rigid_body import RigidBody
 
 
 @dataclass(frozen=True, eq=False)

@@ -10,11 +10,12 @@ Kinematics: ``method1`` (eq. 5), ``method2`` (eq. 6), ``method2-difference``
 
 from __future__ import annotations
 
+from massline.placement.dynamics import Identification
+from massline.placement.errors import MasslineError
+from massline.placement.masslines import Masslines
+from massline.placement.plate import identify_plate
+
 from . import dynamics, kinematics
-from .dynamics import Identification
-from .errors import MasslineError
-from .masslines import Masslines
-from .plate import identify_plate
 
 KINEMATICS = {
     "method1": kinematics.method1,

@@ -17,10 +17,9 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-
-from .lines import Lines
-from .plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
-from .rigid_body import PARAMETER_NAMES, RigidBody, mass_matrix, steiner, tensor_from_six
+from massline.placement.lines import Lines
+from massline.placement.plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
+from massline.placement.rigid_body import PARAMETER_NAMES, RigidBody, mass_matrix, steiner, tensor_from_six
 
 
 @dataclass(frozen=True, eq=False)

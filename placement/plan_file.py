@@ -13,10 +13,9 @@ import json
 from pathlib import Path
 
 import numpy as np
-
-from .errors import MasslineError
-from .lines import Lines
-from .planner import Plan
+from massline.placement.errors import MasslineError
+from massline.placement.lines import Lines
+from massline.placement.planner import Plan
 
 
 def _lines(lines: Lines, nodes: np.ndarray) -> list:

@@ -17,18 +17,23 @@ from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
-
-from .accuracy import predicted_std, worst_relative_std
-from .candidates import CandidateLines, CandidateOptions, CandidatePoints, candidate_lines, candidate_points
-from .certificate import certify
-from .errors import MasslineError, SingularLayoutError
-from .information import NoiseModel, log_det, weighted_sensitivities
-from .lines import Lines
-from .masslines import synthesise
-from .mesh import BodyMesh
-from .methods import identify
-from .model import RigidModel
-from .selection import BlockProblem, greedy, leverages, repair, swap
+from massline.placement.accuracy import predicted_std, worst_relative_std
+from massline.placement.candidates import (
+    CandidateLines,
+    CandidateOptions,
+    CandidatePoints,
+    candidate_lines,
+    candidate_points,
+)
+from massline.placement.certificate import certify
+from massline.placement.errors import MasslineError, SingularLayoutError
+from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
+from massline.placement.lines import Lines
+from massline.placement.masslines import synthesise
+from massline.placement.mesh import BodyMesh
+from massline.placement.methods import identify
+from massline.placement.model import RigidModel
+from massline.placement.selection import BlockProblem, greedy, leverages, repair, swap
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on

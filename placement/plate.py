@@ -13,14 +13,13 @@ unobservable and reported as NaN.
 from __future__ import annotations
 
 import numpy as np
-
-from .degeneracy import exciter_hint
-from .dynamics import Identification
-from .errors import MasslineError
-from .linear_system import solve
-from .lines import Lines
-from .masslines import Masslines
-from .rigid_body import steiner
+from massline.placement.degeneracy import exciter_hint
+from massline.placement.dynamics import Identification
+from massline.placement.errors import MasslineError
+from massline.placement.linear_system import solve
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines
+from massline.placement.rigid_body import steiner
 
 PLATE_PARAMETER_NAMES = ("m", "mc_x", "mc_y", "J_xx", "J_yy", "J_xy")
 

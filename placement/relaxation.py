@@ -22,9 +22,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
-
-from .information import log_det
-from .selection import BlockProblem, leverages
+from massline.placement.information import log_det
+from massline.placement.selection import BlockProblem, leverages
 
 
 def upper_bound(problem: BlockProblem, M: np.ndarray, c: np.ndarray | None = None) -> float:

@@ -14,8 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from .information import log_det
+from massline.placement.information import log_det
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,24 +5,23 @@ import json
 import numpy as np
 import pytest
 from conftest import bundled
-from test_cli import massline
-from test_uff_reader import assert_command_refuses
-
-from massline.identify.diagnosis import base_fit, diagnose
-from massline.identify.effect_fit import fit
-from massline.identify.effect_model import Block, Layout
-from massline.identify.mass_loading import unit_mass
-from massline.identify.screens import discrete_fixes, kinematic_matrix, screen
+from massline.identify.diagnose.diagnosis import base_fit, diagnose
+from massline.identify.diagnose.effect_fit import fit
+from massline.identify.diagnose.effect_model import Block, Layout
+from massline.identify.diagnose.mass_loading import unit_mass
+from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.tails import BandData
-from massline.identify.uff import read_uff, to_recording
 from massline.placement.hand_layouts import plate_table1, structure_exciters
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.rigid_body import RigidBody
-from massline.placement.virtual.effects import Effect
-from massline.placement.virtual.measurement import Noise
-from massline.placement.virtual.uff_export import write_uff
-from massline.placement.virtual.virtual_test import Acquisition, run
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.writer import write_uff
+from massline.virtual.effects import Effect
+from massline.virtual.measurement import Noise
+from massline.virtual.virtual_test import Acquisition, run
+from test_cli import massline
+from test_uff_reader import assert_command_refuses
 
 
 @pytest.fixture(scope="module")

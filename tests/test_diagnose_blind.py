@@ -2,7 +2,7 @@
 
 Two bodies and layouts (the bracket: 12 uniaxial + 2 triaxial accelerometers, 4 hits; the 3-D
 structure: 14 uniaxial, 4 hits), each with its FE modes, the planned soft cord, 1 % noise and up to
-2 % transverse sensitivity on every channel (:mod:`massline.placement.virtual.scenarios`). Each case
+2 % transverse sensitivity on every channel (:mod:`massline.virtual.scenarios`). Each case
 draws one fault of random size and place; the tool gets the UFF file, the planned band and the mesh.
 
 Run as a script (``python tests/test_diagnose_blind.py SEEDS``) it prints the confusion matrix
@@ -17,18 +17,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from massline.identify.band import estimation_band, given_band
-from massline.identify.diagnosis import diagnose, property_std
-from massline.identify.effect_model import Layout
+from massline.identify.diagnose.diagnosis import diagnose, property_std
+from massline.identify.diagnose.effect_model import Layout
 from massline.identify.tails import BandData
-from massline.identify.uff import read_uff, to_recording
 from massline.meshes import BUNDLED
 from massline.placement.mesh import load_body
 from massline.placement.planner import Budget, plan
-from massline.placement.virtual.elastic import ElasticBody, Material
-from massline.placement.virtual.scenarios import FAULTS, Bench, scenario
-from massline.placement.virtual.uff_export import write_uff
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.writer import write_uff
+from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.scenarios import FAULTS, Bench, scenario
 
 BENCHES = {
     "bracket": (Budget(sensors=12, exciters=4, triaxial=2), (70e9, 0.33)),  # aluminium

@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 import trimesh
-
 from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import load_body
-from massline.placement.virtual.elastic import ElasticBody, ElasticModes, Material
-from massline.placement.virtual.tetmesh import tetrahedralise
+from massline.virtual.elastic import ElasticBody, ElasticModes, Material
+from massline.virtual.tetmesh import tetrahedralise
 
 STEEL = Material(210e9, 0.3, 7850.0)
 ALUMINIUM = Material(70e9, 0.3, 2700.0)

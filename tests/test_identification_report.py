@@ -8,21 +8,20 @@ import time
 import numpy as np
 import pytest
 from conftest import bundled
-from test_cli import massline
-from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
-
-from massline.body_scene import stand_in
 from massline.diagnose_command import diagnose_recording
-from massline.diagnosis_report import diagnose_report
-from massline.identification_report import identify_report
-from massline.identify.uff import read_uff, to_recording
 from massline.identify_command import identify_recording
 from massline.placement.candidates import CandidateOptions
 from massline.placement.hand_layouts import plate_table1
 from massline.placement.planner import Budget, plan
-from massline.placement.virtual.scenarios import Bench, scenario
-from massline.placement.virtual.uff_export import write_uff
-from massline.placement.virtual.virtual_test import Acquisition, run
+from massline.reports.body_scene import stand_in
+from massline.reports.diagnosis_report import diagnose_report
+from massline.reports.identification_report import identify_report
+from massline.uff.reader import read_uff, to_recording
+from massline.uff.writer import write_uff
+from massline.virtual.scenarios import Bench, scenario
+from massline.virtual.virtual_test import Acquisition, run
+from test_cli import massline
+from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
 
 GREEN = (20, 135, 60)  # the principal axes' colour (plan_scene.COLOURS)
 

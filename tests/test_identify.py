@@ -5,9 +5,6 @@ import json
 import numpy as np
 import pytest
 from conftest import bundled
-from test_cli import massline
-from test_uff_reader import BAD, assert_command_refuses
-
 from massline.identify.band import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
 from massline.identify.massline_fit import fit_band
@@ -17,12 +14,14 @@ from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines, synthesise
 from massline.placement.model import RigidModel
 from massline.placement.plan_file import read_plan
-from massline.placement.virtual.effects import Effect
-from massline.placement.virtual.elastic import ElasticBody, Material
-from massline.placement.virtual.measurement import Noise
-from massline.placement.virtual.suspension import Cord, Suspension
-from massline.placement.virtual.uff_export import write_uff
-from massline.placement.virtual.virtual_test import Acquisition, run
+from massline.uff.writer import write_uff
+from massline.virtual.effects import Effect
+from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.measurement import Noise
+from massline.virtual.suspension import Cord, Suspension
+from massline.virtual.virtual_test import Acquisition, run
+from test_cli import massline
+from test_uff_reader import BAD, assert_command_refuses
 
 
 @pytest.fixture(scope="module")

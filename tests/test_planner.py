@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 import trimesh
 from conftest import bundled
-
 from massline.placement import Lines, Masslines, synthesise
 from massline.placement.accuracy import layout_worst_std, property_vector
 from massline.placement.candidates import CandidateOptions

@@ -2,14 +2,13 @@
 
 import numpy as np
 import pytest
-
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.rigid_body import RigidBody
-from massline.placement.virtual.band import predict_band
-from massline.placement.virtual.suspended import SuspendedBody
-from massline.placement.virtual.suspension import (
+from massline.virtual.band import predict_band
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import (
     GRAVITY,
     Cord,
     Foam,

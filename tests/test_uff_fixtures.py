@@ -4,9 +4,8 @@ import numpy as np
 import pytest
 import pyuff
 from conftest import SHARED
-
-from massline.identify.uff import read_uff, to_recording
 from massline.placement.errors import MasslineError
+from massline.uff.reader import read_uff, to_recording
 
 FIXTURES = SHARED / "fixtures" / "uff"
 

@@ -3,16 +3,15 @@
 import numpy as np
 import pytest
 from conftest import bundled
-
 from massline.placement.errors import MasslineError
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines, synthesise
 from massline.placement.methods import identify
-from massline.placement.virtual.effects import Effect
-from massline.placement.virtual.measurement import ImpactTest, Noise
-from massline.placement.virtual.suspension import single_cord
-from massline.placement.virtual.virtual_test import Acquisition, run
+from massline.virtual.effects import Effect
+from massline.virtual.measurement import ImpactTest, Noise
+from massline.virtual.suspension import single_cord
+from massline.virtual.virtual_test import Acquisition, run
 
 QUIET = Acquisition(fmax=200.0, lines=400, noise=Noise(0.0, 0.0))
 

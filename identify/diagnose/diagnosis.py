@@ -1,0 +1,323 @@
+"""Diagnosis: which physics the rigid-body model left out, modelled, refitted and shown to improve the fit.
+
+The procedure of the mismatch notes (§6), on the band's spectral lines:
+
+1. The nominal model: the rigid body's masslines, every accelerometer's transverse
+   reading under the datasheet prior, no tails, no effects (:mod:`.effect_model`).
+2. Discrete faults first (they break any linearisation): polarity flips and swapped
+   channels, proposed by the rigid-subspace screen (:mod:`.screens`) and kept when
+   the refit's BIC drops by more than ``EVIDENCE``.
+3. Continuous effects, forward: every block of the library is ranked by its score
+   statistic at the current fit, the best few and the two tail laws are refitted in
+   full, and the best is kept when (a) BIC drops by more than ``EVIDENCE``, (b) it
+   explains at least ``MATERIAL`` of the noise variance over the band (a law the data
+   show but that changes nothing worth a line is not a finding), and (c) its fitted
+   values are physically plausible. Effects at the same place whose BIC is within
+   ``AMBIGUOUS`` of the best cannot be told apart by the data and are reported with it.
+4. A backward pass drops any effect that the others made redundant.
+5. With the nominal body (from the mesh), an identified body heavier than it in the
+   pattern of a point mass at an accelerometer is ``sensor_mass_loading``
+   (:mod:`.mass_loading`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from cvxpy.error import SolverError
+from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score
+from massline.identify.diagnose.effect_model import Block, Layout, Problem
+from massline.identify.diagnose.finding import Finding, accepted_finding
+from massline.identify.diagnose.mass_loading import MassLoading, mass_loading
+from massline.identify.diagnose.screens import channel_consistency, discrete_fixes, kinematic_matrix
+from massline.identify.estimator import TRANSVERSE, estimate
+from massline.identify.tails import TAIL_LAWS, BandData
+from massline.placement.accuracy import predicted_std
+from massline.placement.errors import MasslineError
+from massline.placement.likelihood import starting_body
+from massline.placement.masslines import Masslines
+from massline.placement.model import RigidModel
+from massline.placement.rigid_body import RigidBody
+
+EVIDENCE = 10.0  # ΔBIC that counts as very strong evidence (Kass & Raftery 1995)
+MATERIAL = 0.1  # share of the noise variance an effect must explain to be worth a finding
+AMBIGUOUS = 6.0  # effects at one place within this ΔBIC of the best are reported together
+REFITS = 3  # score-ranked candidates refitted in full at each step
+PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of the rigid-subspace misfit
+
+
+@dataclass(frozen=True, eq=False)
+class Diagnosis:
+    """Findings, most important first, with the fit and properties before and after.
+
+    ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
+    shown); ``estimates`` the same two models on the estimation band with both tail laws (the
+    properties reported, as identify would give them). ``flips`` and ``swaps`` are the discrete
+    corrections applied to the recording; ``corrected`` is the body after every accepted effect
+    (and without the loading masses), None when no body fits.
+    """
+
+    findings: list
+    before: Fit
+    after: Fit
+    estimates: tuple
+    corrected: RigidBody | None
+    band: BandData
+    noise: float
+    flips: tuple
+    swaps: tuple
+    loading: MassLoading | None
+
+    def relative_rms(self, which: str, axis=None) -> np.ndarray:
+        """Relative RMS residual over every band line: overall, or per channel (``axis=1``)."""
+        result = self.before if which == "before" else self.after
+        energy = result.problem.energy
+        return np.sqrt(np.sum(result.rss, axis=axis) / np.sum(energy, axis=axis))
+
+
+def property_std(result: Fit) -> dict | None:
+    """1-σ of every property (identify's std keys) from the fit's covariance (None for no body)."""
+    if result.body is None:
+        return None
+    model = RigidModel(result.body, result.problem.layout.planar)
+    scaled = result.covariance / np.outer(model.scale, model.scale)
+    return predicted_std(model, np.linalg.pinv(scaled))
+
+
+def relative_noise(band: BandData) -> float:
+    """The noise level as a relative RMS over the band: √(Σ 2n σ_ij² / Σ |H|²)."""
+    lines = band.values.shape[2]
+    return float(np.sqrt(np.sum(lines * band.noise**2) / np.sum(band.energy)))
+
+
+def corrected_band(band: BandData, flips, swaps) -> BandData:
+    """The recording with the discrete faults undone: rows flipped and swapped back."""
+    frf = band.frf.copy()
+    for k in flips:
+        frf[k] *= -1
+    for i, j in swaps:
+        frf[[i, j]] = frf[[j, i]]
+    return BandData(band.frequencies, frf)
+
+
+def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float) -> Problem:
+    """The fit problem on ``band`` with the tail ``laws`` (or "free": identify's per-FRF tails)."""
+    data = band.free if laws == "free" else band.reduced(laws)
+    return Problem(layout, data, band.noise, model, transverse, band.n_values, band.energy)
+
+
+def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, transverse: float) -> RigidBody:
+    """A body to start the fit from: the weighted estimate, else the paper's, else one of the data's scale
+    (data with a gross fault may admit no body at all)."""
+    for attempt in (
+        lambda: estimate(masslines, sigma, layout.planar, 0.0 if layout.planar else transverse).body,
+        lambda: starting_body(masslines, layout.planar),
+    ):
+        try:
+            with np.errstate(invalid="ignore"):  # data with a gross fault can drive the estimate through no-bodies
+                body = attempt()
+            if is_body(body):
+                return body
+        except (np.linalg.LinAlgError, SolverError, MasslineError):
+            continue
+    mass = 1 / np.median(np.abs(masslines.values))
+    return RigidBody(mass, layout.sensors.points.mean(axis=0), mass * layout.extent**2 * np.eye(3))
+
+
+def base_fit(band: BandData, layout: Layout, laws: frozenset, transverse: float) -> Fit:
+    """The nominal model fitted (no effects), started from ``starting_point``."""
+    data = band.reduced(laws)
+    masslines = Masslines(data.massline, layout.sensors, layout.exciters)
+    start = starting_point(masslines, band.noise / np.sqrt(data.kappa), layout, transverse)
+    return fit(problem_for(band, layout, laws, RigidModel(start, layout.planar), transverse))
+
+
+def refit(current: Fit, band: BandData, laws: frozenset, blocks) -> Fit:
+    """The model with ``laws`` and ``blocks``, started from ``current``."""
+    problem = problem_for(band, current.problem.layout, laws, current.problem.model, current.problem.transverse)
+    return fit(problem, blocks, current)
+
+
+def plausible(result: Fit, block: Block) -> bool:
+    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason;
+    an offset of more than three times the layout's size is none)."""
+    theta, tau, values = result.parts
+    v = values[result.blocks.index(block)]
+    if block.effect == "sensor_direction":  # beyond any datasheet's cross-axis reading, under 45°
+        tilt = np.linalg.norm(tau[result.problem.layout.channels(block)], axis=1).max()
+        return bool(3 * result.problem.transverse < tilt < 1.0)
+    if block.effect == "sensor_gain":
+        return -0.9 < v[0] < 10.0
+    if block.effect in ("sensor_location", "excitation_location"):
+        return np.linalg.norm(v) < 3 * result.problem.layout.extent
+    return bool(np.linalg.norm(v) < 1.0)  # excitation_direction: under 45°
+
+
+def roomy(layout: Layout) -> bool:
+    """More channels than rigid motions plus one: only then can one channel be checked against the others."""
+    return len(layout.sensors) > (3 if layout.planar else 6) + 1
+
+
+def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData, Fit, list]:
+    """Flip and swap channels while the BIC says so; returns flips, swaps, the corrected band, its fit
+    and the findings."""
+    flips, swaps, findings = [], [], []
+    laws, layout, transverse = frozenset(), before.problem.layout, before.problem.transverse
+    current = before
+    S = kinematic_matrix(layout.sensors, layout.planar)
+    if not roomy(layout):
+        return (), (), band, current, findings
+    for _ in range(len(layout.sensors)):
+        A = corrected_band(band, flips, swaps).reduced(laws).massline
+        ranked = discrete_fixes(A, S)
+        proposals = [r for r in ranked if r[0] < PROPOSALS][:3]
+        best = None
+        for _, effect, channels in proposals:
+            trial_flips = flips + ([channels[0]] if effect == "sensor_polarity" else [])
+            trial_swaps = swaps + ([channels] if effect == "channel_swap" else [])
+            trial = base_fit(corrected_band(band, trial_flips, trial_swaps), layout, laws, transverse)
+            gain = current.bic - (trial.bic + np.log(current.problem.n_values))
+            if gain > EVIDENCE and (best is None or gain > best[0]):
+                best = (gain, effect, channels, trial, trial_flips, trial_swaps)
+        if best is None:
+            break
+        gain, effect, channels, current, flips, swaps = best
+        evidence = {"delta_bic": gain, "loco_misfit": float(channel_consistency(A, S)[list(channels)].max())}
+        findings.append(Finding(effect, tuple(channels), None, {}, evidence))
+    return tuple(flips), tuple(swaps), corrected_band(band, flips, swaps), current, findings
+
+
+def forward_stage(band: BandData, start: Fit, noise: float) -> tuple[Fit, frozenset, list]:
+    """Add the best-supported continuous effect while it passes evidence, materiality and plausibility."""
+    current, laws, accepted = start, frozenset(), []
+    energy = float(np.sum(band.energy))
+    layout = start.problem.layout
+    while True:
+        J = current.problem.jacobian(current.x, current.blocks)
+        taken = set(current.blocks)
+        scored = [(score(current, b, J) - penalty(current.problem, b), b) for b in layout.candidates()]
+        scored = sorted((s for s in scored if s[1] not in taken), key=lambda s: -s[0])[:REFITS]
+        options = [(refit(current, band, laws, current.blocks + (b,)), b, laws) for _, b in scored]
+        options += [
+            (refit(current, band, laws | {law}, current.blocks), law, laws | {law})
+            for law in TAIL_LAWS
+            if law not in laws
+        ]
+        ranked = sorted(options, key=lambda o: o[0].bic)
+        chosen = None
+        for trial, what, trial_laws in ranked:
+            gain = current.bic - trial.bic
+            explained = (np.sum(current.rss) - np.sum(trial.rss)) / energy
+            ok = isinstance(what, str) or plausible(trial, what)
+            by_prior = not isinstance(what, str) and what.effect == "sensor_direction"  # judged by its prior
+            material = explained > MATERIAL * noise**2 or by_prior
+            if gain > EVIDENCE and material and ok:
+                chosen = (trial, what, trial_laws, gain, explained)
+                break
+        if chosen is None:
+            return current, laws, accepted
+        trial, what, laws, gain, explained = chosen
+        alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial)
+        accepted.append((what, {"delta_bic": gain, "explained": explained, "alternatives": alternatives}))
+        current = trial
+
+
+def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, best: Fit) -> list[str]:
+    """Other effects at the same place (sharing a channel, or the same exciter) that fit within
+    ``AMBIGUOUS`` of the chosen one: the data cannot tell them apart."""
+    layout = current.problem.layout
+
+    def place(block):
+        if block.effect.startswith("sensor"):
+            return {("s", c) for c in layout.channels(block)}
+        return {("e", block.target)}
+
+    same = [b for b in layout.candidates() if b != chosen and place(b) & place(chosen)]
+    close = []
+    for b in same:
+        trial = refit(current, band, laws, current.blocks + (b,))
+        if trial.bic - best.bic < AMBIGUOUS and b.effect != chosen.effect:
+            close.append(b.effect)
+    return sorted(set(close))
+
+
+def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list) -> tuple[Fit, frozenset, list]:
+    """Drop an accepted effect when the model without it is within ``EVIDENCE`` of the model with it;
+    for the others, record how far the properties move because of them."""
+    kept = []
+    for what, evidence in accepted:
+        if isinstance(what, str):
+            trial_laws, blocks = laws - {what}, result.blocks
+        else:
+            trial_laws, blocks = laws, tuple(b for b in result.blocks if b != what)
+        trial = refit(result, band, trial_laws, blocks)
+        if trial.bic - result.bic < EVIDENCE:
+            result, laws = trial, trial_laws
+        else:
+            moved = None if trial.body is None or result.body is None else _moved(trial.body, result.body)
+            kept.append((what, {**evidence, "moved": moved}))
+    return result, laws, kept
+
+
+def _moved(without: RigidBody, with_: RigidBody) -> dict:
+    """How much the properties move when the effect is modelled: mass %, CoG mm, principal moments %."""
+    return {
+        "mass_percent": 100 * (with_.mass / without.mass - 1),
+        "cog_mm": (1e3 * (with_.cog - without.cog)).tolist(),
+        "principal_moments_percent": (100 * (with_.principal_moments / without.principal_moments - 1)).tolist(),
+    }
+
+
+def with_model_form(result: Fit, other: Fit) -> Fit:
+    """``result`` with the spread between two tail models added to θ's covariance.
+
+    A single shared mode is the tail's physics when one support or elastic mode dominates; each
+    FRF's own first- and second-order tails are the model-free alternative. Where they disagree
+    the data cannot choose, and the difference is as much the properties' uncertainty as the noise.
+    """
+    delta = (other.x - result.x)[: result.problem.model.p]
+    spread = result.spread.copy()
+    spread[: len(delta), : len(delta)] += np.outer(delta, delta)
+    return replace(result, spread=spread)
+
+
+def covers(wide: BandData, band: BandData) -> bool:
+    """Whether ``wide`` spans ``band``'s lines (to a line's width)."""
+    step = np.diff(band.frequencies).max()
+    return wide.frequencies[0] <= band.frequencies[0] + step and wide.frequencies[-1] >= band.frequencies[-1] - step
+
+
+def diagnose(
+    band: BandData,
+    layout: Layout,
+    nominal: RigidBody | None = None,
+    transverse: float = TRANSVERSE,
+    estimation: BandData | None = None,
+) -> Diagnosis:
+    """The whole procedure on the band's FRFs.
+
+    ``nominal`` (the mesh's body) enables mass loading. ``estimation``: the band identify would
+    use; when it holds the diagnosis band, the final model is refitted there with identify's
+    per-FRF tails for the properties (more lines, every small tail modelled). Otherwise (a fault that moved the
+    found band inside the planned one) the properties are the diagnosis band's final fit.
+    """
+    noise = relative_noise(band)
+    before = base_fit(band, layout, frozenset(), transverse)
+    flips, swaps, fixed, start, findings = discrete_stage(before, band)
+    result, laws, accepted = forward_stage(fixed, start, noise)
+    result, laws, accepted = backward_stage(fixed, result, laws, accepted)
+    findings += [accepted_finding(result, fixed, what, evidence) for what, evidence in accepted]
+    estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)
+    if estimation is not None and covers(estimation, band):
+        estimates = (
+            refit(before, estimation, "free", ()),
+            refit(result, corrected_band(estimation, flips, swaps), "free", result.blocks),
+        )
+    corrected, loading = estimates[1].body, None
+    if nominal is not None and corrected is not None:
+        loading = mass_loading(estimates[1], nominal)
+        if loading is not None:
+            corrected = loading.bare
+            findings.append(loading.finding())
+    return Diagnosis(findings, before, result, estimates, corrected, fixed, noise, flips, swaps, loading)

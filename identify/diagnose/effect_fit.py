@@ -1,0 +1,161 @@
+"""Fitting the massline model: least squares with some effect blocks, and what a block would add.
+
+``fit`` is Levenberg–Marquardt on :class:`~.effect_model.Problem`'s weighted residual with its
+analytic Jacobian; ``score`` is Rao's score statistic of a block not yet in the model (mismatch
+notes §5.4), and ``penalty`` what the block costs in BIC: k ln n, or the Occam factor of a widened
+axis prior.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem, jacobian
+from massline.placement.errors import MasslineError
+from scipy.optimize import least_squares
+
+MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
+
+
+def is_body(body) -> bool:
+    """Finite parameters, a positive mass and a positive definite inertia about the CoG."""
+    return bool(np.isfinite(body.theta).all() and body.mass > 0 and np.linalg.eigvalsh(body.inertia_cog).min() > 0)
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """A fitted model: parameters, χ² over every spectral line, and what was fitted.
+
+    Attributes
+    ----------
+    problem : Problem
+    blocks : tuple of Block
+    x : array
+        Scaled θ̃, τ (n_s × 2), then each block's values.
+    chi2 : float
+        Σ RSS_ij/σ_ij² over all lines plus the prior's rows.
+    spread : (len(x), len(x)) array
+        Covariance of x (from the Jacobian, scaled by the reduced χ² when above 1).
+    """
+
+    problem: Problem
+    blocks: tuple
+    x: np.ndarray
+    chi2: float
+    spread: np.ndarray
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """Covariance of θ in SI units."""
+        p, scale = self.problem.model.p, self.problem.model.scale
+        return self.spread[:p, :p] * np.outer(scale, scale)
+
+    def block_std(self, block: Block) -> np.ndarray:
+        """1-σ of a block's values (empty for a widened axis prior: see ``tau_std``)."""
+        k = self.problem.model.p + self.problem.n_tau
+        for b in self.blocks:
+            n = 0 if b.effect == "sensor_direction" else self.problem.layout.size(b)
+            if b == block:
+                return np.sqrt(np.diag(self.spread)[k : k + n])
+            k += n
+        raise KeyError(block)
+
+    @property
+    def tau_std(self) -> np.ndarray:
+        """1-σ of every channel's transverse components (n_s, 2)."""
+        p = self.problem.model.p
+        return np.sqrt(np.diag(self.spread)[p : p + self.problem.n_tau]).reshape(-1, 2)
+
+    @property
+    def n_parameters(self) -> int:
+        """Free parameters: θ, the effect blocks' and the tails' (widened priors are counted in ``bic``)."""
+        lay = self.problem.layout
+        tails = self.problem.data.n_tail_parameters
+        free = [lay.size(b) for b in self.blocks if b.effect != "sensor_direction"]
+        return self.problem.model.p + sum(free) + tails
+
+    @property
+    def bic(self) -> float:
+        """χ² + k ln n, plus the Occam factor of every widened axis prior."""
+        widened = 2 * np.count_nonzero(self.problem.released(self.blocks))
+        occam = widened * 2 * np.log(MISALIGNMENT / self.problem.transverse)
+        return self.chi2 + self.n_parameters * np.log(self.problem.n_values) + occam
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.problem.model.scale * self.x[: self.problem.model.p]
+
+    @property
+    def body(self):
+        """The fitted body; None when θ is no body (a negative mass or inertia: the data need the effects first)."""
+        try:
+            with np.errstate(invalid="ignore"):  # a radius of gyration of a non-body is NaN, and says so below
+                body = self.problem.model.body(self.theta)
+        except MasslineError:
+            return None
+        return body if is_body(body) else None
+
+    @property
+    def parts(self):
+        return self.problem.unpack(self.x, self.blocks)
+
+    @property
+    def masslines(self) -> np.ndarray:
+        return self.problem.masslines(*self.parts[:2], self.blocks, self.parts[2])
+
+    @property
+    def rss(self) -> np.ndarray:
+        """RSS_ij over every line of every FRF at the fitted masslines."""
+        return self.problem.data.rss_at(self.masslines)
+
+
+def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
+    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt)."""
+    blocks = tuple(blocks)
+    x0 = problem.start(previous, blocks)
+    if not np.isfinite(x0).all():  # a start no body could have (a hopeless trial): never the best model
+        return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
+    result = least_squares(
+        problem.residual,
+        x0,
+        jac=problem.jacobian,
+        args=(blocks,),
+        method="lm",
+        x_scale="jac",
+        xtol=1e-10,
+        ftol=1e-10,
+        max_nfev=MAX_EVALUATIONS,
+    )
+    chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
+    try:
+        spread = np.linalg.pinv(result.jac.T @ result.jac)
+    except np.linalg.LinAlgError:
+        spread = np.full((len(x0),) * 2, np.nan)
+    dof = max(len(result.fun) - len(x0), 1)
+    return Fit(problem, blocks, result.x, chi2, spread * max(2 * result.cost / dof, 1.0))
+
+
+def score(current: Fit, block: Block, J: np.ndarray) -> float:
+    """Rao's score statistic: the χ² one Gauss–Newton step with ``block`` added would remove (notes §5.4).
+
+    ``J`` is ∂r/∂x at the current fit; only the new block's columns are differenced.
+    """
+    problem, blocks = current.problem, current.blocks + (block,)
+    x = problem.start(current, blocks)
+    r_now = problem.residual(current.x, current.blocks)
+    r = problem.residual(x, blocks)
+    J_new = np.hstack([J, jacobian(problem, x, blocks, range(len(current.x), len(x)))])
+    if block.effect == "sensor_direction":  # the widened prior's rows: ∂(τ_k / t_k)/∂τ_k = 1/t_k
+        scale = np.where(problem.released(blocks), MISALIGNMENT, problem.transverse)
+        rows = np.arange(len(r) - problem.n_tau, len(r))
+        J_new[rows, problem.model.p + np.arange(problem.n_tau)] = np.repeat(1 / scale, 2)
+    step, *_ = np.linalg.lstsq(J_new, r, rcond=None)
+    return float(r_now @ r_now - np.sum((r - J_new @ step) ** 2))
+
+
+def penalty(problem: Problem, block: Block) -> float:
+    """What ``block`` adds to the BIC besides χ²: k ln n, or the Occam factor of a widened axis prior."""
+    if block.effect == "sensor_direction":
+        return 2 * len(problem.layout.groups[block.target]) * 2 * np.log(MISALIGNMENT / problem.transverse)
+    return problem.layout.size(block) * np.log(problem.n_values)

@@ -1,0 +1,250 @@
+"""The massline model with the instrumentation effects of the mismatch catalogue.
+
+The rigid body's masslines (eq. 14 in the band) are H_ij = s_iᵀ M(θ)⁻¹ e_j. The
+effects change the lines (mismatch notes §3 B, C), each a block of parameters
+that is zero in the nominal model:
+
+    s_i = (1 + g_i) (d_i', p_i' × d_i')    sensor reading, 6-vector at O
+        d_i' = unit(d_i + T_i τ_i)         effective axis (B1): misalignment and transverse sensitivity
+        p_i' = p_i + T_i δ_i               sensing point (B2; a triaxial moves as one: δ in 3-D)
+    e_j = (f_j, r_j' × f_j)                force line
+        f_j = unit(d_j + T_j β_j)          hit direction (C1)
+        r_j' = r_j + T_j γ_j               hit point (C2)
+
+T_i holds two unit vectors ⊥ d_i: what lies along the line is unobservable. Every
+τ_i is estimated under the datasheet's prior (transverse sensitivity, 3 %);
+the ``sensor_direction`` effect widens that prior for one accelerometer to a
+mounting error's (``MISALIGNMENT``), and pays the Laplace evidence's Occam factor
+for it, 2 ln(σ_wide/σ_datasheet) per component, instead of BIC's ln n. The
+fit weighs every massline by the spectral lines behind it (:mod:`.tails`), so its
+χ² counts every line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from massline.identify.estimator import perpendicular_bases
+from massline.identify.tails import Reduced
+from massline.placement.lines import Lines
+from massline.placement.model import RigidModel
+
+if TYPE_CHECKING:
+    from massline.identify.diagnose.effect_fit import Fit
+
+SENSOR_EFFECTS = ("sensor_direction", "sensor_gain", "sensor_location")
+EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
+MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
+
+
+@dataclass(frozen=True)
+class Block:
+    """One effect at one place: ``target`` is a channel (gain), an accelerometer (index into
+    ``Layout.groups``: direction, location) or an exciter."""
+
+    effect: str
+    target: int
+
+
+@dataclass(frozen=True, eq=False)
+class Layout:
+    """The nominal lines as labelled, with the accelerometers they belong to.
+
+    Attributes
+    ----------
+    sensors, exciters : Lines
+        Nominal lines (m, test frame).
+    groups : tuple of tuple of int
+        Channels of each accelerometer (one for a uniaxial, three for a triaxial).
+    planar : bool
+        Plate data (§2.3): out-of-plane lines, 6 parameters, no transverse readings.
+    """
+
+    sensors: Lines
+    exciters: Lines
+    groups: tuple
+    planar: bool
+
+    @classmethod
+    def of(cls, sensors: Lines, exciters: Lines, planar: bool) -> "Layout":
+        groups = {}
+        for i, g in enumerate(sensors.triaxial):
+            groups.setdefault(i if g < 0 else f"t{g}", []).append(i)
+        return cls(sensors, exciters, tuple(tuple(v) for v in groups.values()), planar)
+
+    @property
+    def sensor_bases(self) -> np.ndarray:
+        return perpendicular_bases(self.sensors.directions)
+
+    @property
+    def exciter_bases(self) -> np.ndarray:
+        return perpendicular_bases(self.exciters.directions)
+
+    def size(self, block: Block) -> int:
+        """Number of parameters the block adds (a released prior counts its two components per channel)."""
+        triaxial = block.effect in ("sensor_direction", "sensor_location") and len(self.groups[block.target]) > 1
+        return {
+            "sensor_direction": 2 * (3 if triaxial else 1),
+            "sensor_gain": 1,
+            "sensor_location": 3 if triaxial else 2,
+        }.get(block.effect, 2)
+
+    @property
+    def extent(self) -> float:
+        """The largest distance of a sensor from the sensors' centroid, m: the layout's size."""
+        points = self.sensors.points
+        return float(np.linalg.norm(points - points.mean(axis=0), axis=1).max())
+
+    def candidates(self) -> list[Block]:
+        """Every effect at every place: direction and location per accelerometer, gain per channel, the
+        hit's per exciter (a plate's out-of-plane lines have no transverse readings to tilt)."""
+        blocks = [Block("sensor_location", k) for k in range(len(self.groups))]
+        blocks += [Block("sensor_gain", i) for i in range(len(self.sensors))]
+        blocks += [] if self.planar else [Block("sensor_direction", k) for k in range(len(self.groups))]
+        exciter_effects = EXCITER_EFFECTS[1:] if self.planar else EXCITER_EFFECTS
+        return blocks + [Block(e, j) for j in range(len(self.exciters)) for e in exciter_effects]
+
+    def channels(self, block: Block) -> list[int]:
+        """The sensor channels a sensor block acts on (a gain: its channel; else the accelerometer's)."""
+        return [block.target] if block.effect == "sensor_gain" else list(self.groups[block.target])
+
+
+def line_coordinates(points: np.ndarray, vectors: np.ndarray, planar: bool) -> np.ndarray:
+    """(d, r × d) of unnormalised vectors d (a gain stays a gain); the plate's (d_z, y d_z, −x d_z)."""
+    if planar:
+        return np.column_stack([vectors[:, 2], points[:, 1] * vectors[:, 2], -points[:, 0] * vectors[:, 2]])
+    return np.hstack([vectors, np.cross(points, vectors)])
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """What stays fixed while effects are tried: the layout, the reduced data, noise and prior.
+
+    ``data`` holds the masslines with the discrete corrections (polarity, swaps) applied;
+    ``sigma`` (n_s, n_e) the per-line noise σ_ij; ``transverse`` the prior 1-σ of τ; ``n_values``
+    the real numbers behind the fit (2 × lines × FRFs), BIC's n; ``energy`` (n_s, n_e) Σ|H|² over
+    each FRF's lines, the scale of relative residuals.
+    """
+
+    layout: Layout
+    data: Reduced
+    sigma: np.ndarray
+    model: RigidModel
+    transverse: float
+    n_values: int
+    energy: np.ndarray
+
+    @property
+    def n_tau(self) -> int:
+        """Transverse components estimated: none for a plate or when the axes are taken as exact."""
+        return 0 if self.layout.planar or self.transverse <= 0 else 2 * len(self.layout.sensors)
+
+    def lines(self, tau: np.ndarray, blocks, values):
+        """The lines as measured: sensor points, unit axes, their norms before normalising, gains; hit
+        directions and points."""
+        lay = self.layout
+        T, U = lay.sensor_bases, lay.exciter_bases
+        d = lay.sensors.directions + (np.einsum("nak,nk->na", T, tau) if tau.size else 0.0)
+        norm = np.linalg.norm(d, axis=1)
+        d = d / norm[:, None]  # a tilted axis, not a gain
+        p, gain = lay.sensors.points.copy(), np.ones(len(d))
+        f, r = lay.exciters.directions.copy(), lay.exciters.points.copy()
+        for block, v in zip(blocks, values):
+            channels, j = lay.channels(block) if block.effect.startswith("sensor") else [], block.target
+            if block.effect == "sensor_gain":
+                gain[channels] *= 1 + v[0]
+            elif block.effect == "sensor_location":
+                p[channels] += v if len(v) == 3 else T[channels[0]] @ v
+            elif block.effect == "excitation_direction":
+                f[j] = f[j] + U[j] @ v
+                f[j] /= np.linalg.norm(f[j])
+            elif block.effect == "excitation_location":
+                r[j] += U[j] @ v
+        return p, d, norm, gain, f, r
+
+    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
+        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
+        p, d, _, gain, f, r = self.lines(tau, blocks, values)
+        s = line_coordinates(p, d * gain[:, None], self.layout.planar)
+        e = line_coordinates(r, f, self.layout.planar)
+        M = self.model.mass_matrix(self.model.scale * theta_scaled)
+        return s @ np.linalg.solve(M, e.T)
+
+    def jacobian(self, x: np.ndarray, blocks) -> np.ndarray:
+        """∂r/∂x: analytic in θ̃ (∂M⁻¹ = −M⁻¹ B_k M⁻¹) and τ (∂d'/∂τ = (I − d'd'ᵀ) T / ‖d + Tτ‖),
+        central differences in the few effect values."""
+        theta, tau, values = self.unpack(x, blocks)
+        p, d, norm, gain, f, r = self.lines(tau, blocks, values)
+        s = line_coordinates(p, d * gain[:, None], self.layout.planar)
+        e = line_coordinates(r, f, self.layout.planar)
+        M_inv = np.linalg.inv(self.model.mass_matrix(self.model.scale * theta))
+        U, V = s @ M_inv, e @ M_inv
+        w = np.sqrt(self.data.kappa) / self.sigma
+        n_s, n_e = w.shape
+        columns = [(np.einsum("ia,kab,jb->ijk", U, self.model.basis, V) * w[..., None]).reshape(n_s * n_e, -1)]
+        if self.n_tau:
+            projector = np.eye(3) - np.einsum("na,nb->nab", d, d)
+            delta = np.einsum("nab,nbc->nac", projector, self.layout.sensor_bases) / norm[:, None, None]
+            ds = gain[:, None, None] * np.concatenate([delta, np.cross(p[:, :, None], delta, axis=1)], axis=1)
+            dH = np.einsum("iac,ja->ijc", ds, V)
+            J_tau = np.zeros((n_s, n_e, n_s, 2))
+            J_tau[np.arange(n_s), :, np.arange(n_s)] = -dH * w[..., None]
+            columns.append(J_tau.reshape(n_s * n_e, -1))
+        J = np.hstack(columns)
+        if self.n_tau:
+            scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
+            prior = np.hstack([np.zeros((self.n_tau, self.model.p)), np.diag(np.repeat(1 / scale, 2))])
+            J = np.vstack([J, prior])
+        extra = range(self.model.p + self.n_tau, len(x))
+        return np.hstack([J, jacobian(self, x, blocks, extra)]) if len(extra) else J
+
+    def released(self, blocks) -> np.ndarray:
+        """Channels whose transverse prior is released by a ``sensor_direction`` block."""
+        mask = np.zeros(len(self.layout.sensors), dtype=bool)
+        for block in blocks:
+            if block.effect == "sensor_direction":
+                mask[list(self.layout.groups[block.target])] = True
+        return mask
+
+    def residual(self, x: np.ndarray, blocks) -> np.ndarray:
+        """Weighted residual: masslines (â − H)√κ/σ, then the prior rows τ/t (t widened where released)."""
+        theta, tau, values = self.unpack(x, blocks)
+        H = self.masslines(theta, tau, blocks, values)
+        rows = [((self.data.massline - H) * np.sqrt(self.data.kappa) / self.sigma).ravel()]
+        if self.n_tau:
+            scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
+            rows.append((tau / scale[:, None]).ravel())
+        return np.concatenate(rows)
+
+    def unpack(self, x: np.ndarray, blocks):
+        p, n_tau = self.model.p, self.n_tau
+        tau = x[p : p + n_tau].reshape(-1, 2)
+        values, k = [], p + n_tau
+        for block in blocks:
+            n = 0 if block.effect == "sensor_direction" else self.layout.size(block)
+            values.append(x[k : k + n])
+            k += n
+        return x[:p], tau, values
+
+    def start(self, previous: "Fit | None", blocks) -> np.ndarray:
+        """Parameters to start from: the previous fit's where it had them, zeros for new blocks."""
+        if previous is None:
+            theta, tau, old = self.model.theta / self.model.scale, np.zeros(self.n_tau), {}
+        else:
+            theta, tau, values = previous.parts
+            old = dict(zip(previous.blocks, values))
+        sizes = [0 if b.effect == "sensor_direction" else self.layout.size(b) for b in blocks]
+        return np.concatenate([theta, np.ravel(tau), *(old.get(b, np.zeros(n)) for b, n in zip(blocks, sizes))])
+
+
+def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:
+    """∂r/∂x by central differences (only ``columns`` when given; a check of ``Problem.jacobian``)."""
+    h = 1e-6 * np.maximum(np.abs(x), 1e-2)
+    out = []
+    for k in range(len(x)) if columns is None else columns:
+        e = np.zeros_like(x)
+        e[k] = h[k]
+        out.append((problem.residual(x + e, blocks) - problem.residual(x - e, blocks)) / (2 * h[k]))
+    return np.array(out).reshape(-1, len(problem.residual(x, blocks))).T

@@ -1,0 +1,101 @@
+"""A diagnosis finding as an engineer would write it, and as DESIGN.md's JSON."""
+
+from __future__ import annotations
+
+import numpy as np
+from massline.identify.diagnose.finding import Finding
+
+
+def _mm(vector) -> str:
+    return "[" + ", ".join(f"{1e3 * v:+.1f}" for v in vector) + "] mm"
+
+
+def finding_note(finding: Finding, sensors: list[str], hits: list[str]) -> str:
+    """One sentence: what is wrong, where, how large, and what was done about it."""
+    p, e = finding.parameters, finding.evidence
+    names = [sensors[c] for c in finding.channels]
+    if len(names) == 3 and len({n.split(":")[0] for n in names}) == 1:
+        who = f"the triaxial sensor at node {names[0].split(':')[0]}"
+    else:
+        who = " and ".join(f"sensor {n}" for n in names)
+    hit = None if finding.exciter is None else f"hit {hits[finding.exciter]}"
+    also = e.get("alternatives") or []
+    tail = f" (the data fit {' or '.join(also)} there as well)" if also else ""
+    moved = e.get("moved")
+    shift = f"; modelling it moves the mass by {moved['mass_percent']:+.3f} %" if moved else ""
+    text = {
+        "sensor_direction": lambda: (
+            f"{who} reads {max(p['angle_deg']):.1f} ± {max(p['angle_std_deg']):.1f}° off its labelled axis: "
+            "misalignment or transverse sensitivity beyond the datasheet (the data cannot tell them apart)"
+        ),
+        "sensor_gain": lambda: (
+            f"{who} reads {100 * (p['gain'] - 1):+.1f} % of what it should "
+            f"(gain {p['gain']:.3f} ± {p['gain_std']:.3f}): check its sensitivity in the channel table"
+        ),
+        "sensor_polarity": lambda: (
+            f"{who} has its polarity flipped: its readings are the rigid body's with the opposite sign; corrected"
+        ),
+        "channel_swap": lambda: f"{who} are swapped: each channel reads what the other should; corrected",
+        "sensor_location": lambda: (
+            f"{who} sits {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
+            f"(offset {_mm(p['offset_m'])}; along its axis an offset cannot be seen)"
+        ),
+        "excitation_direction": lambda: (
+            f"{hit} went in {p['angle_deg']:.1f} ± {p['angle_std_deg']:.1f}° off its labelled direction"
+        ),
+        "excitation_location": lambda: (
+            f"{hit} landed {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
+            f"(offset {_mm(p['offset_m'])})"
+        ),
+        "suspension": lambda: (
+            f"the suspension's tail reaches {p['tail_max']:.1%} of the massline at "
+            f"{p['edge_hz']:.1f} Hz (median {p['tail_median']:.1%}): a support mode near {p['mode_hz']:.1f} Hz; "
+            "modelled as that mode's tail in every FRF"
+            + (
+                " (the ± of the properties says how much that leaves open: a softer support, or a band from "
+                f"{3 * p['mode_hz']:.0f} Hz, does better)"
+                if 3 * p["mode_hz"] > p["edge_hz"]
+                else ""
+            )
+        ),
+        "residual_flexibility": lambda: (
+            f"elastic modes above the band pull the masslines by up to "
+            f"{p['tail_max']:.1%} at {p['edge_hz']:.0f} Hz (median {p['tail_median']:.1%}): an elastic mode near "
+            f"{p['mode_hz']:.0f} Hz; modelled as that mode's tail in every FRF"
+            + (
+                f" (the ± of the properties says how much that leaves open: a band up to {p['mode_hz'] / 3:.0f} Hz "
+                "does better)"
+                if p["mode_hz"] / 3 < p["edge_hz"]
+                else ""
+            )
+        ),
+        "sensor_mass_loading": lambda: (
+            f"the body is {1e3 * p['mass_kg']:.1f} ± {1e3 * p['mass_std_kg']:.1f} g "
+            f"heavier than the mesh, as a mass at {who} would make it; taken away"
+        ),
+    }[finding.effect]()
+    return text + tail + shift
+
+
+def finding_payload(finding: Finding, recording) -> dict:
+    """DESIGN.md's finding: effect, sensor / excitation as {"node", "dir"}, parameters, evidence."""
+
+    def channel(labels, index):
+        if labels is None:
+            return {"node": None, "dir": None, "index": index + 1}
+        node, code = labels[index]
+        return {"node": int(node), "dir": int(code)}
+
+    sensor = channel(recording.sensor_labels, finding.channels[0]) if finding.channels else None
+    excitation = None if finding.exciter is None else channel(recording.exciter_labels, finding.exciter)
+    parameters = dict(finding.parameters)
+    if len(finding.channels) > 1:
+        parameters["channels"] = [channel(recording.sensor_labels, c) for c in finding.channels]
+    evidence = {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in finding.evidence.items()}
+    return {
+        "effect": finding.effect,
+        "sensor": sensor,
+        "excitation": excitation,
+        "parameters": parameters,
+        "evidence": evidence,
+    }

@@ -1,0 +1,125 @@
+"""Screens that need no inertia model: where a recording cannot be a rigid body's (mismatch notes §5.2).
+
+Whatever the mass matrix, a rigid body's response to exciter j at the
+sensors is S q_j, with S (n_s × 6) the sensors' line coordinates and q_j the
+body's motion: every FRF column lies in the column space of S. How far a
+column sits from it, channel by channel and line by line, locates sensor
+faults before any fit; leaving one channel out and predicting it from the
+others (LOCO) names the channel, and the sign of that prediction tells a
+flipped polarity from a gain.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from massline.identify.diagnose.effect_model import Layout, line_coordinates
+from massline.identify.tails import BandData
+from massline.placement.lines import Lines
+
+
+def kinematic_matrix(sensors: Lines, planar: bool) -> np.ndarray:
+    """S (n_s, q): the nominal sensor lines' coordinates."""
+    return line_coordinates(sensors.points, sensors.directions, planar)
+
+
+def off_subspace(S: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """(I − S S⁺) applied to columns (n_s, ...): the part no rigid motion explains."""
+    flat = columns.reshape(len(S), -1)
+    fitted = S @ np.linalg.lstsq(S, flat, rcond=None)[0]
+    return (flat - fitted).reshape(columns.shape)
+
+
+def rigid_subspace_residual(frf: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """|(I − SS⁺) H(f)| relative to each FRF column's norm: (n_s, n_e, n_f), 0 for a rigid body."""
+    residual = off_subspace(S, frf)
+    norm = np.linalg.norm(frf, axis=0, keepdims=True)
+    return np.abs(residual) / np.maximum(norm, 1e-300)
+
+
+def leave_one_out(A: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """Each channel's masslines predicted from the others' (n_s, n_e): the rigid motion seen by n_s − 1 channels."""
+    predicted = np.empty_like(A)
+    for k in range(len(S)):
+        others = np.arange(len(S)) != k
+        q = np.linalg.lstsq(S[others], A[others], rcond=None)[0]
+        predicted[k] = S[k] @ q
+    return predicted
+
+
+def channel_consistency(A: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """‖a_k − â_k‖ / ‖â_k‖ of the LOCO predictions (n_s,): large for a channel that breaks rigidity."""
+    predicted = leave_one_out(A, S)
+    return np.linalg.norm(A - predicted, axis=1) / np.maximum(np.linalg.norm(predicted, axis=1), 1e-300)
+
+
+def singular_values(frf: np.ndarray) -> np.ndarray:
+    """σ_k(H(f)) / σ_1(H(f)) for every line (n_f, min(n_s, n_e)): a 7th that rises marks physics beyond rigid."""
+    s = np.linalg.svd(np.moveaxis(frf, 2, 0), compute_uv=False)
+    return s / np.maximum(s[:, :1], 1e-300)
+
+
+def discrete_fixes(A: np.ndarray, S: np.ndarray) -> list[tuple[float, str, tuple]]:
+    """Polarity flips and channel swaps ranked by the rigid-subspace misfit they leave (relative to now).
+
+    Returns (misfit after / misfit now, effect, channels), best first; needs n_s > q + 1 channels.
+    """
+
+    def misfit(B):
+        return float(np.sum(off_subspace(S, B) ** 2))
+
+    now = max(misfit(A), 1e-300)
+    ranked = []
+    for k in range(len(A)):
+        B = A.copy()
+        B[k] *= -1
+        ranked.append((misfit(B) / now, "sensor_polarity", (k,)))
+    for i in range(len(A)):
+        for j in range(i + 1, len(A)):
+            B = A.copy()
+            B[[i, j]] = B[[j, i]]
+            ranked.append((misfit(B) / now, "channel_swap", (i, j)))
+    return sorted(ranked)
+
+
+def driving_points(sensors: Lines, exciters: Lines, tolerance: float = 1e-3) -> list[tuple[int, int]]:
+    """(i, j) pairs where sensor and hit share point and direction: their massline must be positive."""
+    pairs = []
+    for i in range(len(sensors)):
+        for j in range(len(exciters)):
+            same_point = np.linalg.norm(sensors.points[i] - exciters.points[j]) < tolerance
+            same_axis = abs(sensors.directions[i] @ exciters.directions[j]) > 1 - 1e-6
+            if same_point and same_axis:
+                pairs.append((i, j))
+    return pairs
+
+
+def screen(band: BandData, layout: Layout) -> dict:
+    """The model-free screens of a recording's band, JSON-ready.
+
+    ``channel_consistency``: each channel's LOCO misfit (None without redundancy);
+    ``negative_driving_points``: (sensor, hit) pairs, 1-based, whose massline is not positive;
+    ``off_rigid``: each channel's median distance from the rigid motions over the band (relative);
+    ``tails_low`` / ``tails_high``: median over FRFs of the free fit's 1/ω² tail at the lower edge and
+    ω² tail at the upper edge, relative to the massline (the per-FRF trends, summarised);
+    ``seventh_singular_value``: σ₇/σ₁ of the FRF matrix at every line of the band, which a rigid body keeps
+    at the noise (None with fewer than 7 sensors or hits: then ``off_rigid`` is the rank test).
+    """
+    S = kinematic_matrix(layout.sensors, layout.planar)
+    free = band.free
+    A = free.massline
+    redundant = len(S) > S.shape[1] + 1
+    off = rigid_subspace_residual(band.frf, S) if redundant else np.full(band.frf.shape, np.nan)
+    x = (band.omega[[0, -1]] / np.sqrt(band.omega[0] * band.omega[-1])) ** 2
+    scale = np.maximum(np.abs(A), 1e-300)
+    low = np.abs(free.tails[..., 0] / x[0] + free.tails[..., 2] / x[0] ** 2) / scale
+    high = np.abs(free.tails[..., 3] * x[1] + free.tails[..., 5] * x[1] ** 2) / scale
+    return {
+        "channel_consistency": channel_consistency(A, S).tolist() if redundant else None,
+        "negative_driving_points": [
+            [i + 1, j + 1] for i, j in driving_points(layout.sensors, layout.exciters) if A[i, j] <= 0
+        ],
+        "off_rigid": np.median(off, axis=(1, 2)).tolist(),
+        "tails_low": float(np.median(low)),
+        "tails_high": float(np.median(high)),
+        "seventh_singular_value": singular_values(band.frf)[:, 6].tolist() if min(band.frf.shape[:2]) >= 7 else None,
+    }

@@ -1,0 +1,305 @@
+"""The datasets of a Universal File (UFF/UNV): split at their '    -1' delimiters and parsed.
+
+Parsed here: 151 header, 164 units, 15 and 2411 nodes, 18 and 2420 coordinate systems, 58 and 58b functions
+(ascii or binary, 4- or 8-byte, real or complex, even or uneven abscissa); other datasets are listed, not parsed.
+
+The file is split and parsed here, not by pyuff 2.5, whose dataset-58 reader misreads what real exporters write:
+it reads an uneven 58b abscissa in single precision (the format's, and real files') as doubles, keeps padding
+beyond num_pts, and drops a truncated last record without a word; pyuff's own 58b writer states half the byte
+count of complex data, and an uneven abscissa in doubles: both are read here.
+
+Values stay in file units and local systems; `uff` places them in the global frame and in SI.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+from massline.placement.errors import MasslineError
+from massline.uff.frf_kind import Ordinate
+
+DELIMITER = re.compile(rb"^    -1[ \t\r]*$", re.M)
+CLOSING = re.compile(rb"(?:\r?\n)?    -1[ \t\r]*(?:\n|\Z)")
+TRAILING = re.compile(rb"\s*\Z")
+NAMED_CHANNEL = re.compile(r"(\d+)[^A-Za-z\d]*([+-]?)([XYZ])([+-]?)$")
+FUNCTION_NAMES = ("general", "time response", "auto spectrum", "cross spectrum", "FRF", "transmissibility")
+FUNCTION_NAMES += ("coherence", "auto correlation", "cross correlation", "PSD", "ESD", "PDF", "spectrum")
+AXIS_NAMES = ("X", "Y", "Z", "RX", "RY", "RZ")
+
+
+@dataclass(frozen=True, eq=False)
+class Block:
+    """One dataset: its number, the line of its opening delimiter, its text lines after the identifier line
+    (up to the data of a 58b), and a 58b's byte order and data."""
+
+    number: int
+    line: int
+    lines: list[str]
+    binary: tuple[str, bytes] | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Function:
+    """One dataset-58 record, in file units."""
+
+    line: int
+    type: int
+    response: tuple[int, int]
+    reference: tuple[int, int]
+    ordinate: Ordinate
+    frequencies: np.ndarray
+    values: np.ndarray
+
+
+def channel_name(node: int, code: int) -> str:
+    """'57:+Z', '3:-RX', '0:scalar' for a node and direction code."""
+    if code == 0 or abs(code) > 6:
+        return f"{node}:{'scalar' if code == 0 else f'code {code}'}"
+    return f"{node}:{'+' if code > 0 else '-'}{AXIS_NAMES[abs(code) - 1]}"
+
+
+def _truncated(name: str, block_number: int, line: int) -> MasslineError:
+    return MasslineError(
+        f"file {name} is truncated: its dataset {block_number} starting at line {line} has no end marker "
+        "('    -1'); the export or copy was cut short: export the file again"
+    )
+
+
+def _line_end(data: bytes, start: int) -> int:
+    end = data.find(b"\n", start)
+    return len(data) if end < 0 else end
+
+
+def _binary_lengths(n_bytes: int, record_7: str) -> list[int]:
+    """Possible lengths of a 58b's data: the header's byte count, then num_pts × the point size (an uneven
+    abscissa in 4 bytes as the format says, or 8 as pyuff writes it)."""
+    kind, num_pts, spacing = (int(v) for v in record_7.split()[:3])
+    value = (4 if kind in (2, 5) else 8) * (2 if kind in (5, 6) else 1)
+    return [n_bytes] + [num_pts * (value + a) for a in ((0,) if spacing == 1 else (4, 8))]
+
+
+def _binary_block(data: bytes, first: int, ident: str, line: int, name: str) -> tuple[Block, int]:
+    """A 58b: 11 ascii header lines, then raw IEEE values of the first possible length that ends at a closing
+    delimiter."""
+    order, fp_format, n_lines, n_bytes = (int(v) for v in ident[7:].split()[:4])
+    end = _line_end(data, first)
+    for _ in range(n_lines):
+        end = _line_end(data, end + 1)
+    if end >= len(data):
+        raise _truncated(name, 58, line)
+    lines = data[_line_end(data, first) + 1 : end].decode("latin-1").splitlines()
+    if fp_format != 2:
+        raise MasslineError(
+            f"file {name}: the 58b record at line {line} holds floating-point format {fp_format}, not IEEE 754 "
+            "(2): export the FRFs as ascii 58 or IEEE binary"
+        )
+    lengths = _binary_lengths(n_bytes, lines[6])
+    length = next((n for n in lengths if CLOSING.match(data, end + 1 + n)), None)
+    if length is None and len(data) < end + 1 + max(lengths) + 6:
+        raise _truncated(name, 58, line)
+    if length is None:
+        raise MasslineError(
+            f"file {name}: the binary data of the 58b record at line {line} do not end where its header says "
+            f"({n_bytes} bytes): the file is damaged; export it again"
+        )
+    block = Block(58, line, lines, ("<" if order == 1 else ">", data[end + 1 : end + 1 + length]))
+    return block, CLOSING.match(data, end + 1 + length).end()
+
+
+def _block(data: bytes, first: int, line: int, name: str) -> tuple[Block, int]:
+    """The dataset whose identifier line starts at ``first``, and the offset after its closing delimiter."""
+    ident = data[first : _line_end(data, first)].decode("latin-1")
+    try:
+        if ident[6:7].lower() == "b":
+            return _binary_block(data, first, ident, line, name)
+        number = int(ident[:6])
+    except MasslineError:
+        raise
+    except (ValueError, IndexError):
+        raise MasslineError(
+            f"file {name}: the dataset at line {line} has an unreadable header ({ident.strip()[:20]!r}): "
+            "the file is damaged or not in the UFF format; export it again"
+        ) from None
+    closing = DELIMITER.search(data, first)
+    if closing is None:
+        raise _truncated(name, number, line)
+    text = data[_line_end(data, first) + 1 : closing.start()].decode("latin-1")
+    return Block(number, line, text.splitlines()), closing.end()
+
+
+def split(data: bytes, name: str) -> list[Block]:
+    """The datasets of a file, each between two '    -1' lines (a 58b's binary data skipped by its length)."""
+    blocks, position, line, counted = [], 0, 1, 0
+    while (opening := DELIMITER.search(data, position)) is not None and not TRAILING.match(data, opening.end()):
+        line, counted = line + data.count(b"\n", counted, opening.start()), opening.start()
+        block, position = _block(data, opening.end() + 1, line, name)
+        blocks.append(block)
+    return blocks
+
+
+def _numbers(text: str) -> np.ndarray:
+    """Fortran numbers separated by blanks (E or D exponents)."""
+    return np.array(text.upper().replace("D", "E").split(), dtype=float)
+
+
+def _int(field: str) -> int:
+    return int(field) if field.strip() else 0
+
+
+def _label(field: str) -> str:
+    """A label read as latin-1 (one byte per column), re-read as UTF-8 when it is."""
+    try:
+        return field.strip().encode("latin-1").decode("utf-8")
+    except UnicodeDecodeError:
+        return field.strip()
+
+
+def _units_164(block: Block) -> tuple[float, float]:
+    """Length and force factors: file units per metre, per newton."""
+    factors = _numbers(" ".join(block.lines[1:]))[:2]
+    if not np.all(factors > 0):
+        raise ValueError(f"length and force factors {factors} must be positive")
+    return float(factors[0]), float(factors[1])
+
+
+def _header_151(block: Block) -> str:
+    return " ".join(t for t in (block.lines[0].strip(), block.lines[1].strip()) if t not in ("", "NONE"))
+
+
+def _nodes(block: Block) -> np.ndarray:
+    """Rows (label, definition system, displacement system, colour, x, y, z) of dataset 15 or 2411."""
+    values = _numbers(" ".join(block.lines))
+    if values.size % 7:
+        raise ValueError(f"{values.size} numbers, not 7 per node")
+    return values.reshape(-1, 7)
+
+
+def _frame_18(origin, x_point, xz_point) -> np.ndarray:
+    """Axes (columns) of a system from its origin, a point on +x and a point in the +xz plane."""
+    x = x_point - origin
+    if not np.linalg.norm(x) > 0:
+        raise ValueError("its point on the x axis is its origin")
+    z = xz_point - origin - ((xz_point - origin) @ x) / (x @ x) * x
+    if np.linalg.norm(z) < 1e-9 * np.linalg.norm(x):
+        raise ValueError("its point in the xz plane lies on its x axis")
+    x, z = x / np.linalg.norm(x), z / np.linalg.norm(z)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def _records(lines: list[str], head: int, count: int):
+    """Per system: the numbers of its first line, its name line, then ``count`` numbers over the next lines."""
+    lines, i = list(lines), head
+    while lines and not lines[-1].strip():
+        lines.pop()
+    while i < len(lines):
+        first, values, i = lines[i].split(), [], i + 2
+        while len(values) < count:
+            values, i = [*values, *_numbers(lines[i])], i + 1
+        yield [int(v) for v in first], np.array(values[:count])
+
+
+def _systems_18(block: Block) -> dict:
+    """{label: (type, reference system, origin, axes)} of dataset 18, in the reference system."""
+    return {
+        label: (kind, reference, v[:3], _frame_18(*v.reshape(3, 3)))
+        for (label, kind, reference, *_), v in _records(block.lines, 0, 9)
+    }
+
+
+def _systems_2420(block: Block) -> dict:
+    """{label: (type, 0, origin, axes)} of dataset 2420, in the global frame."""
+    return {label: (kind, 0, v[9:], v[:9].reshape(3, 3).T) for (label, kind, *_), v in _records(block.lines, 2, 12)}
+
+
+def _channel(name: str, node: str, code: str, where: str, role: str) -> tuple[tuple[int, int], list[str]]:
+    """(node, direction code) of a record; from the entity name (e.g. '.1.Z-', 'Point12:+X') when both are 0."""
+    channel, match = (_int(node), _int(code)), NAMED_CHANNEL.search(name.strip())
+    if channel != (0, 0) or match is None:
+        return channel, []
+    number, before, axis, after = match.groups()
+    channel = (int(number), (-1 if "-" in before + after else 1) * ("XYZ".index(axis) + 1))
+    return channel, [f"{where}: {role} {channel_name(*channel)} read from its name {name.strip()!r}"]
+
+
+def _binary_rows(order: str, payload: bytes, kind: int, even: bool, num_pts: int) -> np.ndarray:
+    """58b values as rows (abscissa if uneven, ordinate part(s)); an uneven abscissa in 4 bytes, or 8 as pyuff
+    writes it."""
+    size, parts = (4 if kind in (2, 5) else 8), (2 if kind in (5, 6) else 1)
+    abscissa = 0 if even else (8 if len(payload) == num_pts * (8 + parts * size) else 4)
+    fields = ([("x", f"{order}f{abscissa}")] if abscissa else []) + [("y", f"{order}f{size}", (parts,))]
+    dtype = np.dtype(fields)
+    table = np.frombuffer(payload[: len(payload) // dtype.itemsize * dtype.itemsize], dtype=dtype)
+    return np.column_stack(([table["x"]] if abscissa else []) + [table["y"].reshape(len(table), parts)]).astype(float)
+
+
+def _kept_points(rows: np.ndarray, num_pts: int, where: str) -> tuple[np.ndarray, list[str]]:
+    """The points to read: num_pts when the rest is zero padding, else all of them."""
+    if len(rows) > num_pts and not rows[num_pts:].any():
+        return rows[:num_pts], [f"{where}: {len(rows) - num_pts} points of zero padding after num_pts ignored"]
+    if len(rows) != num_pts:
+        return rows, [f"{where}: num_pts says {num_pts} but the record holds {len(rows)} points; all read"]
+    return rows, []
+
+
+def _function(block: Block) -> tuple[Function, list[str]]:
+    """A dataset-58 record (records 1-11, then the data) and what was odd in it."""
+    lines, where = block.lines, f"dataset 58 at line {block.line}"
+    r6, r7 = lines[5], lines[6].split()
+    kind, num_pts, spacing = (int(v) for v in r7[:3])
+    minimum, increment = (float(v.upper().replace("D", "E")) for v in r7[3:5])
+    response, notes = _channel(r6[31:41], r6[41:51], r6[51:55], where, "response")
+    reference, more = _channel(r6[56:66], r6[66:76], r6[76:80], where, "reference")
+    parts, even = (2 if kind in (5, 6) else 1), spacing == 1
+    if block.binary is None:
+        flat, width = _numbers(" ".join(lines[11:])), parts + (not even)
+        rows = flat[: flat.size // width * width].reshape(-1, width)
+        notes += (
+            [f"{where}: {flat.size % width} value(s) after the last whole point ignored"] if flat.size % width else []
+        )
+    else:
+        rows = _binary_rows(*block.binary, kind, even, num_pts)
+    rows, kept = _kept_points(rows, num_pts, where)
+    frequencies = minimum + increment * np.arange(len(rows)) if even else rows[:, 0]
+    values = rows[:, -2] + 1j * rows[:, -1] if parts == 2 else rows[:, -1]
+    numerator, denominator = lines[8], lines[9]
+    ordinate = Ordinate(
+        _int(numerator[:10]),
+        _int(denominator[:10]),
+        _label(numerator[26:46]),
+        _label(numerator[47:67]),
+        _label(denominator[47:67]),
+    )
+    function = Function(block.line, _int(r6[:5]), response, reference, ordinate, frequencies, values)
+    return function, notes + more + kept
+
+
+def function_name(kind: int) -> str:
+    """Name of a dataset-58 function type: 'FRF', 'coherence', 'time response', ..."""
+    return FUNCTION_NAMES[kind] if 0 <= kind < len(FUNCTION_NAMES) else f"function type {kind}"
+
+
+PARSERS = {
+    15: _nodes,
+    2411: _nodes,
+    18: _systems_18,
+    2420: _systems_2420,
+    164: _units_164,
+    151: _header_151,
+    58: _function,
+}
+
+
+def parse(block: Block, name: str):
+    """The block's contents by its dataset's parser; None for datasets not read."""
+    parser = PARSERS.get(block.number)
+    if parser is None:
+        return None
+    try:
+        return parser(block)
+    except (ValueError, IndexError, KeyError, TypeError) as error:
+        raise MasslineError(
+            f"file {name}: dataset {block.number} at line {block.line} is unreadable ({error}): the file is damaged "
+            "or not in the UFF format; export it again"
+        ) from None

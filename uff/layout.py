@@ -1,0 +1,186 @@
+"""Where each line goes in a Universal File: nodes, their displacement frames, direction codes.
+
+A node is one (point, frame): a triaxial accelerometer is one node with codes 1, 2, 3 along its channels (a
+left-handed triad has its third axis flipped and code -3); a uniaxial line gets the frame nearest to the identity
+whose axis k (the global axis closest to the line) lies along ±d, so that a slightly tilted "+z" sensor is still
+code +3. Lines along ± global axes keep the global frame. Sensors' nodes are numbered from 1, exciters' nodes from
+the next hundred (101, ...), also where an exciter sits on a sensor's point. A code c at a node of frame R is the
+global direction sign(c) R[:, |c| - 1] (`line_from_code`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from massline.placement.errors import MasslineError
+from massline.placement.lines import AXES, Lines, skew
+
+AXIS_TOL = 1e-12  # a unit direction is along a global axis when it is this close to it
+ORTHOGONALITY_TOL = 1e-9  # |d_i . d_j| allowed between the channels of a triaxial accelerometer
+POINT_TOL = 1e-9  # m, spread allowed between the points of one accelerometer's channels
+
+
+@dataclass(frozen=True, eq=False)
+class UffLayout:
+    """Nodes and direction codes of a test's lines in a Universal File.
+
+    Attributes
+    ----------
+    node_ids : (n_n,) int array
+        Node labels: sensors' nodes from 1, exciters' nodes from the next hundred (101, 201, ...).
+    node_points : (n_n, 3) array
+        Node positions, m, test frame.
+    node_frames : (n_n, 3, 3) array
+        Each node's displacement coordinate system: columns are its local x, y, z axes in the test frame
+        (a rotation; the identity for nodes in the global system).
+    node_systems : (n_n,) int array
+        Displacement coordinate-system number written with each node: 0 (global) or the node's id.
+    sensor_nodes, sensor_codes : (n_s,) int arrays
+        Node id and direction code (±1..±3 along the node's frame) of each sensor line.
+    exciter_nodes, exciter_codes : (n_e,) int arrays
+        Node id and direction code of each exciter line.
+    """
+
+    node_ids: np.ndarray
+    node_points: np.ndarray
+    node_frames: np.ndarray
+    node_systems: np.ndarray
+    sensor_nodes: np.ndarray
+    sensor_codes: np.ndarray
+    exciter_nodes: np.ndarray
+    exciter_codes: np.ndarray
+
+    def direction(self, node: int, code: int) -> np.ndarray:
+        """Global unit direction of direction code ``code`` at node ``node``."""
+        k = int(np.flatnonzero(self.node_ids == node)[0])
+        return line_from_code(self.node_points[k], self.node_frames[k], code)
+
+
+def line_from_code(point, frame, code: int) -> np.ndarray:
+    """Global unit direction of a UFF direction code (±1..±3) in a node's Cartesian frame.
+
+    Parameters
+    ----------
+    point : (3,) array
+        The node's position, m. A Cartesian system's directions are the same everywhere; the point is part of
+        the signature because those of cylindrical and spherical systems are not.
+    frame : (3, 3) array
+        Columns: the node's local x, y, z axes in the test frame.
+    code : int
+        1, 2, 3 for +x, +y, +z of the frame; negative for the opposite direction.
+    """
+    if code not in (-3, -2, -1, 1, 2, 3):
+        raise MasslineError(f"direction code {code} is not a translation (±1..±3)")
+    return np.sign(code) * np.asarray(frame, dtype=float)[:, abs(code) - 1]
+
+
+def code_name(code: int) -> str:
+    """'+X', '-Z', ... for a direction code."""
+    return ("+" if code > 0 else "-") + "XYZ"[abs(code) - 1]
+
+
+def _global_codes(directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Code of the global axis nearest to each unit direction (n, 3), and the distance to that axis."""
+    k = np.argmax(np.abs(directions), axis=1)
+    sign = np.sign(directions[np.arange(len(directions)), k])
+    return (sign * (k + 1)).astype(int), np.linalg.norm(directions - sign[:, None] * AXES[k], axis=1)
+
+
+def _tilted_frame(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Smallest rotation that turns the global axis nearest to ±d onto ±d (Rodrigues), and d's code in it."""
+    codes = _global_codes(d[None])[0]
+    k, target = abs(codes[0]) - 1, np.sign(codes[0]) * d
+    v = skew(np.cross(AXES[k], target))
+    return np.eye(3) + v + v @ v / (1.0 + target[k]), codes
+
+
+def _triad_frame(directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Frame of a bi- or triaxial accelerometer: channel i along local axis i; a left-handed third axis flipped."""
+    axes = directions if len(directions) == 3 else np.vstack([directions, np.cross(*directions)])
+    flip = np.sign(np.linalg.det(axes))
+    u, _, vt = np.linalg.svd((axes * np.array([1.0, 1.0, flip])[:, None]).T)
+    return u @ vt, np.array([1, 2, 3 * int(flip)])[: len(directions)]
+
+
+def _group_frame(directions: np.ndarray, node_systems: bool, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Frame (3, 3) and codes (k,) of the k lines of one accelerometer or exciter (one point)."""
+    if len(directions) > 3:
+        raise MasslineError(f"{name}: {len(directions)} channels, an accelerometer has at most three")
+    cosines = np.abs(directions @ directions.T - np.eye(len(directions))).max()
+    if cosines > ORTHOGONALITY_TOL:
+        raise MasslineError(f"{name}: the channels are not mutually orthogonal (|cos| up to {cosines:.2g})")
+    codes, off_axis = _global_codes(directions)
+    if np.all(off_axis < AXIS_TOL):
+        return np.eye(3), codes
+    if not node_systems:
+        raise MasslineError(
+            f"{name} is not along a global axis: write it with node_systems=True (a coordinate system per node)"
+        )
+    return _tilted_frame(directions[0]) if len(directions) == 1 else _triad_frame(directions)
+
+
+def _groups(lines: Lines) -> list[np.ndarray]:
+    """Indices of the lines of each triaxial accelerometer, then of each uniaxial line."""
+    triaxials = [np.flatnonzero(lines.triaxial == g) for g in np.unique(lines.triaxial[lines.triaxial >= 0])]
+    return triaxials + [np.array([i]) for i in np.flatnonzero(lines.triaxial < 0)]
+
+
+def _line_frames(lines: Lines, node_systems: bool, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Node point (n, 3), node frame (n, 3, 3) and direction code (n,) of every line."""
+    points, frames, codes = lines.points.copy(), np.empty((len(lines), 3, 3)), np.empty(len(lines), dtype=int)
+    for index in _groups(lines):
+        name = f"{kind} {', '.join(str(i + 1) for i in index)} ({lines.describe(index[0])})"
+        if np.ptp(lines.points[index], axis=0).max() > POINT_TOL:
+            raise MasslineError(f"{name}: the channels of one accelerometer must share one point")
+        frame, group_codes = _group_frame(lines.directions[index], node_systems, name)
+        points[index], frames[index], codes[index] = lines.points[index[0]], frame, group_codes
+    return points, frames, codes
+
+
+def _number_nodes(points: np.ndarray, frames: np.ndarray, codes: np.ndarray, kind: str):
+    """Node number (0-based) of every line, one per distinct (point, frame), and each node's first line."""
+    numbers, channels = {}, {}
+    index = np.array([numbers.setdefault(p.tobytes() + f.tobytes(), len(numbers)) for p, f in zip(points, frames)])
+    for i, channel in enumerate(zip(index, codes)):
+        if channel in channels:
+            first = channels[channel] + 1
+            raise MasslineError(f"{kind}s {first} and {i + 1} are the same line: a file cannot tell them apart")
+        channels[channel] = i
+    return index, np.unique(index, return_index=True)[1]
+
+
+def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> UffLayout:
+    """Nodes, frames and direction codes under which a test's lines are written.
+
+    Parameters
+    ----------
+    sensors, exciters : Lines
+        Sensor and exciter lines (m, test frame); lines of one triaxial accelerometer share a point.
+    node_systems : bool
+        Give nodes with lines off the global axes their own coordinate system. If False, every line must be
+        along a ± global axis.
+
+    Raises
+    ------
+    MasslineError (a ValueError)
+        Non-orthogonal triaxial channels, an oblique line without node systems, or two identical lines.
+    """
+    s_points, s_frames, s_codes = _line_frames(sensors, node_systems, "sensor")
+    e_points, e_frames, e_codes = _line_frames(exciters, node_systems, "exciter")
+    s_index, s_first = _number_nodes(s_points, s_frames, s_codes, "sensor")
+    e_index, e_first = _number_nodes(e_points, e_frames, e_codes, "exciter")
+    first_exciter = 100 * (len(s_first) // 100 + 1) + 1
+    ids = np.concatenate([np.arange(1, len(s_first) + 1), np.arange(first_exciter, first_exciter + len(e_first))])
+    frames = np.concatenate([s_frames[s_first], e_frames[e_first]])
+    in_global = np.all(frames == np.eye(3), axis=(1, 2))
+    return UffLayout(
+        node_ids=ids,
+        node_points=np.concatenate([s_points[s_first], e_points[e_first]]),
+        node_frames=frames,
+        node_systems=np.where(in_global, 0, ids),
+        sensor_nodes=s_index + 1,
+        sensor_codes=s_codes,
+        exciter_nodes=e_index + first_exciter,
+        exciter_codes=e_codes,
+    )

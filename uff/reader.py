@@ -1,0 +1,397 @@
+"""Read the FRFs of a test from a Universal File (UFF/UNV) as modal test software exports it.
+
+`read_uff` places what the file holds (DESIGN.md, "Recordings") in one global frame and in SI:
+
+- dataset 164's factors are file units per SI unit: coordinates are divided by the length factor (a file in mm
+  has 1000); FRFs are scaled and turned into accelerance as `frf_kind` decides;
+- coordinate systems of dataset 18 (origin, a point on +x, a point in the +xz plane, in a reference system) and
+  2420 (rows 1-3: the local x, y, z axes in the global frame; row 4: the origin) place the nodes of 15/2411:
+  coordinates in their definition system, direction codes in their displacement system;
+- FRFs (58, function type 4) get the coherence (function type 6) of the same channels.
+
+A direction code c (±1..±3) at a node is the global unit vector sign(c)·R[:, |c|−1] of the node's displacement
+frame R (columns: its local axes in the global frame); a node's local +Z may be a global −Z.
+`to_recording` puts the FRFs on one sensor × exciter grid.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from massline.placement.errors import MasslineError
+from massline.placement.lines import Lines
+from massline.uff.datasets import Function, channel_name, function_name, parse, split
+from massline.uff.frf_kind import decide, to_accelerance
+from massline.uff.recording import Recording
+
+FRF_TYPE, COHERENCE_TYPE = 4, 6
+
+
+@dataclass(frozen=True, eq=False)
+class Frf:
+    """One FRF record, as accelerance in SI.
+
+    Attributes
+    ----------
+    number, line : int
+        Its place among the file's FRFs (from 1) and the line where its record starts.
+    response, reference : tuple of int
+        (node, direction code) of the response (sensor) and the reference (exciter).
+    frequencies : (n,) array
+        Hz.
+    accelerance : (n,) complex array
+        (m/s²)/N.
+    kind, rule : str
+        What the record stored ("accelerance", "mobility", "receptance") and the rule that decided it
+        ("type field", "unit label", "physics"; see `frf_kind`).
+    coherence : (n,) array or None
+        Its ordinary coherence, when the file holds one for the same channels and frequencies.
+    """
+
+    number: int
+    line: int
+    response: tuple[int, int]
+    reference: tuple[int, int]
+    frequencies: np.ndarray
+    accelerance: np.ndarray
+    kind: str
+    rule: str
+    coherence: np.ndarray | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class UffContents:
+    """What a Universal File holds for this project.
+
+    Attributes
+    ----------
+    path : Path
+    datasets : tuple of int
+        Dataset numbers in file order (58 for 58b too).
+    functions : tuple of str
+        The function type of each 58 record, in file order ("FRF", "coherence", "time response", ...).
+    node_ids : (n,) int array
+    node_points : (n, 3) array
+        Node coordinates, m, global frame.
+    node_frames : (n, 3, 3) array
+        Each node's displacement frame: columns are its local x, y, z axes in the global frame.
+    node_systems : (n,) int array
+        Each node's displacement coordinate system (0: global).
+    systems : dict of int to (4, 3) array
+        Coordinate systems of datasets 18 and 2420 in the global frame: rows 1-3 the local axes, row 4 the
+        origin (m).
+    frfs : tuple of Frf
+    description : str
+        Dataset 151's model name and description.
+    warnings : list of str
+        Anything odd that was tolerated.
+    """
+
+    path: Path
+    datasets: tuple[int, ...]
+    functions: tuple[str, ...]
+    node_ids: np.ndarray
+    node_points: np.ndarray
+    node_frames: np.ndarray
+    node_systems: np.ndarray
+    systems: dict[int, np.ndarray]
+    frfs: tuple[Frf, ...]
+    description: str
+    warnings: list[str]
+
+
+def _resolve(definitions: dict, name: str) -> dict:
+    """{label: (type, origin, axes)} in the global frame (file units), each system placed in its reference."""
+    placed = {0: (0, np.zeros(3), np.eye(3))}
+
+    def place(label: int, chain: tuple[int, ...]):
+        if label in placed:
+            return placed[label]
+        if label in chain or label not in definitions:
+            problem = "is its own reference" if label in chain else "is not defined"
+            raise MasslineError(
+                f"file {name}: coordinate system {chain[-1]} is defined in system {label}, which {problem}: "
+                "export every coordinate system (dataset 18 or 2420) with the geometry"
+            )
+        kind, reference, origin, axes = definitions[label]
+        reference_kind, o, r = place(reference, (*chain, label))
+        if reference_kind:
+            raise MasslineError(
+                f"file {name}: coordinate system {label} is defined in system {reference}, which is not Cartesian: "
+                "export the coordinate systems in Cartesian form"
+            )
+        placed[label] = (kind, o + r @ origin, r @ axes)
+        return placed[label]
+
+    for label in definitions:
+        place(label, ())
+    return placed
+
+
+def _node_system(systems: dict, label: int, name: str, assumed: set) -> tuple[np.ndarray, np.ndarray]:
+    """Origin and axes of a node's system; an undefined system 1 is the global frame (I-DEAS numbers it 1)."""
+    if label not in systems:
+        if label != 1:
+            raise MasslineError(
+                f"file {name}: nodes use coordinate system {label}, which no dataset 18 or 2420 defines: "
+                "export the coordinate systems with the nodes"
+            )
+        assumed.add(label)
+        return np.zeros(3), np.eye(3)
+    kind, origin, axes = systems[label]
+    if kind != 0:
+        raise MasslineError(
+            f"file {name}: nodes use coordinate system {label}, which is not Cartesian (type {kind}): "
+            "export the geometry in Cartesian coordinate systems"
+        )
+    return origin, axes
+
+
+def _place_nodes(rows: np.ndarray, systems: dict, length: float, name: str):
+    """Node labels, global points (m), displacement frames and displacement systems; and what was odd."""
+    unique = {int(row[0]): row for row in rows}
+    notes = (
+        [f"{len(rows) - len(unique)} node(s) defined twice: the last definition is used"]
+        if len(unique) < len(rows)
+        else []
+    )
+    assumed, points, frames = set(), np.zeros((len(unique), 3)), np.zeros((len(unique), 3, 3))
+    for k, (_, definition, displacement, _, *xyz) in enumerate(unique.values()):
+        origin, axes = _node_system(systems, int(definition), name, assumed)
+        points[k] = (origin + axes @ np.array(xyz)) / length
+        frames[k] = _node_system(systems, int(displacement), name, assumed)[1]
+    if assumed:
+        notes.append("nodes use coordinate system 1, which the file does not define: taken as the global frame")
+    systems_of = np.array([int(row[2]) for row in unique.values()], dtype=int)
+    return np.array(list(unique), dtype=int), points, frames, systems_of, notes
+
+
+def _same_axis(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape == b.shape and np.allclose(a, b, rtol=1e-6, atol=1e-9 * max(1.0, np.abs(a).max(initial=0.0)))
+
+
+def _frfs(functions: list[Function], length: float, force: float, notes: list[str]) -> tuple[Frf, ...]:
+    """The FRF records as accelerance in SI, each with its coherence; exact repeats dropped."""
+    coherences = {(f.response, f.reference): f for f in functions if f.type == COHERENCE_TYPE}
+    frfs, seen = [], {}
+    for number, f in enumerate((f for f in functions if f.type == FRF_TYPE), 1):
+        label = f"FRF {number} (line {f.line}, {channel_name(*f.response)} / {channel_name(*f.reference)})"
+        decision = decide(f.ordinate, f.frequencies, f.values, length, force, label)
+        notes += decision.warnings
+        if not np.iscomplexobj(f.values):
+            notes.append(f"{label}: real values, read with a zero imaginary part")
+        coherence = coherences.pop((f.response, f.reference), None)
+        if coherence is not None and not _same_axis(coherence.frequencies, f.frequencies):
+            notes.append(f"{label}: its coherence is on other frequencies: ignored")
+            coherence = None
+        accelerance = to_accelerance(decision.kind, f.frequencies, f.values * decision.scale)
+        weights = None if coherence is None else coherence.values.real
+        frf = Frf(
+            number, f.line, f.response, f.reference, f.frequencies, accelerance, decision.kind, decision.rule, weights
+        )
+        twin = seen.setdefault((f.response, f.reference), frf)
+        if (
+            twin is not frf
+            and np.array_equal(twin.frequencies, frf.frequencies)
+            and np.array_equal(twin.accelerance, frf.accelerance)
+        ):
+            notes.append(f"{label} repeats FRF {twin.number} exactly: ignored")
+            continue
+        frfs.append(frf)
+    notes += [
+        f"coherence at line {c.line} ({channel_name(*c.response)}) has no FRF: ignored" for c in coherences.values()
+    ]
+    weighted = sum(frf.coherence is not None for frf in frfs)
+    if 0 < weighted < len(frfs):
+        notes.append(f"only {weighted} of {len(frfs)} FRFs have a coherence: none is used")
+    return tuple(frfs)
+
+
+def _read_bytes(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise MasslineError(f"file {path} does not exist: check the path") from None
+    except IsADirectoryError:
+        raise MasslineError(f"{path} is a folder: give the UFF file inside it") from None
+    except OSError as error:
+        raise MasslineError(f"file {path} cannot be read ({error.strerror}): check its permissions") from None
+
+
+def read_uff(path) -> UffContents:
+    """Nodes, coordinate systems and FRFs (as accelerance in SI) of a Universal File.
+
+    Parameters
+    ----------
+    path : str or Path
+        A UFF/UNV file as test software exports it (ascii or with binary 58b records).
+
+    Raises
+    ------
+    MasslineError (a ValueError)
+        A missing, truncated or unreadable file, a coordinate system or node that cannot be placed.
+    """
+    path = Path(path)
+    name = str(path)
+    blocks = split(_read_bytes(path), name)
+    if not blocks:
+        raise MasslineError(
+            f"file {name} holds no Universal File datasets (no '    -1' delimiter lines): give a UFF or UNV export"
+        )
+    parsed = [(block.number, parse(block, name)) for block in blocks]
+    notes = [f"the file holds a single dataset ({blocks[0].number})"] if len(blocks) == 1 else []
+    length, force = next((p for n, p in parsed if n == 164), (1.0, 1.0))
+    definitions = {label: s for n, p in parsed if n in (18, 2420) for label, s in p.items()}
+    systems = _resolve(definitions, name)
+    rows = [p for n, p in parsed if n in (15, 2411)]
+    ids, points, frames, node_systems, node_notes = _place_nodes(
+        np.vstack(rows) if rows else np.zeros((0, 7)), systems, length, name
+    )
+    functions = [p[0] for n, p in parsed if n == 58]
+    notes += node_notes + [note for n, p in parsed if n == 58 for note in p[1]]
+    return UffContents(
+        path=path,
+        datasets=tuple(n for n, _ in parsed),
+        functions=tuple(function_name(f.type) for f in functions),
+        node_ids=ids,
+        node_points=points,
+        node_frames=frames,
+        node_systems=node_systems,
+        systems={label: np.vstack([axes.T, origin / length]) for label, (_, origin, axes) in systems.items() if label},
+        frfs=_frfs(functions, length, force, notes),
+        description=next((p for n, p in parsed if n == 151), ""),
+        warnings=notes,
+    )
+
+
+def _no_frfs(contents: UffContents) -> MasslineError:
+    found = ", ".join(str(n) for n in dict.fromkeys(contents.datasets))
+    if contents.functions:
+        counts = ", ".join(f"{kind} ×{contents.functions.count(kind)}" for kind in dict.fromkeys(contents.functions))
+        return MasslineError(
+            f"file {contents.path} holds no FRFs (datasets found: {found}; functions: {counts}): export the "
+            "frequency response functions (dataset 58, function type 4)"
+        )
+    what = "it is a geometry file" if len(contents.node_ids) or contents.systems else "it holds no measurement"
+    return MasslineError(
+        f"file {contents.path} holds no FRFs (datasets found: {found}): {what}; give the measurement export"
+    )
+
+
+def _check_channels(frf: Frf, contents: UffContents) -> None:
+    """Every channel a translation (code ±1..±3) at a node with coordinates; finite values."""
+    where = f"file {contents.path}: FRF {frf.number} (line {frf.line})"
+    for role, (node, code) in (("response", frf.response), ("reference", frf.reference)):
+        if code == 0:
+            raise MasslineError(
+                f"{where} has {role} direction code 0 (a scalar or unknown direction): the method needs "
+                "translations along ±X, ±Y or ±Z of a node; give every channel its node and direction and export again"
+            )
+        if abs(code) > 3:
+            raise MasslineError(
+                f"{where} has {role} {channel_name(node, code)}, not a translation: the method needs translational "
+                "responses and forces; leave rotational channels out of the export"
+            )
+        if node not in contents.node_ids:
+            raise MasslineError(
+                f"{where} names {role} node {node}, which has no coordinates in dataset 15/2411: "
+                "export the geometry with the FRFs"
+            )
+    bad = int(np.sum(~np.isfinite(frf.accelerance)))
+    if not len(frf.accelerance):
+        raise MasslineError(f"{where} holds no values: export it again or leave it out")
+    if bad:
+        raise MasslineError(
+            f"{where} has NaN or infinite values at {bad} of {len(frf.accelerance)} frequencies: "
+            "export it again or leave it out"
+        )
+
+
+def _lines(contents: UffContents, channels: list[tuple[int, int]], triaxials: bool) -> Lines:
+    """Lines of (node, code) channels; a node's three channels along its three axes form a triaxial group."""
+    index = {int(n): k for k, n in enumerate(contents.node_ids)}
+    points = contents.node_points[[index[node] for node, _ in channels]]
+    axes = [np.sign(code) * contents.node_frames[index[node]][:, abs(code) - 1] for node, code in channels]
+    group = np.full(len(channels), -1)
+    for node in dict.fromkeys(node for node, _ in channels) if triaxials else ():
+        members = [i for i, (n, _) in enumerate(channels) if n == node]
+        if sorted(abs(channels[i][1]) for i in members) == [1, 2, 3]:
+            group[members] = group.max() + 1
+    return Lines(points, np.array(axes), group)
+
+
+def _table(contents: UffContents, sensors: list, exciters: list) -> dict:
+    """{(response, reference): Frf}, every pair once."""
+    table = {}
+    for frf in contents.frfs:
+        twin = table.setdefault((frf.response, frf.reference), frf)
+        if twin is not frf:
+            raise MasslineError(
+                f"file {contents.path}: FRFs {twin.number} and {frf.number} both give response "
+                f"{channel_name(*frf.response)} against reference {channel_name(*frf.reference)}, with different "
+                "data: keep one measurement per pair"
+            )
+    missing = [(s, e) for s in sensors for e in exciters if (s, e) not in table]
+    if missing:
+        (s, e), n = missing[0], len(sensors) * len(exciters)
+        raise MasslineError(
+            f"file {contents.path}: no FRF between response {channel_name(*s)} and reference {channel_name(*e)} "
+            f"({len(missing)} of {n} response-reference pairs missing): measure every response against every "
+            "reference and export them all"
+        )
+    return table
+
+
+def to_recording(contents: UffContents) -> Recording:
+    """The FRFs of a file on one grid: unique responses in file order × unique references in file order.
+
+    Sensor lines are the response channels (point: the node, m; direction: the code's axis of the node's
+    displacement frame, global); a node's channels along its three axes form a triaxial accelerometer.
+    Exciter lines are the reference channels.
+
+    Raises
+    ------
+    MasslineError (a ValueError)
+        No FRFs; a scalar or rotational channel; a node without coordinates; NaN or infinite values; fewer
+        than 3 exciters; FRFs on different frequency axes; a pair measured twice with different data, or missing.
+    """
+    frfs = contents.frfs
+    if not frfs:
+        raise _no_frfs(contents)
+    for frf in frfs:
+        _check_channels(frf, contents)
+    sensors = list(dict.fromkeys(frf.response for frf in frfs))
+    exciters = list(dict.fromkeys(frf.reference for frf in frfs))
+    if len(exciters) < 3:
+        raise MasslineError(
+            f"file {contents.path}: the FRFs have {len(exciters)} reference (exciter) channel(s) "
+            f"({', '.join(channel_name(*e) for e in exciters)}): the method needs at least 3 excitations, in "
+            "non-parallel directions for a 3-D body (out-of-plane at 3 points not in a row for a plate); "
+            "measure more references"
+        )
+    first = frfs[0]
+    for frf in frfs:
+        if not _same_axis(frf.frequencies, first.frequencies):
+            raise MasslineError(
+                f"file {contents.path}: FRF {frf.number} has {_describe(frf.frequencies)}, FRF {first.number} "
+                f"{_describe(first.frequencies)}: export all FRFs on one frequency axis"
+            )
+    table = _table(contents, sensors, exciters)
+    grid = [[table[s, e] for e in exciters] for s in sensors]
+    weighted = all(frf.coherence is not None for frf in frfs)
+    return Recording(
+        frequencies=first.frequencies,
+        frf=np.array([[frf.accelerance for frf in row] for row in grid]),
+        sensors=_lines(contents, sensors, True),
+        exciters=_lines(contents, exciters, False),
+        coherence=np.array([[frf.coherence for frf in row] for row in grid]) if weighted else None,
+        description=contents.description,
+        sensor_labels=tuple(sensors),
+        exciter_labels=tuple(exciters),
+    )
+
+
+def _describe(frequencies: np.ndarray) -> str:
+    return f"{len(frequencies)} frequencies {frequencies[0]:g}-{frequencies[-1]:g} Hz"

@@ -1,0 +1,324 @@
+"""Write a virtual test's FRFs as a Universal File, the way modal test software exports them.
+
+The file holds, in this order (DESIGN.md, "Recordings"):
+
+- 151 header (the recording's description) and 164 units;
+- 18 (with nodes in 15) or 2420 (with nodes in 2411): one Cartesian displacement coordinate system per node
+  whose lines are not all along ± global axes, numbered like its node (0 is the global system);
+- 15 or 2411 nodes;
+- one 58 (ascii) or 58b (binary) record per sensor-exciter pair: function type 4, complex accelerance, response
+  node and direction code, reference (exciter) node and direction code; then, when the recording has coherence,
+  one record of function type 6 (coherence, UFF's code for it) per pair.
+
+Nodes and direction codes: :mod:`.uff_layout`.
+
+pyuff 2.5 writes 151, 164, 15, 18, 2411 and 2420 as the format says, so those go through `pyuff.UFF.write_sets`.
+Dataset 58 is formatted here: pyuff's 58b header states 8 bytes per point for complex data (16 are written), it
+stores an uneven abscissa of 58b in double precision where the format and real exporters use single, and it
+rereads the whole file after every record.
+
+Precision: 15 and 18 are E13.5 (6 significant digits: node coordinates and frames to ~5e-6), 2411 and 2420 are
+D25.16 (exact), ascii 58 values are E20.12 (13 digits), 58b values are IEEE doubles (exact); the abscissa minimum
+and increment are E13.5 in both.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyuff
+from massline.placement.errors import MasslineError
+from massline.uff.layout import UffLayout, code_name, uff_layout
+from massline.uff.recording import Recording
+
+COLOR = 8
+FRF, COHERENCE = 4, 6  # UFF 58 function types
+
+
+@dataclass(frozen=True)
+class UnitSystem:
+    """A UFF 164 unit system: file units per SI unit, and the labels written in dataset 58."""
+
+    code: int
+    description: str
+    length: float
+    force: float
+    length_label: str
+    force_label: str
+
+
+UNITS = {
+    "SI": UnitSystem(1, "SI: Meter (newton)", 1.0, 1.0, "m", "N"),
+    "MM": UnitSystem(5, "MM: mm (milli N)", 1e3, 1e3, "mm", "mN"),
+}
+
+
+def _text(text: str) -> str:
+    """One ascii line of at most 80 characters ('NONE' when empty), as UFF id lines need."""
+    line = " ".join(text.split()).encode("ascii", "replace").decode()[:80]
+    return line or "NONE"
+
+
+def _stamp() -> str:
+    """Date and time as UFF writes them: 'DD-Mon-YY HH:MM:SS'."""
+    return time.strftime("%d-%b-%y %H:%M:%S")
+
+
+def _header_151(description: str, stamp: str) -> dict:
+    date, clock = stamp.split()
+    dataset = pyuff.prepare_151(
+        model_name="massline virtual test",
+        description=_text(description),
+        db_app="massline",
+        date_db_created=date,
+        time_db_created=clock,
+        date_db_saved=date,
+        time_db_saved=clock,
+        program="massline",
+    )
+    return dataset | {"date_file_written": date, "time_file_written": clock}
+
+
+def _units_164(units: UnitSystem) -> dict:
+    return pyuff.prepare_164(
+        units_code=units.code,
+        units_description=units.description,
+        temp_mode=2,
+        length=units.length,
+        force=units.force,
+        temp=1.0,
+        temp_offset=273.15,
+    )
+
+
+def _systems(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> list[dict]:
+    """Dataset 18 (origin, point on +x, point on the +xz plane, 1 m apart) or 2420 (rows: local axes, origin)."""
+    local = layout.node_systems > 0
+    if not local.any():
+        return []
+    labels, frames = layout.node_systems[local], layout.node_frames[local]
+    origins = layout.node_points[local] * units.length
+    names = [f"NODE {n}" for n in labels]
+    if nodes_dataset == 2411:
+        return [
+            pyuff.prepare_2420(
+                Part_UID=1,
+                Part_Name="massline virtual test",
+                CS_sys_labels=[int(n) for n in labels],
+                CS_types=[0] * len(labels),
+                CS_colors=[COLOR] * len(labels),
+                CS_names=names,
+                CS_matrices=[np.vstack([r.T, o]) for r, o in zip(frames, origins)],
+            )
+        ]
+    x_points = origins + frames[:, :, 0] * units.length
+    return [
+        pyuff.prepare_18(
+            cs_num=labels,
+            cs_type=np.zeros(len(labels), dtype=int),
+            ref_cs_num=np.zeros(len(labels), dtype=int),
+            color=np.full(len(labels), COLOR),
+            method=np.ones(len(labels), dtype=int),
+            cs_name=names,
+            ref_o=origins,
+            x_point=x_points,
+            xz_point=x_points + frames[:, :, 2] * units.length,
+        )
+    ]
+
+
+def _nodes(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> dict:
+    """Dataset 15 or 2411: node coordinates in the global system (0), displacement in each node's system."""
+    x, y, z = (layout.node_points * units.length).T
+    prepare = pyuff.prepare_2411 if nodes_dataset == 2411 else pyuff.prepare_15
+    n = len(layout.node_ids)
+    return prepare(
+        node_nums=layout.node_ids,
+        def_cs=np.zeros(n, dtype=int),
+        disp_cs=layout.node_systems,
+        color=np.full(n, COLOR),
+        x=x,
+        y=y,
+        z=z,
+    )
+
+
+def _even_step(frequencies: np.ndarray) -> float | None:
+    """Increment (Hz) of an evenly spaced axis, None for an uneven one (or a single line)."""
+    steps = np.diff(frequencies)
+    if len(steps) == 0 or not np.allclose(steps, steps[0], rtol=1e-9, atol=0.0):
+        return None
+    return float((frequencies[-1] - frequencies[0]) / len(steps))
+
+
+def _characteristics(kind: int, exponents: tuple[int, int, int], label: str, unit: str) -> str:
+    """Records 8-11: specific data type, length/force/temperature exponents, axis label and unit label."""
+    return f"{kind:10d}{exponents[0]:5d}{exponents[1]:5d}{exponents[2]:5d} {label:<20.20s} {unit:<20.20s}\n"
+
+
+def _ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
+    """Record 12 in ascii: 4E20.12 (even), E13.5,2E20.12 (uneven complex), 2(E13.5,E20.12) (uneven real)."""
+    columns = parts if even else [x, *parts]
+    formats = ["%20.12E"] * len(parts) if even else ["%13.5E"] + ["%20.12E"] * len(parts)
+    fields = [form % value for row in zip(*columns) for form, value in zip(formats, row)]
+    per_line = 3 if len(columns) == 3 else 4
+    return "".join("".join(fields[i : i + per_line]) + "\n" for i in range(0, len(fields), per_line)).encode()
+
+
+def _binary_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
+    """Record 12 in binary, little-endian: ordinates as doubles, an uneven abscissa as singles before each point."""
+    fields = ([] if even else [("x", "<f4")]) + [(f"y{i}", "<f8") for i in range(len(parts))]
+    packed = np.empty(len(parts[0]), dtype=fields)
+    for (name, _), column in zip(fields, ([] if even else [x]) + parts):
+        packed[name] = column
+    return packed.tobytes()
+
+
+def _dataset_58(
+    number: int,
+    kind: int,
+    ids: list[str],
+    response: tuple[int, int],
+    reference: tuple[int, int],
+    frequencies: np.ndarray,
+    values: np.ndarray,
+    ordinate: tuple[str, str],
+    binary: bool,
+) -> bytes:
+    """One function at nodal DOF, with the record layout of Addendum B (complex or real, double precision).
+
+    ``ordinate`` holds records 9 and 10 (numerator and denominator characteristics).
+    """
+    step = _even_step(frequencies)
+    even = step is not None
+    minimum, increment = (frequencies[0], step) if even else (0.0, 0.0)
+    parts = [values.real, values.imag] if np.iscomplexobj(values) else [values]
+    body = (_binary_values if binary else _ascii_values)(frequencies, parts, even)
+    opening = f"{58:6d}b{1:6d}{2:6d}{11:12d}{len(body):12d}{0:6d}{0:6d}{0:12d}{0:12d}\n" if binary else f"{58:6d}\n"
+    header = "".join(
+        [
+            f"{-1:6d}\n",
+            opening,
+            *(f"{_text(line):<80s}\n" for line in ids),
+            f"{kind:5d}{number:10d}{1:5d}{0:10d} {'NONE':<10s}{response[0]:10d}{response[1]:4d}"
+            f" {'NONE':<10s}{reference[0]:10d}{reference[1]:4d}\n",
+            f"{6 if len(parts) == 2 else 4:10d}{len(frequencies):10d}{int(even):10d}"
+            f"{minimum:13.5E}{increment:13.5E}{0.0:13.5E}\n",
+            _characteristics(18, (0, 0, 0), "Frequency", "Hz"),
+            *ordinate,
+            _characteristics(0, (0, 0, 0), "NONE", "NONE"),
+        ]
+    )
+    return header.encode("ascii") + body + f"{-1:6d}\n".encode()
+
+
+def _functions(recording: Recording, layout: UffLayout, units: UnitSystem, binary: bool, stamp: str):
+    """The 58 records: every FRF (accelerance, in file units), then every coherence."""
+    accelerance = (
+        _characteristics(12, (1, 0, 0), "Acceleration", f"{units.length_label}/s^2"),
+        _characteristics(13, (0, 1, 0), "Force", units.force_label),
+    )
+    dimensionless = (
+        _characteristics(1, (0, 0, 0), "Coherence", "NONE"),
+        _characteristics(0, (0, 0, 0), "NONE", "NONE"),
+    )
+    functions = [("Frequency Response Function", FRF, recording.frf * units.length / units.force, accelerance)]
+    if recording.coherence is not None:
+        functions.append(("Coherence", COHERENCE, np.asarray(recording.coherence, dtype=float), dimensionless))
+    pairs = [(i, j) for i in range(len(recording.sensors)) for j in range(len(recording.exciters))]
+    for k, (title, kind, data, ordinate) in enumerate(functions):
+        for n, (i, j) in enumerate(pairs):
+            response = (int(layout.sensor_nodes[i]), int(layout.sensor_codes[i]))
+            reference = (int(layout.exciter_nodes[j]), int(layout.exciter_codes[j]))
+            channel = f"S{i + 1} {code_name(response[1])} / E{j + 1} {code_name(reference[1])}"
+            ids = [title, "massline virtual test", stamp, channel, "NONE"]
+            number = k * len(pairs) + n + 1
+            yield _dataset_58(
+                number, kind, ids, response, reference, recording.frequencies, data[i, j], ordinate, binary
+            )
+
+
+def _write_atomically(path: Path, datasets: list[dict], records) -> None:
+    """Write to a temporary file beside ``path``, then rename it over ``path``; remove it on any failure."""
+    temporary = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+    open(temporary, "x").close()
+    try:
+        pyuff.UFF(str(temporary)).write_sets(datasets, mode="add")
+        with open(temporary, "ab") as handle:
+            for record in records:
+                handle.write(record)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+
+
+def write_uff(
+    path,
+    recording: Recording,
+    *,
+    binary: bool = False,
+    nodes_dataset: int = 15,
+    node_systems: bool = True,
+    units: str = "SI",
+    force: bool = False,
+) -> UffLayout:
+    """Write a recording as a Universal File: 151, 164, 18/2420, 15/2411, then 58 or 58b records.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write; written whole or not at all.
+    recording : Recording
+        Accelerance FRFs ((m/s²)/N) between sensor and exciter lines (m, test frame), frequencies in Hz.
+    binary : bool
+        58b records (IEEE little-endian doubles) instead of ascii 58 (E20.12).
+    nodes_dataset : {15, 2411}
+        Nodes in dataset 15 with coordinate systems in 18, or in 2411 with coordinate systems in 2420.
+    node_systems : bool
+        Give each node with lines off the global axes its own displacement coordinate system; if False,
+        every line must be along a ± global axis.
+    units : {"SI", "MM"}
+        Dataset 164 unit system: m and N, or mm and mN (coordinates in mm; accelerance (mm/s²)/mN, the
+        same numbers as (m/s²)/N).
+    force : bool
+        Overwrite an existing file.
+
+    Returns
+    -------
+    UffLayout
+        The nodes and direction codes written.
+
+    Raises
+    ------
+    FileExistsError
+        ``path`` exists and ``force`` is False.
+    MasslineError (a ValueError)
+        A layout or option the file cannot represent (see `uff_layout`).
+    """
+    path = Path(path)
+    if path.exists() and not force:
+        raise FileExistsError(f"{path} already exists: pass force=True to overwrite it")
+    if nodes_dataset not in (15, 2411):
+        raise MasslineError(f"nodes_dataset must be 15 or 2411, got {nodes_dataset!r}")
+    if units not in UNITS:
+        raise MasslineError(f"units must be one of {', '.join(UNITS)}, got {units!r}")
+    if np.any(np.diff(recording.frequencies) <= 0):
+        raise MasslineError("the frequencies of a recording must increase")
+    layout = uff_layout(recording.sensors, recording.exciters, node_systems)
+    system, stamp = UNITS[units], _stamp()
+    datasets = [
+        _header_151(recording.description, stamp),
+        _units_164(system),
+        *_systems(layout, nodes_dataset, system),
+        _nodes(layout, nodes_dataset, system),
+    ]
+    _write_atomically(path, datasets, _functions(recording, layout, system, binary, stamp))
+    return layout

@@ -1,0 +1,148 @@
+"""One virtual test: the planned layout, as instrumented, on the suspended elastic body, recorded.
+
+``run`` ties the pieces together and returns the ``Recording`` a test system
+would store together with the truth: everything that was simulated, including
+what the recording conceals (effects, suspension, elastic modes, the body that
+was actually on the suspension with its sensor masses).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from massline.placement.lines import Lines
+from massline.placement.rigid_body import RigidBody
+from massline.uff.recording import Recording
+from massline.virtual.band import predict_band
+from massline.virtual.effects import Effect, instrument
+from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import Suspension
+
+
+@dataclass(frozen=True)
+class Acquisition:
+    """How the test is run and recorded.
+
+    Attributes
+    ----------
+    fmax : float or None
+        Analysis bandwidth, Hz; None: 1.5 × the first elastic mode (or 40 × the top suspension
+        mode for a rigid model), so the recording shows zones A, B and the start of C.
+    lines : int
+        Spectral lines (Δf = fmax / lines).
+    noise : Noise
+        FRF noise of the direct route (ignored by the impact route, which has its own).
+    impact : ImpactTest or None
+        Simulate hammer hits and H1 averaging instead of adding noise to exact FRFs.
+    sensor_mass : float
+        Mass of every accelerometer (kg), added at its point (a triaxial counts once).
+    modal_loss : float
+        Loss factor of the elastic modes.
+    """
+
+    fmax: float | None = None
+    lines: int = 2000
+    noise: Noise = field(default_factory=Noise)
+    impact: ImpactTest | None = None
+    sensor_mass: float = 0.0
+    modal_loss: float = 0.002
+
+
+def accelerometer_masses(sensors: Lines, mass: float) -> tuple[np.ndarray, np.ndarray]:
+    """One mass per physical accelerometer (a triaxial counts once): masses (k,), points (k, 3)."""
+    if mass <= 0:
+        return np.zeros(0), np.zeros((0, 3))
+    first = [i for i, g in enumerate(sensors.triaxial) if g < 0 or i == np.flatnonzero(sensors.triaxial == g)[0]]
+    return np.full(len(first), mass), sensors.points[first]
+
+
+def auto_fmax(model: SuspendedBody) -> float:
+    if model.n_elastic:
+        return 1.5 * model.first_elastic_frequency
+    return 40.0 * max(model.suspension_frequencies.max(), 1.0)
+
+
+def run(
+    body: RigidBody,
+    sensors: Lines,
+    exciters: Lines,
+    modes=None,
+    suspension: Suspension | None = None,
+    effects: tuple[Effect, ...] = (),
+    setup: Acquisition | None = None,
+    seed: int = 0,
+) -> tuple[Recording, dict]:
+    """Simulate the test; return the recording and the truth (a JSON-ready dict)."""
+    setup = setup or Acquisition()
+    suspension = suspension or Suspension()
+    rng = np.random.default_rng(seed)
+    inst = instrument(sensors, exciters, list(effects), rng)
+    placed = Lines(inst.sensor_points, sensors.directions, sensors.triaxial)
+    masses, points = accelerometer_masses(placed, setup.sensor_mass)
+    model = SuspendedBody(
+        body,
+        modes,
+        suspension,
+        np.concatenate([masses, inst.masses]),
+        np.vstack([points, inst.mass_points]),
+        setup.modal_loss,
+    )
+    fmax = setup.fmax or auto_fmax(model)
+
+    def accelerance(f):
+        H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
+        return H[inst.channel_order]
+
+    coherence = None
+    if setup.impact is None:
+        frequencies = fmax / setup.lines * np.arange(1, setup.lines + 1)
+        frf = noisy_frfs(accelerance(frequencies), setup.noise, body.mass, rng)
+    else:
+        frequencies, frf, coherence = impact_test(
+            accelerance, len(sensors), len(exciters), fmax, setup.lines, setup.impact, rng
+        )
+    recording = Recording(frequencies, frf, sensors, exciters, coherence, "massline virtual test")
+    band = predict_band(model, sensors, exciters)
+    truth = {
+        "seed": seed,
+        "nominal": body.as_dict(),
+        "loaded": model.loaded.as_dict(),
+        "effects": inst.applied,
+        "sensor_mass": setup.sensor_mass,
+        "added_masses": {"mass": model.masses.tolist(), "points": model.mass_points.tolist()},
+        "suspension": suspension_summary(suspension, model),
+        "elastic_hz": [] if modes is None else (np.asarray(modes.omega) / (2 * np.pi)).tolist(),
+        "natural_hz": model.natural_frequencies.tolist(),
+        "band_hz": [band.low, band.high],
+        "noise": None if setup.impact else {"relative": setup.noise.relative, "floor": setup.noise.floor},
+        "impact": None if setup.impact is None else vars(setup.impact),
+        "fmax_hz": fmax,
+        "lines": setup.lines,
+        "instrumented": {
+            "sensor_points": inst.sensor_points.tolist(),
+            "sensor_vectors": inst.sensor_vectors.tolist(),
+            "exciter_points": inst.exciter_points.tolist(),
+            "exciter_vectors": inst.exciter_vectors.tolist(),
+            "channel_order": inst.channel_order.tolist(),
+        },
+    }
+    return recording, truth
+
+
+def suspension_summary(suspension: Suspension, model: SuspendedBody) -> dict:
+    """The support as simulated, for the truth file."""
+    tensions = [] if suspension.is_free else model.suspension.reactions(model.loaded).tolist()
+    return {
+        "cords": [
+            {"attachment": c.attachment.tolist(), "stiffness": c.stiffness, "length": c.length}
+            for c in suspension.cords
+        ],
+        "foam": None
+        if suspension.foam is None
+        else {"points": suspension.foam.points.tolist(), "stiffness": suspension.foam.stiffness},
+        "loss_factor": suspension.loss_factor,
+        "reactions": tensions,
+        "modes_hz": model.suspension_frequencies.tolist(),
+    }
