@@ -6,6 +6,7 @@ import time
 import tracemalloc
 
 import numpy as np
+
 from massline.placement.lines import Lines
 
 

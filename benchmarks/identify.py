@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pyuff
 from common import measured, surface_lines
+
 from massline.identify.band import find_band
 from massline.identify.estimator import estimate
 from massline.identify.massline_fit import fit_band

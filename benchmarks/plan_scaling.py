@@ -21,6 +21,7 @@ import tracemalloc
 
 import numpy as np
 import trimesh
+
 from massline.meshes import BUNDLED
 from massline.placement import Lines
 from massline.placement.mesh import load_body

@@ -16,6 +16,7 @@ import argparse
 import numpy as np
 import scipy.sparse.linalg
 from common import measured, surface_lines
+
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
 from massline.placement.mesh import load_body

@@ -10,12 +10,13 @@ import argparse
 import os
 import sys
 
+from rich.console import Console
+
 from massline import __version__
 from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output, to_json, write_atomic
 from massline.tables import body_table
-from rich.console import Console
 
 from . import demo, diagnose_command, identify_command, plan, report_command, simulate
 

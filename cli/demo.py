@@ -14,16 +14,21 @@ import time
 from pathlib import Path
 
 import numpy as np
-from massline.diagnose_command import diagnose_recording
-from massline.identify.diagnose.diagnosis import property_std
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from massline.identify.diagnose.diagnosis import fit_std
 from massline.identify.diagnose.notes import finding_note
-from massline.identify_command import identify_recording
+from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.mesh import load_body
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
+from massline.placement.properties import SUMMARY
 from massline.report_command import build_report
 from massline.reports.diagnosis_report import diagnose_report
 from massline.reports.identification_report import identify_report
@@ -31,9 +36,6 @@ from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.scenarios import FAULTS, Bench, scenario
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
 
 BODY = "structure"
 BUDGET = Budget(sensors=14, exciters=4)  # 14 channels for 10 parameters: room to tell a faulty channel
@@ -129,22 +131,9 @@ def _errors(body, nominal) -> str:
     return f"mass {mass:+.2f} %, CoG {cog:.2f} mm off, principal moments within {moments:.2f} %"
 
 
-ROWS = [("mass", "kg", 1.0)] + [(f"CoG {a}", "mm", 1e3) for a in "xyz"]
-ROWS += [(f"I{k}", "kg·m²", 1.0) for k in (1, 2, 3)]  # principal moments
-
-
 def _round(value: float) -> float:
     """Rounded to two decimals, without a minus sign on zero."""
     return round(float(value), 2) + 0.0
-
-
-def _values(body) -> np.ndarray:
-    """Mass, CoG and principal moments, SI, in the order of ``ROWS``."""
-    return np.concatenate([[body.mass], body.cog, body.principal_moments])
-
-
-def _sigmas(std: dict) -> np.ndarray:
-    return np.concatenate([[std["mass"]], std["cog"], std["principal_moments"]])
 
 
 def properties_table(nominal, columns: list) -> Table:
@@ -152,24 +141,23 @@ def properties_table(nominal, columns: list) -> Table:
     against them ± its 1-σ (per cent; mm for the CoG)."""
     table = Table(
         title="Against the mesh: identify's and the diagnosis' error ± 1-σ",
-        caption="I1–I3: principal moments; errors in % of the mesh's value, in mm for the CoG",
+        caption="errors in % of the mesh's value, in mm for the CoG",
     )
     table.add_column("quantity")
     table.add_column("mesh", justify="right")
     for name, _, _ in columns:
         table.add_column(name, justify="right")
-    reference = _values(nominal)
-    found = [(None, None) if body is None else (_values(body), _sigmas(std)) for _, body, std in columns]
-    for k, (name, unit, scale) in enumerate(ROWS):
-        cells = [f"{reference[k] * scale:.5g}"]
-        for values, sigmas in found:
-            if values is None:
+    for q in SUMMARY:
+        reference = q.value(nominal)
+        cells = [f"{reference * q.scale:.5g}"]
+        for _, body, std in columns:
+            if body is None:
                 cells.append("no body")
                 continue
-            relative = 1e3 if unit == "mm" else 100 / reference[k]
-            error, sigma = (values[k] - reference[k]) * relative, sigmas[k] * abs(relative)
-            cells.append(f"{_round(error):+.2f} ± {sigma:.2g}" + ("" if unit == "mm" else " %"))
-        table.add_row(f"{name} ({unit})", *cells)
+            relative = 1e3 if q.unit == "mm" else 100 / reference
+            error, sigma = (q.value(body) - reference) * relative, q.sigma(std) * abs(relative)
+            cells.append(f"{_round(error):+.2f} ± {sigma:.2g}" + ("" if q.unit == "mm" else " %"))
+        table.add_row(f"{q.name} ({q.unit})", *cells)
     return table
 
 
@@ -238,7 +226,7 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
     sensors, hits = diagnosis.sensors, diagnosis.hits
     fault, channels, hit = concealed(truth, planned, diagnosis.recording, sensors, hits)
     console.print(f"\n[bold]Concealed fault[/] ({args.fault}, seed {args.seed}; the tool was not told): {fault}.")
-    zones = identified.zones
+    zones = identified.band
     console.print(
         f"[bold]identify[/] (band {zones.low:.1f}–{zones.high:.1f} Hz, found): {_errors(identified.body, nominal)} "
         "against the mesh."
@@ -261,7 +249,7 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
         + (f"; after: {_errors(result.corrected, nominal)}" if result.corrected is not None else "")
     )
     columns = [("identify", identified.body, identified.std)]
-    columns.append(("diagnose, after", result.corrected, property_std(result.estimates[1])))
+    columns.append(("diagnose, after", result.corrected, fit_std(result.estimates[1])))
     console.print(properties_table(nominal, columns))
     console.print("[bold]Reports[/] (open in a browser; they print on A4):")
     for key, what in (

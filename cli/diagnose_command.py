@@ -3,26 +3,21 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
 
 import numpy as np
-from massline.identify.band import Zones, estimation_band, find_band, given_band
-from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, property_std, relative_noise, roomy
-from massline.identify.diagnose.effect_model import Layout
-from massline.identify.diagnose.notes import finding_note, finding_payload
-from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
-from massline.identify.estimator import TRANSVERSE
-from massline.identify.tails import BandData
-from massline.identify_command import is_planar, payload
-from massline.meshargs import add_nominal_arguments, nominal_mesh
-from massline.placement.files import claim_output, to_json, write_atomic, write_atomic_bytes, write_report
-from massline.placement.masslines import Masslines
-from massline.reports.diagnosis_figures import diagnosis_figure
-from massline.uff.datasets import channel_name
-from massline.uff.reader import read_uff, to_recording
-from massline.uff.recording import Recording
 from rich.console import Console
 from rich.table import Table
+
+from massline.identify.diagnose.diagnosis import Diagnosis, fit_std, roomy
+from massline.identify.diagnose.notes import finding_note
+from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.estimator import TRANSVERSE
+from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.output import write_report
+from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.properties import SUMMARY
+from massline.reports.diagnosis_figures import diagnosis_figure
+from massline.uff.reader import read_uff, to_recording
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,38 +33,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
 
 
-def labels(recording) -> tuple[list[str], list[str]]:
-    """'node:±X' names of the channels, or their numbers when the recording carries no labels."""
-    if recording.sensor_labels is None:
-        return [f"sensor {i + 1}" for i in range(len(recording.sensors))], [
-            f"hit {j + 1}" for j in range(len(recording.exciters))
-        ]
-    return [channel_name(*c) for c in recording.sensor_labels], [channel_name(*c) for c in recording.exciter_labels]
-
-
 def properties_table(result: Diagnosis, nominal) -> Table:
     table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ of the fit)")
     table.caption = "estimated over the found band with the suspension and residual-flexibility tails, as identify does"
     for col in ("quantity", "before", "after", "± 1-σ", "nominal (mesh)", "unit"):
         table.add_column(col, justify="right")
-    before, after, std = result.estimates[0].body, result.corrected, property_std(result.estimates[1])
-    rows = [("mass", lambda b: b.mass, lambda s: s["mass"], "kg", 1.0)]
-    rows += [(f"CoG {a}", lambda b, k=k: b.cog[k], lambda s, k=k: s["cog"][k], "mm", 1e3) for k, a in enumerate("xyz")]
-    rows += [
-        (
-            f"principal moment {k + 1}",
-            lambda b, k=k: b.principal_moments[k],
-            lambda s, k=k: s["principal_moments"][k],
-            "kg·m²",
-            1.0,
-        )
-        for k in range(3)
-    ]
-    for name, get, sigma, unit, scale in rows:
-        shown = "" if nominal is None else f"{get(nominal) * scale:.6g}"
-        old = "no body" if before is None else f"{get(before) * scale:.6g}"
-        new = "no body" if after is None else f"{get(after) * scale:.6g}"
-        table.add_row(name, old, new, "" if std is None else f"{sigma(std) * scale:.2g}", shown, unit)
+    before, after, std = result.estimates[0].body, result.corrected, fit_std(result.estimates[1])
+    for q in SUMMARY:
+        shown = "" if nominal is None else f"{q.value(nominal) * q.scale:.6g}"
+        old = "no body" if before is None else f"{q.value(before) * q.scale:.6g}"
+        new = "no body" if after is None else f"{q.value(after) * q.scale:.6g}"
+        table.add_row(q.name, old, new, "" if std is None else f"{q.sigma(std) * q.scale:.2g}", shown, q.unit)
     return table
 
 
@@ -83,71 +57,6 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
         console.print(f"model-free: driving points with a non-positive massline: {screens['negative_driving_points']}")
 
 
-def document(result: Diagnosis, recording, zones, found, planar: bool, screens: dict) -> dict:
-    """DESIGN.md's diagnose JSON (and the per-channel fit and screens)."""
-    before, after = result.estimates[0].body, result.corrected
-    return {
-        "findings": [finding_payload(x, recording) for x in result.findings],
-        "fit": {"before": result.relative_rms("before"), "after": result.relative_rms("after"), "noise": result.noise},
-        "fit_per_channel": {
-            "before": result.relative_rms("before", axis=1).tolist(),
-            "after": result.relative_rms("after", axis=1).tolist(),
-        },
-        "properties": {
-            "before": None
-            if before is None
-            else payload(before, property_std(result.estimates[0]), (found.low, found.high), planar),
-            "after": None
-            if after is None
-            else payload(after, property_std(result.estimates[1]), (found.low, found.high), planar),
-        },
-        "band_hz": [zones.low, zones.high],
-        "screens": screens,
-    }
-
-
-@dataclass(frozen=True, eq=False)
-class DiagnosisRun:
-    """A diagnosis of a recording with what it was run on: the bands, the layout, the channel names, the screens."""
-
-    recording: Recording
-    zones: Zones
-    found: Zones
-    band: BandData
-    layout: Layout
-    planar: bool
-    sensors: list[str]
-    hits: list[str]
-    noise: float
-    screens: dict
-    result: Diagnosis
-
-    def off_rigid(self) -> np.ndarray | None:
-        """How far each recorded channel sits from the rigid motions at every band line (None without redundancy)."""
-        if not roomy(self.layout):
-            return None
-        S = kinematic_matrix(self.layout.sensors, self.layout.planar)
-        return np.linalg.norm(rigid_subspace_residual(self.band.frf, S), axis=1)
-
-
-def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
-    """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band."""
-    f = recording.frequencies
-    zones = given_band(f, *band) if band else find_band(f, recording.frf)
-    found = estimation_band(f, recording.frf, zones)
-    data = BandData.from_recording(f, recording.frf, zones.low, zones.high)
-    wide = BandData.from_recording(f, recording.frf, found.low, found.high)
-    empty = np.zeros((len(recording.sensors), len(recording.exciters)))
-    planar = is_planar(Masslines(empty, recording.sensors, recording.exciters))
-    layout = Layout.of(recording.sensors, recording.exciters, planar)
-    sensors, hits = labels(recording)
-    screens = screen(data, layout)
-    result = diagnose(data, layout, nominal, transverse, wide)
-    return DiagnosisRun(
-        recording, zones, found, data, layout, planar, sensors, hits, relative_noise(data), screens, result
-    )
-
-
 def run(args: argparse.Namespace, console: Console) -> None:
     for path in (args.json, args.plot, args.report):
         if path:
@@ -157,7 +66,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     recording = to_recording(read_uff(args.uff))
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         found = diagnose_recording(recording, args.band, nominal, args.transverse)
-    zones, band, noise, result, sensors = found.zones, found.band, found.noise, found.result, found.sensors
+    zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
     console.print(
         f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
         f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"
@@ -179,13 +88,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     console.print(properties_table(result, nominal))
     if args.plot:
-        write_atomic_bytes(
-            args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force
-        )
+        write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")
     if args.json:
-        doc = document(result, recording, zones, found.found, found.planar, found.screens)
-        write_atomic(args.json, to_json(doc), args.force)
+        write_atomic(args.json, to_json(found.document), args.force)
         console.print(f"wrote {args.json}")
     if args.report:
         from massline.reports.diagnosis_report import diagnose_report

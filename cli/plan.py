@@ -6,7 +6,12 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
 from massline.meshargs import add_mesh_arguments, body_from_arguments
+from massline.output import write_report
 from massline.placement.candidates import CandidateOptions
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output, to_json, write_atomic
@@ -15,10 +20,7 @@ from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
-from massline.report_command import write_report
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
+from massline.report_command import build_report
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 
@@ -154,4 +156,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
     claim_output(target, args.force)
     write_atomic(target, to_json(plan_to_dict(result, str(args.mesh), body.units, body.density)), args.force)
     console.print(f"wrote {target}")
-    write_report(target, report, args.force, console)
+    write_report(console, report, lambda: build_report(target, console), args.force, status=None)

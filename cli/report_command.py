@@ -8,34 +8,30 @@ views off-screen and writes the page atomically.
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from rich.console import Console
+
+from massline.meshargs import plan_material, plan_mesh
+from massline.output import write_report
 from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output, write_atomic
+from massline.placement.files import claim_output
 from massline.placement.mesh import BodyMesh
 from massline.placement.plan_file import read_plan
+from massline.reports.html import Report
 from massline.reports.placement_report import BandRow, report_html
 from massline.reports.plan_scene import scene_of
-from massline.reports.rendering import Rendering, render_views
-from massline.simulate import body_of_plan, describe, elastic_modes, material_of, suspension_of
+from massline.reports.rendering import render_views
+from massline.simulate import elastic_modes
 from massline.virtual.band import TOLERANCE, predict_band
 from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import Suspension
 from massline.virtual.tetmesh import default_size, size_for_dofs
-from rich.console import Console
 
 MODES = 12  # elastic modes kept for the band prediction
 FE_DOFS = 8000  # a coarse FE model: the first elastic frequencies within ~2 % of simulate's default mesh
 SUSPENSIONS = (("recommended", "cord"), ("for comparison", "foam"))  # roles and --suspension specs
-
-
-@dataclass(frozen=True, eq=False)
-class Report:
-    """The page and the pictures in it (their label boxes and arrow tips, for checks)."""
-
-    html: str
-    renderings: list[Rendering]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -46,19 +42,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def predicted_bands(body: BodyMesh, mesh_name: str | None, sensors, exciters, console: Console):
     """The massline band with the recommended cord and on foam, and a note on the FE model behind them."""
-    material = material_of(None, body, mesh_name, console)
+    material = plan_material(None, body, mesh_name, console)
     size = max(default_size(body.mesh), size_for_dofs(body.mesh, FE_DOFS))
     modes = elastic_modes(body, material, size, MODES, console)
     rows = []
     for role, spec in SUSPENSIONS:
         try:
-            suspension = suspension_of(spec, body)
+            suspension = Suspension.parse(spec, body.mesh, body.nominal)
             band = predict_band(SuspendedBody(body.nominal, modes, suspension), sensors, exciters)
         except MasslineError as err:  # e.g. foam under a body with no flat underside
             rows.append(BandRow(f"{role}: {spec} is not possible here ({err})", np.nan, np.nan, np.nan, np.nan))
             continue
         rows.append(
-            BandRow(f"{role}: {describe(suspension)}", band.suspension_top, band.low, band.high, band.first_elastic)
+            BandRow(f"{role}: {suspension.describe()}", band.suspension_top, band.low, band.high, band.first_elastic)
         )
     note = (
         f"FRFs within {100 * TOLERANCE:g} % of the massline. Elastic modes of the free body from a finite-element "
@@ -75,7 +71,7 @@ def build_report(plan_path: str | Path, console: Console) -> Report:
     """Everything the page shows, computed from the plan file and its mesh."""
     plan_path = Path(plan_path)
     sensors, exciters, doc = read_plan(plan_path)
-    body = body_of_plan(doc, plan_path)
+    body = plan_mesh(doc, plan_path)
     nominal = body.nominal
     bands, fe_note = predicted_bands(body, doc.get("mesh"), sensors, exciters, console)
     scene = scene_of(body.mesh, sensors, exciters, nominal.cog)
@@ -90,15 +86,7 @@ def build_report(plan_path: str | Path, console: Console) -> Report:
     return Report(page, renderings)
 
 
-def write_report(plan_path: str | Path, out: str | Path, force: bool, console: Console) -> Path:
-    """Build the report of ``plan_path`` and write it to ``out`` atomically (never over a file without ``force``)."""
-    claim_output(out, force)
-    report = build_report(plan_path, console)
-    write_atomic(out, report.html, force)
-    console.print(f"wrote {out} ({len(report.html) / 1e3:.0f} kB)")
-    return Path(out)
-
-
 def run(args: argparse.Namespace, console: Console) -> None:
     plan_path = Path(args.plan)
-    write_report(plan_path, Path(args.out) if args.out else plan_path.with_name("report.html"), args.force, console)
+    out = claim_output(Path(args.out) if args.out else plan_path.with_name("report.html"), args.force)
+    write_report(console, out, lambda: build_report(plan_path, console), args.force, status=None)

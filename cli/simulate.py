@@ -9,24 +9,25 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import numpy as np
-from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output, to_json, write_atomic
-from massline.placement.mesh import BodyMesh, load_body
-from massline.placement.plan_file import read_plan
-from massline.virtual.band import Band, predict_band, recommend_suspension
-from massline.virtual.effects import EFFECTS, Effect, check_targets
-from massline.virtual.measurement import ImpactTest, Noise
-from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Cord, Foam, Suspension, lowest_points, point_above
-from massline.virtual.virtual_test import Acquisition, accelerometer_masses
-from massline.virtual.virtual_test import run as run_test
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-MATERIALS = {"steel": (210e9, 0.30, 7850.0), "aluminium": (70e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0)}
+from massline.meshargs import plan_material, plan_mesh
+from massline.placement.band import Band
+from massline.placement.errors import MasslineError
+from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.mesh import BodyMesh
+from massline.placement.plan_file import read_plan
+from massline.uff.writer import write_uff
+from massline.virtual.band import predict_band, recommend_suspension
+from massline.virtual.effects import EFFECTS, Effect, check_targets
+from massline.virtual.elastic import MATERIALS, ElasticBody, Material
+from massline.virtual.measurement import ImpactTest, Noise
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import Suspension, point_above
+from massline.virtual.virtual_test import Acquisition, accelerometer_masses
+from massline.virtual.virtual_test import run as run_test
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -66,75 +67,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
 
 
-def body_of_plan(doc: dict, plan_path: Path) -> BodyMesh:
-    """The plan's mesh: a bundled name, a path as given, or a path beside the plan."""
-    name, units, density = doc.get("mesh"), doc.get("units", "m"), doc.get("density")
-    if name in BUNDLED and not Path(name).exists():
-        return load_body(BUNDLED[name].path, "m", density or BUNDLED[name].density)
-    path = Path(name or "")
-    if not path.exists() and (plan_path.parent / path).exists():
-        path = plan_path.parent / path
-    if not path.is_file():
-        raise MasslineError(f"the plan's mesh '{name}' is not found: run from the folder where it was planned")
-    return load_body(path, units, density)
-
-
-def material_of(text: str | None, body: BodyMesh, mesh_name: str, console: Console):
-    """Young's modulus and Poisson's ratio: given, bundled, or of the closest-density metal (said aloud)."""
-    from massline.virtual.elastic import Material
-
-    if text is None and mesh_name in BUNDLED:
-        return Material(BUNDLED[mesh_name].youngs, BUNDLED[mesh_name].poisson, body.density)
-    if text is None:
-        text = min(MATERIALS, key=lambda k: abs(np.log(MATERIALS[k][2] / body.density)))
-        console.print(f"[yellow]no --material given: assuming {text} from the density {body.density:g} kg/m³[/]")
-    if text in MATERIALS:
-        return Material(*MATERIALS[text][:2], body.density)
-    try:
-        youngs, poisson = (float(v) for v in text.split(","))
-    except ValueError:
-        raise MasslineError(f"--material {text}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)") from None
-    return Material(youngs, poisson, body.density)
-
-
-def _options(text: str) -> dict:
-    try:
-        return {k.strip(): v.strip() for k, v in (item.split("=", 1) for item in text.split(",") if item)}
-    except ValueError:
-        raise MasslineError(f"cannot read suspension options '{text}': write key=value,key=value") from None
-
-
-def suspension_of(spec: str, body: BodyMesh) -> Suspension:
-    """Parse ``--suspension``; defaults follow Appendix A (soft, long, tied above the CoG)."""
-    kind, _, rest = spec.partition(":")
-    options = _options(rest)
-    nominal = body.nominal
-    try:
-        loss = float(options.pop("loss", 0.05))
-        if kind == "none":
-            return Suspension()
-        if kind == "cord":
-            at = options.pop("at", None)
-            point = point_above(body.mesh, nominal.cog)[0] if at is None else np.array(at.split(";"), dtype=float)
-            default = recommend_suspension(SuspendedBody(nominal), point).cords[0]
-            k = float(options.pop("k", default.stiffness))
-            length = float(options.pop("L", default.length))
-            suspension = Suspension(cords=(Cord(point, k, length),), loss_factor=loss)
-        elif kind == "foam":
-            k = float(options.pop("k", nominal.mass * (2 * np.pi * 4.0) ** 2))  # bounce at 4 Hz
-            shear = float(options.pop("shear", 0.5))
-            suspension = Suspension(foam=Foam(lowest_points(body.mesh), k, shear), loss_factor=loss)
-        else:
-            raise MasslineError(f"unknown suspension '{kind}': use cord, foam or none")
-    except MasslineError:
-        raise
-    except ValueError:
-        raise MasslineError(f"cannot read --suspension {spec}: numbers are needed (e.g. cord:k=500,L=1)") from None
-    if options:
-        raise MasslineError(f"--suspension {kind}: unknown option(s) {', '.join(options)}")
-    return suspension
-
-
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
     table = Table(title="Predicted massline band (FRFs within 1 % of the massline)")
     for col in ("suspension", "top susp. mode (Hz)", "band (Hz)", "1st elastic (Hz)", "width"):
@@ -144,15 +76,6 @@ def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
         span = f"{band.low:.1f} – {band.high:.1f}" if band.exists else "—"
         table.add_row(name, f"{band.suspension_top:.2f}", span, f"{band.first_elastic:.1f}", width)
     return table
-
-
-def describe(suspension: Suspension) -> str:
-    if suspension.is_free:
-        return "free"
-    if suspension.foam is not None:
-        return f"foam k={suspension.foam.stiffness:.0f} N/m"
-    c = suspension.cords[0]
-    return f"cord k={c.stiffness:.0f} N/m, L={c.length:g} m at ({', '.join(f'{v * 1e3:.0f}' for v in c.attachment)}) mm"
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
@@ -166,30 +89,29 @@ def run(args: argparse.Namespace, console: Console) -> None:
         claim_output(path, args.force)
     effects = tuple(Effect.parse(e) for e in args.effect)
     check_targets(list(effects), len(sensors), len(exciters))
-    body = body_of_plan(doc, plan_path)
-    suspension = suspension_of(args.suspension, body)
-    material = None if args.rigid else material_of(args.material, body, doc.get("mesh"), console)
+    body = plan_mesh(doc, plan_path)
+    suspension = Suspension.parse(args.suspension, body.mesh, body.nominal)
+    material = None if args.rigid else plan_material(args.material, body, doc.get("mesh"), console)
     modes = None
     if material is not None:
         modes = elastic_modes(body, material, args.fe_size, args.modes, console)
     nominal = body.nominal
     added = args.sensor_mass
     planned = SuspendedBody(nominal, modes, suspension, *accelerometer_masses(sensors, added))
-    rows = [("planned: " + describe(suspension), predict_band(planned, sensors, exciters), suspension)]
+    rows = [("planned: " + suspension.describe(), predict_band(planned, sensors, exciters), suspension)]
     if not suspension.is_free:
         advice = recommend_suspension(planned, point_above(body.mesh, nominal.cog)[0])
         advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
         band = predict_band(advised, sensors, exciters)
         if band.wider_than(rows[0][1]):
-            rows.append(("recommended: " + describe(advice), band, advice))
+            rows.append(("recommended: " + advice.describe(), band, advice))
     console.print(band_table(rows))
     if args.plot:
         from massline.reports.figures import driving_point_figure
 
         models = [SuspendedBody(nominal, modes, s, planned.masses, planned.mass_points) for _, _, s in rows]
-        driving_point_figure(
-            args.plot, [(name, model, band) for (name, band, _), model in zip(rows, models)], exciters, args.force
-        )
+        cases = [(name, model, band) for (name, band, _), model in zip(rows, models)]
+        write_atomic(args.plot, driving_point_figure(cases, exciters), args.force)
         console.print(f"wrote {args.plot}")
     if args.check:
         return
@@ -209,8 +131,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
             "dofs": modes.n_dofs,
             "element_size": modes.element_size,
         }
-    from massline.uff.writer import write_uff
-
     write_uff(outputs[0], recording, binary=args.binary, force=args.force)
     write_atomic(outputs[1], to_json(truth), args.force)
     console.print(
@@ -220,25 +140,22 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
 
 
-def elastic_modes(body: BodyMesh, material, size: float | None, n: int, console: Console):
+def elastic_modes(body: BodyMesh, material: Material, size: float | None, n: int, console: Console):
     """FE model of the body and its n lowest elastic modes, with a progress bar over the stages."""
-    from massline.virtual.elastic import ElasticBody
-    from massline.virtual.tetmesh import default_size, tetrahedralise
-
-    size = size or default_size(body.mesh)
-    stages = ("meshing", "assembling stiffness", "assembling mass", "solving for modes")
     with Progress(
         TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
     ) as bar:
-        task = bar.add_task(stages[0], total=len(stages))
-        fe = ElasticBody(*tetrahedralise(body.mesh, size, body.name), material, size)
-        for stage, step in zip(stages[1:], (lambda: fe.stiffness, lambda: fe.mass, lambda: None)):
-            bar.update(task, advance=1, description=stage)
-            step()
-        modes = fe.modes(n)
-        bar.update(task, advance=1)
+        task = bar.add_task("meshing", total=4)
+        stages = iter(range(4))
+
+        def progress(stage: str) -> None:
+            bar.update(task, completed=next(stages), description=stage)
+
+        fe = ElasticBody.from_mesh(body.mesh, material, size, body.name, progress)
+        modes = fe.modes(n, progress)
+        bar.update(task, completed=4)
     console.print(
-        f"FE model: {fe.n_dofs} DOF, quadratic tetrahedra of {size * 1e3:.1f} mm; elastic modes "
+        f"FE model: {fe.n_dofs} DOF, quadratic tetrahedra of {fe.element_size * 1e3:.1f} mm; elastic modes "
         + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
         + " … Hz"
     )

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
-from massline.placement.rigid_body import RigidBody
 from rich.table import Table
+
+from massline.placement.rigid_body import RigidBody
 
 INERTIA_ENTRIES = (("J_xx", 0, 0), ("J_yy", 1, 1), ("J_zz", 2, 2), ("J_xy", 0, 1), ("J_yz", 1, 2), ("J_xz", 0, 2))
 

@@ -12,9 +12,9 @@ and of the elastic modes (∝ ω²), but not the peaks.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance
@@ -22,29 +22,6 @@ OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbe
 ABOVE_SUSPENSION = 3.0  # band starts this many times above the top suspension resonance
 BELOW_ELASTIC = 3.0  # and ends this many times below the first elastic resonance
 MIN_LINES = 8
-
-
-@dataclass(frozen=True)
-class Zones:
-    """The band used for the masslines and the resonances that bound it.
-
-    Attributes
-    ----------
-    low, high : float
-        The massline band (zone B), Hz.
-    suspension_top : float
-        Highest resonance below the band, Hz (nan when none was recorded).
-    first_elastic : float
-        Lowest resonance above the band, Hz (nan when none was recorded).
-    rule : str
-        How the band was chosen ("found" or "given").
-    """
-
-    low: float
-    high: float
-    suspension_top: float
-    first_elastic: float
-    rule: str
 
 
 def imaginary_fraction(frf: np.ndarray) -> np.ndarray:
@@ -85,7 +62,7 @@ def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
     return phase | (departure > OFF_LEVEL)
 
 
-def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Zones:
+def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Band:
     """Zone B: the widest resonance-free stretch, with margins to the resonances on either side."""
     f = np.asarray(frequencies, dtype=float)
     runs = runs_of(f, disturbed(f, frf))
@@ -98,10 +75,10 @@ def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Zones:
         )
     suspension = tops[k] if k > 0 else np.nan
     elastic = bottoms[k] if k < len(runs) else np.nan
-    return Zones(float(low), float(high), float(suspension), float(elastic), "found")
+    return Band(float(low), float(high), float(suspension), float(elastic), "found")
 
 
-def given_band(frequencies: np.ndarray, low: float, high: float) -> Zones:
+def given_band(frequencies: np.ndarray, low: float, high: float) -> Band:
     """The band the user gave (``--band LO HI``), checked against the recorded axis."""
     f = np.asarray(frequencies, dtype=float)
     if not 0 <= low < high:
@@ -111,10 +88,10 @@ def given_band(frequencies: np.ndarray, low: float, high: float) -> Zones:
             f"--band {low:g} {high:g} Hz holds fewer than {MIN_LINES} spectral lines of the recording "
             f"({f[0]:g}–{f[-1]:g} Hz): widen it"
         )
-    return Zones(float(low), float(high), np.nan, np.nan, "given")
+    return Band(float(low), float(high), np.nan, np.nan, "given")
 
 
-def estimation_band(frequencies: np.ndarray, frf: np.ndarray, given: Zones) -> Zones:
+def estimation_band(frequencies: np.ndarray, frf: np.ndarray, given: Band) -> Band:
     """The band identify would find for the properties; the diagnosis band when none is found (a support so
     stiff that no resonance-free stretch is clear of it)."""
     try:

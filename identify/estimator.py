@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from massline.placement.information import sensitivities
 from massline.placement.likelihood import starting_body
 from massline.placement.masslines import Masslines

@@ -19,6 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from massline.identify.tails import scaled_frequency
 from massline.placement.errors import MasslineError
 
 
@@ -50,7 +52,7 @@ class BandFit:
 
 def design_matrix(omega: np.ndarray) -> np.ndarray:
     """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1)."""
-    x = (omega / np.sqrt(omega[0] * omega[-1])) ** 2  # ω²/ω_mid²: keeps the columns comparable
+    x = scaled_frequency(omega)  # ω²/ω_mid²: keeps the columns comparable
     zero = np.zeros_like(x)
     real = np.column_stack([np.ones_like(x), 1 / x, zero, x, zero, x**2])
     imag = np.column_stack([zero, zero, 1 / x, zero, x, zero])

@@ -30,10 +30,12 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from massline.placement.errors import MasslineError
 from scipy.optimize import minimize, minimize_scalar
 
-TAIL_LAWS = ("suspension", "residual_flexibility")
+from massline.placement.effect_names import TEST_PHYSICS
+from massline.placement.errors import MasslineError
+
+TAIL_LAWS = TEST_PHYSICS  # each a single mode shared by every FRF
 MIN_LINES = 12
 POLE_RANGE = 1e3  # the poles are searched from the band edge to this factor beyond it (in x)
 

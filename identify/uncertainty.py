@@ -13,21 +13,12 @@ Two estimates, and the larger is reported for each property:
 from __future__ import annotations
 
 import numpy as np
+
 from massline.identify.estimator import Estimate, estimate
-from massline.placement.accuracy import predicted_std, property_vector
+from massline.placement.accuracy import predicted_std
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
-
-
-def std_from_vector(s: np.ndarray) -> dict:
-    """identify's std keys from the standard deviations of ``property_vector`` entries."""
-    return {
-        "mass": s[0],
-        "cog": s[1:4],
-        "inertia_cog": s[4:13].reshape(3, 3),
-        "principal_moments": s[13:16],
-        "principal_axes": s[16:25].reshape(3, 3).T,
-    }
+from massline.placement.properties import VECTOR_SIZE, property_vector, std_of
 
 
 def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
@@ -71,13 +62,11 @@ def robust_std(samples: np.ndarray) -> np.ndarray:
 def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
     """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys), the larger of the two."""
     informed = predicted_std(result.model, np.linalg.inv(result.covariance))
-    samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, 25))
+    samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, VECTOR_SIZE))
     if len(samples) < max(draws // 2, 2):
         return informed
-    spread = std_from_vector(robust_std(samples))
+    spread = std_of(robust_std(samples))
     combined = {k: np.fmax(informed[k], spread[k]) for k in spread}
-    axes_deg = np.degrees(np.sqrt(np.sum(np.asarray(spread["principal_axes"]) ** 2, axis=0)))
-    combined["principal_axes_deg"] = np.fmax(informed["principal_axes_deg"], axes_deg)
     if result.model.planar:
         for key in combined:
             combined[key] = np.where(np.isnan(informed[key]), np.nan, combined[key])

@@ -3,7 +3,7 @@
 The rigid-body algebra lives here once; ``massline.identify`` builds on it.
 """
 
-from massline.placement.dynamics import Identification
+from massline.placement.dynamics import MethodResult
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines, synthesise
@@ -11,7 +11,7 @@ from massline.placement.methods import identify
 from massline.placement.rigid_body import RigidBody
 
 __all__ = [
-    "Identification",
+    "MethodResult",
     "Lines",
     "Masslines",
     "MasslineError",

@@ -10,23 +10,11 @@ in-plane quantities are observable; the others are NaN.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody, principal
+from massline.placement.properties import property_vector, std_of
 
 STEP = 1e-6  # relative step of the central differences, in scaled parameters
-
-
-def in_plane_principal(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A plate's in-plane principal moments (two, ascending, then NaN) and axes (z third)."""
-    moments, axes = principal(inertia[:2, :2])
-    return np.append(moments, np.nan), np.block([[axes, np.zeros((2, 1))], [np.zeros((1, 2)), np.ones((1, 1))]])
-
-
-def property_vector(body: RigidBody, planar: bool) -> np.ndarray:
-    """mass, cog (3), J_G (9), principal moments (3), axes (9, columns) as one vector."""
-    J = body.inertia_cog
-    moments, axes = in_plane_principal(J) if planar else (body.principal_moments, body.principal_axes)
-    return np.concatenate([[body.mass], body.cog, J.reshape(-1), moments, axes.T.reshape(-1)])
 
 
 def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.ndarray:
@@ -46,23 +34,7 @@ def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.
 def predicted_std(model: RigidModel, F: np.ndarray) -> dict:
     """1-σ of every property (identify's std keys) for information F (scaled)."""
     C = property_covariance(model, np.linalg.inv(F))
-    s = np.sqrt(np.clip(np.diag(C), 0, None))
-    axes_cov = [C[16 + 3 * k : 19 + 3 * k, 16 + 3 * k : 19 + 3 * k] for k in range(3)]
-    std = {
-        "mass": s[0],
-        "cog": s[1:4].copy(),
-        "inertia_cog": s[4:13].reshape(3, 3).copy(),
-        "principal_moments": s[13:16].copy(),
-        "principal_axes": s[16:25].reshape(3, 3).T.copy(),
-        "principal_axes_deg": np.degrees(np.sqrt([np.trace(c) for c in axes_cov])),
-    }
-    if model.planar:
-        std["cog"][2] = np.nan
-        std["inertia_cog"][2, :] = std["inertia_cog"][:, 2] = np.nan
-        std["principal_moments"][2] = np.nan
-        std["principal_axes"][:, 2] = np.nan
-        std["principal_axes_deg"][2] = np.nan
-    return std
+    return std_of(np.sqrt(np.clip(np.diag(C), 0, None)), planar=model.planar)
 
 
 def worst_relative_std(model: RigidModel, std: dict) -> float:

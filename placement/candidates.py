@@ -16,9 +16,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import trimesh
+from scipy.spatial import cKDTree
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import AXES, Lines
-from scipy.spatial import cKDTree
 
 SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor should keep away from
 

@@ -19,6 +19,7 @@ import time
 from typing import Callable
 
 import numpy as np
+
 from massline.placement.information import log_det
 from massline.placement.relaxation import relax_cvxpy, relax_first_order
 from massline.placement.selection import BlockProblem, greedy, swap

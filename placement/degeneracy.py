@@ -9,6 +9,7 @@ explained by their directions and points.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.placement.linear_system import RANK_TOLERANCE
 from massline.placement.lines import Lines
 

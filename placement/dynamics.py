@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from massline.placement.degeneracy import exciter_hint
 from massline.placement.errors import SingularLayoutError
 from massline.placement.kinematics import RigidAccelerations, default_pairs, difference_rows
@@ -24,8 +25,8 @@ from massline.placement.rigid_body import RigidBody, symmetric_product_matrix, t
 
 
 @dataclass(frozen=True, eq=False)
-class Identification:
-    """Identified properties in the test frame, with the conditioning met.
+class MethodResult:
+    """What one of the paper's methods identified: properties in the test frame, with the conditioning met.
 
     ``mass`` is None when the method cannot give it (dynamics method 1);
     ``condition`` maps each solved system to its 2-norm condition number.
@@ -66,7 +67,7 @@ def inverse_inertia_from_pairs(data: Masslines, acc: RigidAccelerations, pairs) 
     return tensor_from_six(six), kappa
 
 
-def method1(data: Masslines, acc: RigidAccelerations, pairs=None) -> Identification:
+def method1(data: Masslines, acc: RigidAccelerations, pairs=None) -> MethodResult:
     """Method 1, eq. (8): A = J_G⁻¹ by differences, then the CoG; no mass.
 
     With A known, eq. (8) for every exciter, J_G α_j = m_j − c × d_j, is linear
@@ -81,7 +82,7 @@ def method1(data: Masslines, acc: RigidAccelerations, pairs=None) -> Identificat
     rhs = (m - acc.alpha.T @ J).reshape(-1)
     cog, kappa_c = solve(rows, rhs, "dynamics method 1, CoG system", lambda: exciter_hint(data.exciters))
     condition = {**acc.condition, "inverse_inertia": kappa_A, "cog": kappa_c}
-    return Identification(None, cog, J, condition, f"kinematics {acc.method} + dynamics method1")
+    return MethodResult(None, cog, J, condition, f"kinematics {acc.method} + dynamics method1")
 
 
 def inertia_from_inverse(data: Masslines, acc: RigidAccelerations, cog: np.ndarray) -> tuple[np.ndarray, float]:
@@ -94,7 +95,7 @@ def inertia_from_inverse(data: Masslines, acc: RigidAccelerations, cog: np.ndarr
     return np.linalg.inv(tensor_from_six(six)), kappa
 
 
-def method2(data: Masslines, acc: RigidAccelerations) -> Identification:
+def method2(data: Masslines, acc: RigidAccelerations) -> MethodResult:
     """Method 2: 1/M and the CoG from responses along the force, then eq. (8).
 
     From eq. (1), a sensor i parallel to exciter j reads
@@ -120,10 +121,10 @@ def method2(data: Masslines, acc: RigidAccelerations) -> Identification:
     mass, cog = 1.0 / unknowns[0], unknowns[1:]
     J, kappa_J = inertia_from_inverse(data, acc, cog)
     condition = {**acc.condition, "mass_cog": kappa, "inverse_inertia": kappa_J}
-    return Identification(mass, cog, J, condition, f"kinematics {acc.method} + dynamics method2")
+    return MethodResult(mass, cog, J, condition, f"kinematics {acc.method} + dynamics method2")
 
 
-def method3(data: Masslines, acc: RigidAccelerations) -> Identification:
+def method3(data: Masslines, acc: RigidAccelerations) -> MethodResult:
     """Method 3 (the paper's choice, eq. 9): force rows, then moment rows.
 
     Force rows, per exciter: d_j = a_O,j m + [α_j]× (m c), linear in (m, m c).
@@ -141,4 +142,4 @@ def method3(data: Masslines, acc: RigidAccelerations) -> Identification:
     rhs = (data.exciters.moments - np.cross(cog, d)).reshape(-1)
     six, kappa_m = solve(moment_rows, rhs, "dynamics method 3, moment equations", lambda: exciter_hint(data.exciters))
     condition = {**acc.condition, "translation": kappa_f, "rotation": kappa_m}
-    return Identification(mass, cog, tensor_from_six(six), condition, f"kinematics {acc.method} + dynamics method3")
+    return MethodResult(mass, cog, tensor_from_six(six), condition, f"kinematics {acc.method} + dynamics method3")

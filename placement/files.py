@@ -1,4 +1,9 @@
-"""Writing results: never overwrite without --force, never leave half a file."""
+"""Writing results: never overwrite without ``force``, never leave half a file.
+
+Every file massline writes (plans, recordings, JSON, pictures, reports) goes through ``atomic_file``:
+written beside its destination under a temporary name, flushed to disk, then renamed into place, so
+that a reader sees the old file or the whole new one and a failure leaves nothing behind.
+"""
 
 from __future__ import annotations
 
@@ -6,9 +11,11 @@ import json
 import math
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 
 
@@ -22,29 +29,36 @@ def claim_output(path: str | Path, force: bool) -> Path:
     return path
 
 
-def write_atomic(path: str | Path, text: str, force: bool = False) -> Path:
-    """Write ``text`` to ``path`` through a temporary file renamed into place."""
-    return write_atomic_bytes(path, text.encode(), force)
-
-
 def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
 
 
-def write_atomic_bytes(path: str | Path, data: bytes, force: bool = False) -> Path:
-    """Write ``data`` to ``path`` through a temporary file renamed into place."""
-    path = claim_output(path, force)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+@contextmanager
+def atomic_file(path: str | Path):
+    """A temporary path beside ``path`` to write; on success it is fsynced and renamed over ``path``,
+    on any failure removed. The caller checks ``path`` may be written (``claim_output``)."""
+    path = Path(path)
+    fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    temporary = Path(name)
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        yield temporary
+        with open(temporary, "rb+") as handle:
+            os.fsync(handle.fileno())
+        os.chmod(temporary, 0o666 & ~_umask())
+        os.replace(temporary, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        temporary.unlink(missing_ok=True)
         raise
+
+
+def write_atomic(path: str | Path, data: str | bytes, force: bool = False) -> Path:
+    """Write ``data`` (text as UTF-8) to ``path`` whole or not at all (``atomic_file``)."""
+    path = claim_output(path, force)
+    with atomic_file(path) as temporary:
+        temporary.write_bytes(data.encode() if isinstance(data, str) else data)
     return path
 
 
@@ -64,12 +78,5 @@ def _plain(value):
 
 
 def to_json(data: dict) -> str:
+    """``data`` as indented JSON, NaN and ±inf as null."""
     return json.dumps(_plain(data), indent=2, allow_nan=False) + "\n"
-
-
-def write_report(console, path: str | Path, build, force: bool = False) -> None:
-    """Build an HTML report (``build()`` returns an object with ``.html``) under a status line, then write it."""
-    with console.status("writing the report: rendering the body and its principal axes"):
-        report = build()
-    write_atomic(path, report.html, force)
-    console.print(f"wrote {path} ({len(report.html) / 1e3:.0f} kB)")

@@ -7,6 +7,7 @@ every direction is a coordinate axis, as a technician would lay them out.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.placement.lines import Lines
 
 

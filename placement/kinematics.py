@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from massline.placement.degeneracy import _fmt, distinct_points, unseen_motion
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.linear_system import solve

@@ -9,6 +9,7 @@ planner predicts.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.placement.information import NoiseModel, weighted_sensitivities
 from massline.placement.masslines import Masslines
 from massline.placement.methods import identify

@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Callable
 
 import numpy as np
+
 from massline.placement.errors import SingularLayoutError
 
 RANK_TOLERANCE = 1e-10  # smallest singular value relative to the largest

@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 
 AXES = np.eye(3)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+
 from massline.placement.errors import MasslineError
 from massline.placement.rigid_body import RigidBody
 

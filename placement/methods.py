@@ -10,7 +10,7 @@ Kinematics: ``method1`` (eq. 5), ``method2`` (eq. 6), ``method2-difference``
 
 from __future__ import annotations
 
-from massline.placement.dynamics import Identification
+from massline.placement.dynamics import MethodResult
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.plate import identify_plate
@@ -25,7 +25,7 @@ KINEMATICS = {
 DYNAMICS = {"method1": dynamics.method1, "method2": dynamics.method2, "method3": dynamics.method3}
 
 
-def identify(data: Masslines, kinematics: str = "method2", dynamics: str = "method3") -> Identification:
+def identify(data: Masslines, kinematics: str = "method2", dynamics: str = "method3") -> MethodResult:
     """Mass, CoG and inertia about the CoG from masslines by the paper's methods."""
     if kinematics == "plate" or dynamics == "plate":
         return identify_plate(data)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+
 from massline.placement.lines import Lines
 from massline.placement.plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
 from massline.placement.rigid_body import PARAMETER_NAMES, RigidBody, mass_matrix, steiner, tensor_from_six

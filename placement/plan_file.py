@@ -13,6 +13,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.planner import Plan

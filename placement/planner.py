@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
+
 from massline.placement.accuracy import predicted_std, worst_relative_std
 from massline.placement.candidates import (
     CandidateLines,

@@ -13,8 +13,9 @@ unobservable and reported as NaN.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.placement.degeneracy import exciter_hint
-from massline.placement.dynamics import Identification
+from massline.placement.dynamics import MethodResult
 from massline.placement.errors import MasslineError
 from massline.placement.linear_system import solve
 from massline.placement.lines import Lines
@@ -54,7 +55,7 @@ def plate_kinematics(data: Masslines) -> tuple[np.ndarray, float]:
     )
 
 
-def identify_plate(data: Masslines) -> Identification:
+def identify_plate(data: Masslines) -> MethodResult:
     """The plate's mass, in-plane CoG and in-plane inertia (eqs. 10, 12, 13).
 
     Eq. (12), per exciter: F_z = [a_z, −α_y, α_x] · (M, M x_G, M y_G); three
@@ -82,7 +83,7 @@ def identify_plate(data: Masslines) -> Identification:
     nan = np.nan
     J = np.array([[jxx, jxy, nan], [jxy, jyy, nan], [nan, nan, nan]])
     condition = {"kinematic": kappa_k, "translation": kappa_f, "rotation": kappa_m}
-    return Identification(mass, np.array([xg, yg, 0.0]), J, condition, "plate (eqs. 10, 12, 13)")
+    return MethodResult(mass, np.array([xg, yg, 0.0]), J, condition, "plate (eqs. 10, 12, 13)")
 
 
 def plate_theta(mass: float, cog: np.ndarray, inertia_cog: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+
 from massline.placement.information import log_det
 from massline.placement.selection import BlockProblem, leverages
 

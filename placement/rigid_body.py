@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import skew
 

@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 import trimesh
+
 from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody
 from massline.reports.plan_scene import AXIS, FLAGGED, HIT, Marker, Scene, scene_of
@@ -60,18 +61,12 @@ def axis_markers(body: RigidBody, planar: bool) -> tuple[list[Marker], list[np.n
     return markers, arrows
 
 
-def node_of(name: str) -> str | None:
-    """The node of a channel name '5:+Z' ('5'); None for a name without one."""
-    node, colon, _ = name.partition(":")
-    return node if colon else None
-
-
 def identification_scene(
     mesh: trimesh.Trimesh | None,
     sensors: Lines,
     exciters: Lines,
-    sensor_names: list[str],
-    hit_names: list[str],
+    sensor_names: list,
+    hit_names: list,
     body: RigidBody,
     planar: bool,
     flagged_sensors=(),
@@ -86,10 +81,10 @@ def identification_scene(
     markers = []
     for marker in scene.markers:
         names = hit_names if marker.kind == HIT else sensor_names
-        node = node_of(names[marker.lines[0]])
+        node = names[marker.lines[0]].node
         flagged = set(marker.lines) & set(flagged_hits if marker.kind == HIT else flagged_sensors)
         markers.append(
-            replace(marker, label=marker.label if node is None else node, kind=FLAGGED if flagged else marker.kind)
+            replace(marker, label=marker.label if node is None else str(node), kind=FLAGGED if flagged else marker.kind)
         )
     extra, arrows = axis_markers(body, planar)
     return replace(

@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-import io
+import numpy as np
+from matplotlib.figure import Figure
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from massline.identify.diagnose.diagnosis import Diagnosis  # noqa: E402
-from massline.identify.tails import BandData, tail_columns  # noqa: E402
+from massline.identify.diagnose.diagnosis import Diagnosis
+from massline.identify.tails import BandData, tail_columns
+from massline.reports.figures import png_bytes
 
 
 def diagnosis_figure(
@@ -25,17 +22,13 @@ def diagnosis_figure(
     maps = [np.sqrt(fit.rss / band.energy) / noise for fit in (result.before, result.after)]
     panels = 3 if off_rigid is None else 4
     if grid:
-        fig = plt.figure(figsize=(8.6, 0.2 * len(sensors) + 5.5))
+        fig = Figure(figsize=(8.6, 0.2 * len(sensors) + 5.5))
         layout = fig.add_gridspec(2, 2, height_ratios=[0.2 * len(sensors) + 1.5, 3.2], hspace=0.45)
         bottom = [layout[1, :]] if off_rigid is None else [layout[1, 0], layout[1, 1]]
         axes = [fig.add_subplot(cell) for cell in [layout[0, 0], layout[0, 1], *bottom]]
     else:
-        fig, axes = plt.subplots(
-            1,
-            panels,
-            figsize=(4.3 * panels, 0.25 * len(sensors) + 3),
-            gridspec_kw={"width_ratios": [1, 1, 2, 2][:panels]},
-        )
+        fig = Figure(figsize=(4.3 * panels, 0.25 * len(sensors) + 3))
+        axes = fig.subplots(1, panels, gridspec_kw={"width_ratios": [1, 1, 2, 2][:panels]})
     top = max(float(maps[0].max()), 2.0)
     for ax, values, title in zip(axes[:2], maps, ("before", "after")):
         image = ax.imshow(values, cmap="magma_r", vmin=0, vmax=top, aspect="auto")
@@ -61,16 +54,13 @@ def diagnosis_figure(
     if off_rigid is not None:
         ax = axes[3]
         for k in np.argsort(np.median(off_rigid, axis=1))[::-1][:5]:
-            ax.semilogy(f, off_rigid[k], lw=1.0, label=sensors[k])
+            ax.semilogy(f, off_rigid[k], lw=1.0, label=str(sensors[k]))
         ax.semilogy(f, np.median(off_rigid, axis=0), "k--", lw=1.0, label="median channel")
         ax.set_title("recorded: distance from the rigid motions (model-free)", fontsize=9)
         ax.set_xlabel("frequency (Hz)")
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3, which="both")
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    return buffer.getvalue()
+    return png_bytes(fig, bbox_inches="tight")
 
 
 def _with_tails(frequencies: np.ndarray, level: float, tails: np.ndarray, poles: dict) -> np.ndarray:

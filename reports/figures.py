@@ -1,28 +1,32 @@
-"""Figures written by the commands (matplotlib, no display needed)."""
+"""Figures as PNG bytes (matplotlib's object API: no display, no global state); the simulator's band check."""
 
 from __future__ import annotations
 
 import io
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from massline.placement.files import claim_output, write_atomic_bytes  # noqa: E402
-from massline.placement.lines import Lines  # noqa: E402
-from massline.placement.masslines import synthesise  # noqa: E402
-from massline.virtual.band import frequency_axis  # noqa: E402
+from massline.placement.lines import Lines
+from massline.placement.masslines import synthesise
+from massline.virtual.band import frequency_axis
 
 
-def driving_point_figure(path, cases: list, exciters: Lines, force: bool = False) -> None:
-    """Predicted driving-point accelerances |H_jj(f)| at every hit, with each case's band shaded.
+def png_bytes(fig: Figure, **options) -> bytes:
+    """The figure as PNG bytes (110 dpi), through matplotlib's object API: no pyplot, no global backend."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110, **options)
+    return buffer.getvalue()
+
+
+def driving_point_figure(cases: list, exciters: Lines) -> bytes:
+    """PNG: predicted driving-point accelerances |H_jj(f)| at every hit, with each case's band shaded.
 
     ``cases`` holds (label, SuspendedBody, Band). The massline of each hit is drawn as a dotted
     level: inside the band the curves sit on it.
     """
-    claim_output(path, force)
-    fig, axes = plt.subplots(len(cases), 1, figsize=(8, 3.2 * len(cases)), sharex=True, squeeze=False)
+    fig = Figure(figsize=(8, 3.2 * len(cases)))
+    axes = fig.subplots(len(cases), 1, sharex=True, squeeze=False)
     f = frequency_axis(cases[0][1], points=800)
     for ax, (label, model, band) in zip(axes[:, 0], cases):
         H = model.accelerance(f, exciters.points, exciters.directions, exciters.points, exciters.directions)
@@ -41,7 +45,4 @@ def driving_point_figure(path, cases: list, exciters: Lines, force: bool = False
     axes[0, 0].legend(fontsize=7, ncol=4, loc="lower right")
     axes[-1, 0].set_xlabel("frequency (Hz); dashed: top suspension mode, dash-dot: first elastic mode")
     fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    plt.close(fig)
-    write_atomic_bytes(path, buffer.getvalue(), force)
+    return png_bytes(fig)

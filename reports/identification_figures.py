@@ -2,26 +2,16 @@
 
 from __future__ import annotations
 
-import io
+import numpy as np
+from matplotlib.figure import Figure
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from massline.identify.diagnose.screens import driving_points  # noqa: E402
-from massline.placement.lines import Lines  # noqa: E402
+from massline.identify.diagnose.screens import driving_points
+from massline.placement.lines import Lines
+from massline.reports.figures import png_bytes
 
 WIDTH_IN = 7.3  # inches: the A4 page's printable width at the report's margins
 STYLES = ("-", "--", ":")  # of the levels drawn, in order
 LEGEND_IN = 0.3  # inches above the panels for the legend
-
-
-def _png(fig) -> bytes:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    plt.close(fig)
-    return buffer.getvalue()
 
 
 def representative(sensors: Lines, exciters: Lines, values: np.ndarray, count: int = 6, first=()) -> list:
@@ -67,7 +57,8 @@ def frf_figure(
     f, H = frequencies[keep], frf[:, :, keep]
     rows = (len(picks) + 1) // 2
     height = 2.2 * rows + LEGEND_IN
-    fig, axes = plt.subplots(rows, 2, figsize=(WIDTH_IN, height), squeeze=False)
+    fig = Figure(figsize=(WIDTH_IN, height))
+    axes = fig.subplots(rows, 2, squeeze=False)
     inside = (f >= band[0]) & (f <= band[1])
     for ax, (i, j) in zip(axes.flat, picks):
         real = H[i, j].real
@@ -97,15 +88,14 @@ def frf_figure(
     handles, names = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, names, loc="upper center", ncol=len(names), fontsize=7, frameon=False)
     fig.tight_layout(rect=(0, 0, 1, 1 - LEGEND_IN / height))
-    return _png(fig)
+    return png_bytes(fig)
 
 
 def fit_figure(measured: np.ndarray, std: np.ndarray, model: np.ndarray, sensors: list[str], hits: list[str]) -> bytes:
     """PNG: every measured massline against the identified body's (with its 1-σ), and the residual in σ over
     sensors × hits."""
-    fig, (left, right) = plt.subplots(
-        1, 2, figsize=(WIDTH_IN, 0.16 * len(sensors) + 2.4), gridspec_kw={"width_ratios": [1.1, 1]}
-    )
+    fig = Figure(figsize=(WIDTH_IN, 0.16 * len(sensors) + 2.4))
+    left, right = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.1, 1]})
     left.errorbar(model.ravel(), measured.ravel(), yerr=std.ravel(), fmt="o", ms=3, lw=0.8, color="tab:blue")
     span = [min(model.min(), measured.min()), max(model.max(), measured.max())]
     left.plot(span, span, "k--", lw=0.8, label="equal")
@@ -123,4 +113,4 @@ def fit_figure(measured: np.ndarray, std: np.ndarray, model: np.ndarray, sensors
     right.set_title("(measured − identified) / 1-σ of the band fit", fontsize=8)
     fig.colorbar(image, ax=right, shrink=0.85).ax.tick_params(labelsize=7)
     fig.tight_layout()
-    return _png(fig)
+    return png_bytes(fig)

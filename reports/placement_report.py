@@ -9,35 +9,16 @@ mm; plan.json holds them in m.
 
 from __future__ import annotations
 
-import base64
-import html
-import io
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
 from massline import __version__
-from massline.reports.plan_scene import SENSOR, Marker, Scene, face_name
+from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
+from massline.reports.plan_scene import SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
-from PIL import Image
-
-STYLE = """
-@page { size: A4; margin: 12mm; }
-* { box-sizing: border-box; }
-body { font: 10pt/1.35 "DejaVu Sans", Arial, sans-serif; color: #222; max-width: 186mm; margin: 0 auto; padding: 6px; }
-h1 { font-size: 16pt; margin: 0 0 2mm; } h2 { font-size: 12pt; margin: 5mm 0 2mm; border-bottom: 1px solid #999; }
-table { border-collapse: collapse; width: 100%; table-layout: fixed; font-size: 8.5pt; margin-bottom: 2mm; }
-th, td { padding: 1.5px 4px; border-bottom: 1px solid #ddd; text-align: right; overflow-wrap: anywhere; }
-th { background: #f0f0f0; } td.l, th.l { text-align: left; }
-img, canvas { max-width: 100%; height: auto; display: block; }
-.views { display: grid; grid-template-columns: 1fr 1fr; gap: 3mm; }
-figure { margin: 0; break-inside: avoid; } figcaption { font-size: 8.5pt; color: #444; }
-.sensor { color: #1f5fb4; font-weight: bold; } .hit { color: #c8281e; font-weight: bold; }
-.note { font-size: 8.5pt; color: #444; } section { break-inside: avoid; }
-canvas { border: 1px solid #ccc; cursor: grab; touch-action: none; }
-@media print { .screen { display: none; } body { padding: 0; } }
-"""
 
 
 @dataclass(frozen=True)
@@ -51,38 +32,12 @@ class BandRow:
     first_elastic: float
 
 
-def png_data_uri(image: np.ndarray) -> str:
-    """An RGB picture (h, w, 3) as a data: URI of a palette PNG (256 colours)."""
-    buffer = io.BytesIO()
-    Image.fromarray(image).quantize(256, method=Image.Quantize.MEDIANCUT).save(buffer, "PNG", optimize=True)
-    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
-
-
-def _e(text) -> str:
-    """Text escaped for HTML."""
-    return html.escape(str(text))
-
-
-def _num(value, fmt: str = ".4g") -> str:
-    """A number for a table, with a true minus sign; '—' for a missing one."""
-    return "—" if value is None or not np.isfinite(value) else format(value, fmt).replace("-", "−")
-
-
 def _direction(d: np.ndarray) -> str:
     """'+z' for an axis, else the unit vector with two decimals."""
     k = int(np.argmax(np.abs(d)))
     if abs(d[k]) > 0.9999:
         return f"{'+' if d[k] > 0 else '−'}{'xyz'[k]}"
-    return "(" + ", ".join(_num(c + 0.0, ".2f") for c in d) + ")"
-
-
-def _table(head: list[str] | None, rows: list[list[str]], align: str, widths: list[int]) -> str:
-    """An HTML table: ``align`` has one letter per column ('l' left, 'r' right), ``widths`` in % of the table."""
-    cls = [' class="l"' if a == "l" else "" for a in align]
-    cols = "".join(f'<col style="width:{w}%">' for w in widths)
-    th = "<thead><tr>" + "".join(f"<th{c}>{h}</th>" for c, h in zip(cls, head)) + "</tr></thead>" if head else ""
-    body = "".join("<tr>" + "".join(f"<td{c}>{v}</td>" for c, v in zip(cls, r)) + "</tr>" for r in rows)
-    return f"<table><colgroup>{cols}</colgroup>{th}<tbody>{body}</tbody></table>"
+    return "(" + ", ".join(num(c + 0.0, ".2f") for c in d) + ")"
 
 
 def points_table(scene: Scene) -> str:
@@ -97,13 +52,13 @@ def points_table(scene: Scene) -> str:
             [
                 f'<span class="{css}">{m.label}</span>',
                 ", ".join(str(i + 1) for i in m.lines),
-                *(_num(c * 1e3, ".1f") for c in m.point),
+                *(num(c * 1e3, ".1f") for c in m.point),
                 what or _direction(m.directions[0]),
                 f"{face} (triangle {f})",
             ]
         )
     head = ["#", "plan line", "x (mm)", "y (mm)", "z (mm)", "direction", "face"]
-    return _table(head, rows, "llrrrll", [6, 8, 10, 10, 10, 24, 32])
+    return html_table(head, rows, "llrrrll", [6, 8, 10, 10, 10, 24, 32])
 
 
 def _moments(doc: dict) -> np.ndarray:
@@ -137,30 +92,30 @@ def accuracy_table(doc: dict) -> str:
         rows.append((f"principal axis {k + 1}", shown, _float(std["principal_axes_deg"][k]), "°", False))
     out = []
     for name, value, sigma, unit, relative in rows:
-        text = value if isinstance(value, str) else _num(value, ".5g")
-        rel = _num(100 * sigma / abs(value), ".2f") + " %" if relative and np.isfinite(sigma) else ""
-        out.append([name, text, _num(sigma, ".3g") if np.isfinite(sigma) else "unobservable", unit, rel])
-    return _table(["property", "nominal", "± 1-σ", "unit", "relative"], out, "lrrlr", [30, 25, 17, 12, 16])
+        text = value if isinstance(value, str) else num(value, ".5g")
+        rel = num(100 * sigma / abs(value), ".2f") + " %" if relative and np.isfinite(sigma) else ""
+        out.append([name, text, num(sigma, ".3g") if np.isfinite(sigma) else "unobservable", unit, rel])
+    return html_table(["property", "nominal", "± 1-σ", "unit", "relative"], out, "lrrlr", [30, 25, 17, 12, 16])
 
 
 def criterion_html(doc: dict) -> str:
     """The certificate, the condition numbers, the noise model and the candidate count."""
     c, noise = doc["criterion"], doc.get("noise", {})
     names = c.get("parameters", [])
-    efficiency = _num(100 * c["d_efficiency_lower_bound"], ".1f")
-    worst = _num(100 * _float(c.get("worst_relative_std")), ".2f")
-    relative, floor = (_num(100 * _float(noise.get(k)), ".3g") for k in ("relative", "floor"))
+    efficiency = num(100 * c["d_efficiency_lower_bound"], ".1f")
+    worst = num(100 * _float(c.get("worst_relative_std")), ".2f")
+    relative, floor = (num(100 * _float(noise.get(k)), ".3g") for k in ("relative", "floor"))
     rows = [
         ["certified D-efficiency", f"≥ {efficiency} % of the best possible layout"],
-        ["log det F", f"{_num(c['log_det'], '.3f')} over {len(names)} parameters: {_e(', '.join(names))}"],
-        *[[f"condition number, {_e(k)}", _num(v, ".3g")] for k, v in c.get("condition_numbers", {}).items()],
+        ["log det F", f"{num(c['log_det'], '.3f')} over {len(names)} parameters: {escape(', '.join(names))}"],
+        *[[f"condition number, {escape(k)}", num(v, ".3g")] for k, v in c.get("condition_numbers", {}).items()],
         ["worst relative 1-σ", f"{worst} % (mass, CoG against the radius of gyration, principal moments)"],
         ["noise model", f"{relative} % of each massline + {floor} % of 1/m"],
     ]
     lines = doc.get("candidates", {}).get("lines") or {}
     if lines:
-        rows.append(["candidate lines", ", ".join(f"{v} {_e(k)}" for k, v in lines.items())])
-    return _table(None, rows, "ll", [30, 70])
+        rows.append(["candidate lines", ", ".join(f"{v} {escape(k)}" for k, v in lines.items())])
+    return html_table(None, rows, "ll", [30, 70])
 
 
 def band_html(rows: list[BandRow], fe_note: str) -> str:
@@ -168,23 +123,11 @@ def band_html(rows: list[BandRow], fe_note: str) -> str:
     out = []
     for r in rows:
         exists = np.isfinite(r.low) and r.high > r.low
-        span = f"{_num(r.low, '.1f')} – {_num(r.high, '.1f')}" if exists else "no band"
-        width = f"{_num(r.high / r.low, '.1f')}×" if exists else "—"
-        out.append([_e(r.suspension), _num(r.suspension_top, ".2f"), span, _num(r.first_elastic, ".0f"), width])
+        span = f"{num(r.low, '.1f')} – {num(r.high, '.1f')}" if exists else "no band"
+        width = f"{num(r.high / r.low, '.1f')}×" if exists else "—"
+        out.append([escape(r.suspension), num(r.suspension_top, ".2f"), span, num(r.first_elastic, ".0f"), width])
     head = ["suspension", "top susp. mode (Hz)", "band (Hz)", "1st elastic (Hz)", "width"]
-    return _table(head, out, "lrrrr", [42, 14, 18, 14, 12]) + f'<p class="note">{_e(fe_note)}</p>'
-
-
-def _figure(rendering: Rendering, markers: list[Marker]) -> str:
-    """One view as a figure: the embedded picture, its name and the markers it hides."""
-    hidden = [m.label for m in markers if m.label not in rendering.visible]
-    note = f"; hidden: {', '.join(hidden)}" if hidden else ""
-    name = _e(rendering.view.name)
-    return (
-        f'<figure><img src="{png_data_uri(rendering.image)}" alt="{name}" '
-        f'width="{rendering.image.shape[1]}" height="{rendering.image.shape[0]}">'
-        f"<figcaption>{name}{_e(note)}</figcaption></figure>"
-    )
+    return html_table(head, out, "lrrrr", [42, 14, 18, 14, 12]) + f'<p class="note">{escape(fe_note)}</p>'
 
 
 def report_html(
@@ -209,7 +152,7 @@ def report_html(
     """
     markers = scene.markers
     n_acc = sum(m.kind == SENSOR for m in markers)
-    title = f"Test plan: {_e(Path(doc.get('mesh') or 'mesh').name)}"
+    title = f"Test plan: {escape(Path(doc.get('mesh') or 'mesh').name)}"
     legend = (
         '<p class="note"><span class="sensor">A1 …</span> accelerometers, arrow along the measuring direction '
         '(triaxials: three arrows, one number); <span class="hit">H1 …</span> hammer hits, arrow into the surface '
@@ -219,10 +162,10 @@ def report_html(
     )
     parts = [
         f"<h1>{title}</h1>",
-        f'<p class="note">{_e(body_line)}. {n_acc} accelerometers ({len(doc["sensors"])} channels), '
+        f'<p class="note">{escape(body_line)}. {n_acc} accelerometers ({len(doc["sensors"])} channels), '
         f"{len(markers) - n_acc} hammer hits. Written by massline {__version__}.</p>",
         "<section><h2>Layout</h2>" + legend,
-        '<div class="views">' + "".join(_figure(r, markers) for r in renderings) + "</div></section>",
+        '<div class="views">' + "".join(rendering_figure(r, markers) for r in renderings) + "</div></section>",
         '<section class="screen"><h2>Turn it</h2><p class="note">Drag to turn the body (screen only).</p>'
         + viewer_html(scene)
         + "</section>",

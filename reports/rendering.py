@@ -16,10 +16,11 @@ import sys
 from dataclasses import dataclass
 
 import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
 from massline.placement.errors import MasslineError
 from massline.reports.label_layout import place_labels
 from massline.reports.plan_scene import COLOURS, SENSOR, Scene, outer_end
-from PIL import Image, ImageDraw, ImageFont
 
 SIZE = (800, 600)  # px of one view
 FONT_PX = 26

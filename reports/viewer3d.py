@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 import trimesh
+
 from massline.reports.plan_scene import COLOURS, Scene, outer_end
 
 MAX_FACES = 4000  # larger meshes are decimated for the viewer

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import pytest
+
 from massline.meshes import BUNDLED
 from massline.placement.mesh import load_body
 

@@ -5,6 +5,9 @@ import json
 import numpy as np
 import pytest
 from conftest import bundled
+from test_cli import massline
+from test_uff_reader import assert_command_refuses
+
 from massline.identify.diagnose.diagnosis import base_fit, diagnose
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout
@@ -20,8 +23,6 @@ from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import Noise
 from massline.virtual.virtual_test import Acquisition, run
-from test_cli import massline
-from test_uff_reader import assert_command_refuses
 
 
 @pytest.fixture(scope="module")

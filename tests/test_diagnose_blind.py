@@ -17,8 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from massline.identify.band import estimation_band, given_band
-from massline.identify.diagnose.diagnosis import diagnose, property_std
+from massline.identify.diagnose.diagnosis import diagnose
+from massline.identify.diagnose.diagnosis import fit_std as property_std
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.tails import BandData
 from massline.meshes import BUNDLED

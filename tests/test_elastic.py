@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import trimesh
+
 from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import load_body

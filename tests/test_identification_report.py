@@ -8,8 +8,11 @@ import time
 import numpy as np
 import pytest
 from conftest import bundled
-from massline.diagnose_command import diagnose_recording
-from massline.identify_command import identify_recording
+from test_cli import massline
+from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
+
+from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.pipeline import identify_recording
 from massline.placement.candidates import CandidateOptions
 from massline.placement.hand_layouts import plate_table1
 from massline.placement.planner import Budget, plan
@@ -20,8 +23,6 @@ from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
 from massline.virtual.scenarios import Bench, scenario
 from massline.virtual.virtual_test import Acquisition, run
-from test_cli import massline
-from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
 
 GREEN = (20, 135, 60)  # the principal axes' colour (plan_scene.COLOURS)
 

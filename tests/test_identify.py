@@ -5,6 +5,9 @@ import json
 import numpy as np
 import pytest
 from conftest import bundled
+from test_cli import massline
+from test_uff_reader import BAD, assert_command_refuses
+
 from massline.identify.band import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
 from massline.identify.massline_fit import fit_band
@@ -20,8 +23,6 @@ from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.virtual_test import Acquisition, run
-from test_cli import massline
-from test_uff_reader import BAD, assert_command_refuses
 
 
 @pytest.fixture(scope="module")

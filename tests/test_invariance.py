@@ -3,9 +3,10 @@
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
 from massline.placement import Lines, Masslines, identify, synthesise
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
-from scipy.spatial.transform import Rotation
 
 vectors = st.tuples(*[st.floats(-1.0, 1.0, allow_nan=False)] * 3).map(np.array)
 METHODS = st.sampled_from([("method2", "method3"), ("method2-difference", "method3"), ("method2", "method2")])

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import trimesh
 from conftest import FIXTURE_MESHES, bundled
+
 from massline.meshes import BUNDLED
 from massline.meshes.generate import BODIES, box_union_mesh
 from massline.placement.errors import MasslineError

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from conftest import assert_body_close
+
 from massline.placement import Lines, identify, synthesise
 from massline.placement.hand_layouts import (
     bracket_exciters,

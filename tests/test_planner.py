@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 import trimesh
 from conftest import bundled
+
 from massline.placement import Lines, Masslines, synthesise
-from massline.placement.accuracy import layout_worst_std, property_vector
+from massline.placement.accuracy import layout_worst_std
 from massline.placement.candidates import CandidateOptions
 from massline.placement.errors import MasslineError
 from massline.placement.hand_layouts import (
@@ -21,6 +22,7 @@ from massline.placement.information import NoiseModel, fisher, log_det, weighted
 from massline.placement.likelihood import maximum_likelihood
 from massline.placement.model import RigidModel
 from massline.placement.planner import Budget, CandidateLines, Planner, candidate_lines, plan, plan_on_candidates
+from massline.placement.properties import property_vector
 from massline.placement.selection import effective_independence
 
 MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}

@@ -10,6 +10,10 @@ import subprocess
 import numpy as np
 import pytest
 from conftest import FIXTURE_MESHES, bundled
+from PIL import Image
+from rich.console import Console
+from test_cli import massline
+
 from massline.placement.candidates import CandidateOptions
 from massline.placement.files import to_json
 from massline.placement.information import NoiseModel
@@ -21,9 +25,6 @@ from massline.report_command import build_report
 from massline.reports.label_layout import overlap_matrix, place_labels
 from massline.reports.plan_scene import scene_of
 from massline.reports.viewer3d import MAX_FACES, viewer_html
-from PIL import Image
-from rich.console import Console
-from test_cli import massline
 
 A4_WIDTH_PX = 794  # 210 mm at 96 px per inch
 A4_PRINTABLE_PX = 186 / 25.4 * 96  # 210 mm less the report's 12 mm page margins

@@ -3,6 +3,8 @@
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
 from massline.placement.lines import Lines, skew
 from massline.placement.rigid_body import (
     RigidBody,
@@ -11,7 +13,6 @@ from massline.placement.rigid_body import (
     mass_matrix_regressor,
     theta_from_mass_matrix,
 )
-from scipy.spatial.transform import Rotation
 
 finite = st.floats(-1.0, 1.0, allow_nan=False)
 vectors = st.tuples(finite, finite, finite).map(np.array)

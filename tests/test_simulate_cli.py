@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 import pyuff
 from conftest import bundled
+from test_cli import massline
+
 from massline.identify.massline_fit import fit_band
 from massline.placement.masslines import Masslines
 from massline.placement.methods import identify
 from massline.uff.reader import read_uff, to_recording
-from test_cli import massline
 
 pytestmark = pytest.mark.slow
 

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from massline.placement import Lines, SingularLayoutError, identify, synthesise
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.placement.kinematics import method2_difference

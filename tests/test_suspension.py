@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise

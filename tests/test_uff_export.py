@@ -3,13 +3,14 @@
 import numpy as np
 import pytest
 import pyuff
+from scipy.spatial.transform import Rotation
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff import writer as uff_export
 from massline.uff.layout import line_from_code, uff_layout
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
-from scipy.spatial.transform import Rotation
 
 ROTATED = Rotation.from_euler("xyz", [20, -35, 50], degrees=True).as_matrix()
 LEFT_HANDED = Rotation.from_euler("zyx", [-70, 15, 110], degrees=True).as_matrix() @ np.diag([1.0, 1.0, -1.0])

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import pyuff
 from conftest import SHARED
+
 from massline.placement.errors import MasslineError
 from massline.uff.reader import read_uff, to_recording
 

@@ -5,13 +5,14 @@ import re
 import numpy as np
 import pytest
 import pyuff
+from scipy.spatial.transform import Rotation
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff.frf_kind import units
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
-from scipy.spatial.transform import Rotation
 
 ROTATED = Rotation.from_euler("xyz", [20, -35, 50], degrees=True).as_matrix()
 FREQUENCIES = 3.0 + 0.5 * np.arange(395)  # Hz, 3-200

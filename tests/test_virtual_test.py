@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from conftest import bundled
+
 from massline.placement.errors import MasslineError
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.placement.lines import Lines

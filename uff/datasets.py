@@ -17,8 +17,10 @@ import re
 from dataclasses import dataclass
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.uff.frf_kind import Ordinate
+from massline.uff.recording import Channel
 
 DELIMITER = re.compile(rb"^    -1[ \t\r]*$", re.M)
 CLOSING = re.compile(rb"(?:\r?\n)?    -1[ \t\r]*(?:\n|\Z)")
@@ -26,11 +28,10 @@ TRAILING = re.compile(rb"\s*\Z")
 NAMED_CHANNEL = re.compile(r"(\d+)[^A-Za-z\d]*([+-]?)([XYZ])([+-]?)$")
 FUNCTION_NAMES = ("general", "time response", "auto spectrum", "cross spectrum", "FRF", "transmissibility")
 FUNCTION_NAMES += ("coherence", "auto correlation", "cross correlation", "PSD", "ESD", "PDF", "spectrum")
-AXIS_NAMES = ("X", "Y", "Z", "RX", "RY", "RZ")
 
 
 @dataclass(frozen=True, eq=False)
-class Block:
+class RawDataset:
     """One dataset: its number, the line of its opening delimiter, its text lines after the identifier line
     (up to the data of a 58b), and a 58b's byte order and data."""
 
@@ -46,18 +47,11 @@ class Function:
 
     line: int
     type: int
-    response: tuple[int, int]
-    reference: tuple[int, int]
+    response: Channel
+    reference: Channel
     ordinate: Ordinate
     frequencies: np.ndarray
     values: np.ndarray
-
-
-def channel_name(node: int, code: int) -> str:
-    """'57:+Z', '3:-RX', '0:scalar' for a node and direction code."""
-    if code == 0 or abs(code) > 6:
-        return f"{node}:{'scalar' if code == 0 else f'code {code}'}"
-    return f"{node}:{'+' if code > 0 else '-'}{AXIS_NAMES[abs(code) - 1]}"
 
 
 def _truncated(name: str, block_number: int, line: int) -> MasslineError:
@@ -80,7 +74,7 @@ def _binary_lengths(n_bytes: int, record_7: str) -> list[int]:
     return [n_bytes] + [num_pts * (value + a) for a in ((0,) if spacing == 1 else (4, 8))]
 
 
-def _binary_block(data: bytes, first: int, ident: str, line: int, name: str) -> tuple[Block, int]:
+def _binary_block(data: bytes, first: int, ident: str, line: int, name: str) -> tuple[RawDataset, int]:
     """A 58b: 11 ascii header lines, then raw IEEE values of the first possible length that ends at a closing
     delimiter."""
     order, fp_format, n_lines, n_bytes = (int(v) for v in ident[7:].split()[:4])
@@ -104,11 +98,11 @@ def _binary_block(data: bytes, first: int, ident: str, line: int, name: str) -> 
             f"file {name}: the binary data of the 58b record at line {line} do not end where its header says "
             f"({n_bytes} bytes): the file is damaged; export it again"
         )
-    block = Block(58, line, lines, ("<" if order == 1 else ">", data[end + 1 : end + 1 + length]))
+    block = RawDataset(58, line, lines, ("<" if order == 1 else ">", data[end + 1 : end + 1 + length]))
     return block, CLOSING.match(data, end + 1 + length).end()
 
 
-def _block(data: bytes, first: int, line: int, name: str) -> tuple[Block, int]:
+def _block(data: bytes, first: int, line: int, name: str) -> tuple[RawDataset, int]:
     """The dataset whose identifier line starts at ``first``, and the offset after its closing delimiter."""
     ident = data[first : _line_end(data, first)].decode("latin-1")
     try:
@@ -126,10 +120,10 @@ def _block(data: bytes, first: int, line: int, name: str) -> tuple[Block, int]:
     if closing is None:
         raise _truncated(name, number, line)
     text = data[_line_end(data, first) + 1 : closing.start()].decode("latin-1")
-    return Block(number, line, text.splitlines()), closing.end()
+    return RawDataset(number, line, text.splitlines()), closing.end()
 
 
-def split(data: bytes, name: str) -> list[Block]:
+def split(data: bytes, name: str) -> list[RawDataset]:
     """The datasets of a file, each between two '    -1' lines (a 58b's binary data skipped by its length)."""
     blocks, position, line, counted = [], 0, 1, 0
     while (opening := DELIMITER.search(data, position)) is not None and not TRAILING.match(data, opening.end()):
@@ -156,7 +150,7 @@ def _label(field: str) -> str:
         return field.strip()
 
 
-def _units_164(block: Block) -> tuple[float, float]:
+def _units_164(block: RawDataset) -> tuple[float, float]:
     """Length and force factors: file units per metre, per newton."""
     factors = _numbers(" ".join(block.lines[1:]))[:2]
     if not np.all(factors > 0):
@@ -164,11 +158,11 @@ def _units_164(block: Block) -> tuple[float, float]:
     return float(factors[0]), float(factors[1])
 
 
-def _header_151(block: Block) -> str:
+def _header_151(block: RawDataset) -> str:
     return " ".join(t for t in (block.lines[0].strip(), block.lines[1].strip()) if t not in ("", "NONE"))
 
 
-def _nodes(block: Block) -> np.ndarray:
+def _nodes(block: RawDataset) -> np.ndarray:
     """Rows (label, definition system, displacement system, colour, x, y, z) of dataset 15 or 2411."""
     values = _numbers(" ".join(block.lines))
     if values.size % 7:
@@ -200,7 +194,7 @@ def _records(lines: list[str], head: int, count: int):
         yield [int(v) for v in first], np.array(values[:count])
 
 
-def _systems_18(block: Block) -> dict:
+def _systems_18(block: RawDataset) -> dict:
     """{label: (type, reference system, origin, axes)} of dataset 18, in the reference system."""
     return {
         label: (kind, reference, v[:3], _frame_18(*v.reshape(3, 3)))
@@ -208,19 +202,19 @@ def _systems_18(block: Block) -> dict:
     }
 
 
-def _systems_2420(block: Block) -> dict:
+def _systems_2420(block: RawDataset) -> dict:
     """{label: (type, 0, origin, axes)} of dataset 2420, in the global frame."""
     return {label: (kind, 0, v[9:], v[:9].reshape(3, 3).T) for (label, kind, *_), v in _records(block.lines, 2, 12)}
 
 
-def _channel(name: str, node: str, code: str, where: str, role: str) -> tuple[tuple[int, int], list[str]]:
+def _channel(name: str, node: str, code: str, where: str, role: str) -> tuple[Channel, list[str]]:
     """(node, direction code) of a record; from the entity name (e.g. '.1.Z-', 'Point12:+X') when both are 0."""
-    channel, match = (_int(node), _int(code)), NAMED_CHANNEL.search(name.strip())
+    channel, match = Channel(_int(node), _int(code)), NAMED_CHANNEL.search(name.strip())
     if channel != (0, 0) or match is None:
         return channel, []
     number, before, axis, after = match.groups()
-    channel = (int(number), (-1 if "-" in before + after else 1) * ("XYZ".index(axis) + 1))
-    return channel, [f"{where}: {role} {channel_name(*channel)} read from its name {name.strip()!r}"]
+    channel = Channel(int(number), (-1 if "-" in before + after else 1) * ("XYZ".index(axis) + 1))
+    return channel, [f"{where}: {role} {channel} read from its name {name.strip()!r}"]
 
 
 def _binary_rows(order: str, payload: bytes, kind: int, even: bool, num_pts: int) -> np.ndarray:
@@ -243,7 +237,7 @@ def _kept_points(rows: np.ndarray, num_pts: int, where: str) -> tuple[np.ndarray
     return rows, []
 
 
-def _function(block: Block) -> tuple[Function, list[str]]:
+def _function(block: RawDataset) -> tuple[Function, list[str]]:
     """A dataset-58 record (records 1-11, then the data) and what was odd in it."""
     lines, where = block.lines, f"dataset 58 at line {block.line}"
     r6, r7 = lines[5], lines[6].split()
@@ -291,7 +285,7 @@ PARSERS = {
 }
 
 
-def parse(block: Block, name: str):
+def parse(block: RawDataset, name: str):
     """The block's contents by its dataset's parser; None for datasets not read."""
     parser = PARSERS.get(block.number)
     if parser is None:

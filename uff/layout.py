@@ -13,8 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import AXES, Lines, skew
+from massline.uff.recording import code_direction
 
 AXIS_TOL = 1e-12  # a unit direction is along a global axis when it is this close to it
 ORTHOGONALITY_TOL = 1e-9  # |d_i . d_j| allowed between the channels of a triaxial accelerometer
@@ -58,26 +60,12 @@ class UffLayout:
 
 
 def line_from_code(point, frame, code: int) -> np.ndarray:
-    """Global unit direction of a UFF direction code (±1..±3) in a node's Cartesian frame.
+    """Global unit direction of a UFF direction code (±1..±3) at a node: :func:`.recording.code_direction`.
 
-    Parameters
-    ----------
-    point : (3,) array
-        The node's position, m. A Cartesian system's directions are the same everywhere; the point is part of
-        the signature because those of cylindrical and spherical systems are not.
-    frame : (3, 3) array
-        Columns: the node's local x, y, z axes in the test frame.
-    code : int
-        1, 2, 3 for +x, +y, +z of the frame; negative for the opposite direction.
+    ``point`` is the node's position (m): a Cartesian system's directions are the same everywhere; it is part
+    of the signature because those of cylindrical and spherical systems are not.
     """
-    if code not in (-3, -2, -1, 1, 2, 3):
-        raise MasslineError(f"direction code {code} is not a translation (±1..±3)")
-    return np.sign(code) * np.asarray(frame, dtype=float)[:, abs(code) - 1]
-
-
-def code_name(code: int) -> str:
-    """'+X', '-Z', ... for a direction code."""
-    return ("+" if code > 0 else "-") + "XYZ"[abs(code) - 1]
+    return code_direction(frame, code)
 
 
 def _global_codes(directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

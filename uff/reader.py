@@ -20,11 +20,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
-from massline.uff.datasets import Function, channel_name, function_name, parse, split
+from massline.uff.datasets import Function, function_name, parse, split
 from massline.uff.frf_kind import decide, to_accelerance
-from massline.uff.recording import Recording
+from massline.uff.recording import Channel, Recording, code_direction
 
 FRF_TYPE, COHERENCE_TYPE = 4, 6
 
@@ -37,7 +38,7 @@ class Frf:
     ----------
     number, line : int
         Its place among the file's FRFs (from 1) and the line where its record starts.
-    response, reference : tuple of int
+    response, reference : Channel
         (node, direction code) of the response (sensor) and the reference (exciter).
     frequencies : (n,) array
         Hz.
@@ -52,8 +53,8 @@ class Frf:
 
     number: int
     line: int
-    response: tuple[int, int]
-    reference: tuple[int, int]
+    response: Channel
+    reference: Channel
     frequencies: np.ndarray
     accelerance: np.ndarray
     kind: str
@@ -177,7 +178,7 @@ def _frfs(functions: list[Function], length: float, force: float, notes: list[st
     coherences = {(f.response, f.reference): f for f in functions if f.type == COHERENCE_TYPE}
     frfs, seen = [], {}
     for number, f in enumerate((f for f in functions if f.type == FRF_TYPE), 1):
-        label = f"FRF {number} (line {f.line}, {channel_name(*f.response)} / {channel_name(*f.reference)})"
+        label = f"FRF {number} (line {f.line}, {f.response} / {f.reference})"
         decision = decide(f.ordinate, f.frequencies, f.values, length, force, label)
         notes += decision.warnings
         if not np.iscomplexobj(f.values):
@@ -201,7 +202,7 @@ def _frfs(functions: list[Function], length: float, force: float, notes: list[st
             continue
         frfs.append(frf)
     notes += [
-        f"coherence at line {c.line} ({channel_name(*c.response)}) has no FRF: ignored" for c in coherences.values()
+        f"coherence at line {c.line} ({c.response}) has no FRF: ignored" for c in coherences.values()
     ]
     weighted = sum(frf.coherence is not None for frf in frfs)
     if 0 < weighted < len(frfs):
@@ -291,7 +292,7 @@ def _check_channels(frf: Frf, contents: UffContents) -> None:
             )
         if abs(code) > 3:
             raise MasslineError(
-                f"{where} has {role} {channel_name(node, code)}, not a translation: the method needs translational "
+                f"{where} has {role} {Channel(node, code)}, not a translation: the method needs translational "
                 "responses and forces; leave rotational channels out of the export"
             )
         if node not in contents.node_ids:
@@ -313,7 +314,7 @@ def _lines(contents: UffContents, channels: list[tuple[int, int]], triaxials: bo
     """Lines of (node, code) channels; a node's three channels along its three axes form a triaxial group."""
     index = {int(n): k for k, n in enumerate(contents.node_ids)}
     points = contents.node_points[[index[node] for node, _ in channels]]
-    axes = [np.sign(code) * contents.node_frames[index[node]][:, abs(code) - 1] for node, code in channels]
+    axes = [code_direction(contents.node_frames[index[node]], code) for node, code in channels]
     group = np.full(len(channels), -1)
     for node in dict.fromkeys(node for node, _ in channels) if triaxials else ():
         members = [i for i, (n, _) in enumerate(channels) if n == node]
@@ -330,14 +331,14 @@ def _table(contents: UffContents, sensors: list, exciters: list) -> dict:
         if twin is not frf:
             raise MasslineError(
                 f"file {contents.path}: FRFs {twin.number} and {frf.number} both give response "
-                f"{channel_name(*frf.response)} against reference {channel_name(*frf.reference)}, with different "
+                f"{frf.response} against reference {frf.reference}, with different "
                 "data: keep one measurement per pair"
             )
     missing = [(s, e) for s in sensors for e in exciters if (s, e) not in table]
     if missing:
         (s, e), n = missing[0], len(sensors) * len(exciters)
         raise MasslineError(
-            f"file {contents.path}: no FRF between response {channel_name(*s)} and reference {channel_name(*e)} "
+            f"file {contents.path}: no FRF between response {s} and reference {e} "
             f"({len(missing)} of {n} response-reference pairs missing): measure every response against every "
             "reference and export them all"
         )
@@ -367,7 +368,7 @@ def to_recording(contents: UffContents) -> Recording:
     if len(exciters) < 3:
         raise MasslineError(
             f"file {contents.path}: the FRFs have {len(exciters)} reference (exciter) channel(s) "
-            f"({', '.join(channel_name(*e) for e in exciters)}): the method needs at least 3 excitations, in "
+            f"({', '.join(map(str, exciters))}): the method needs at least 3 excitations, in "
             "non-parallel directions for a 3-D body (out-of-plane at 3 points not in a row for a plate); "
             "measure more references"
         )

@@ -1,11 +1,62 @@
-"""What a modal test system stores: FRFs between sensor and exciter lines."""
+"""What a modal test system stores: FRFs between sensor and exciter lines, and the channels' names."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+
+from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
+
+AXIS_NAMES = ("X", "Y", "Z", "RX", "RY", "RZ")
+
+
+def code_name(code: int) -> str:
+    """'+X', '-Z', '-RX' for a UFF direction code (±1..±6); 'scalar' for 0."""
+    if code == 0 or abs(code) > 6:
+        return "scalar" if code == 0 else f"code {code}"
+    return ("+" if code > 0 else "-") + AXIS_NAMES[abs(code) - 1]
+
+
+def code_direction(frame, code: int) -> np.ndarray:
+    """Global unit direction sign(c)·R[:, |c|−1] of a translation code c (±1..±3) in a node's Cartesian frame R.
+
+    Parameters
+    ----------
+    frame : (3, 3) array
+        Columns: the node's local x, y, z axes in the test frame.
+    code : int
+        1, 2, 3 for +x, +y, +z of the frame; negative for the opposite direction.
+    """
+    if code not in (-3, -2, -1, 1, 2, 3):
+        raise MasslineError(f"direction code {code} is not a translation (±1..±3)")
+    return np.sign(code) * np.asarray(frame, dtype=float)[:, abs(code) - 1]
+
+
+class Channel(NamedTuple):
+    """A channel as a Universal File names it: a node and a direction code along the node's frame.
+
+    It unpacks as ``node, code`` and prints as the file names it: ``57:+Z``, ``3:-X``.
+    """
+
+    node: int
+    code: int
+
+    def __str__(self) -> str:
+        return f"{self.node}:{code_name(self.code)}"
+
+
+class Numbered(NamedTuple):
+    """A channel of a recording that carries no labels: 'sensor 3', 'hit 2' (1-based); it has no node."""
+
+    role: str
+    number: int
+    node = None
+
+    def __str__(self) -> str:
+        return f"{self.role} {self.number}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -24,7 +75,7 @@ class Recording:
         Ordinary coherence of each FRF, when it was estimated from averages.
     description : str
         Free text carried into the file header.
-    sensor_labels, exciter_labels : tuple of (node, direction code) or None
+    sensor_labels, exciter_labels : tuple of Channel or None
         The channels as the file names them (UFF node and ±1..±3), when read from a file.
     """
 
@@ -44,3 +95,16 @@ class Recording:
             raise ValueError(f"frf has shape {h.shape}, expected {(len(self.sensors), len(self.exciters), len(f))}")
         object.__setattr__(self, "frequencies", f)
         object.__setattr__(self, "frf", h)
+        for name in ("sensor_labels", "exciter_labels"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, tuple(Channel(int(n), int(c)) for n, c in getattr(self, name)))
+
+    @property
+    def sensor_channels(self) -> list:
+        """Every sensor channel's label: its Channel ('12:+Y') or, in a recording without labels, 'sensor k'."""
+        return list(self.sensor_labels or (Numbered("sensor", i + 1) for i in range(len(self.sensors))))
+
+    @property
+    def exciter_channels(self) -> list:
+        """Every exciter channel's label: its Channel ('3:-Z') or, in a recording without labels, 'hit k'."""
+        return list(self.exciter_labels or (Numbered("hit", j + 1) for j in range(len(self.exciters))))

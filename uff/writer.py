@@ -24,17 +24,17 @@ and increment are E13.5 in both.
 
 from __future__ import annotations
 
-import os
-import secrets
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pyuff
+
 from massline.placement.errors import MasslineError
-from massline.uff.layout import UffLayout, code_name, uff_layout
-from massline.uff.recording import Recording
+from massline.placement.files import atomic_file
+from massline.uff.layout import UffLayout, uff_layout
+from massline.uff.recording import Recording, code_name
 
 COLOR = 8
 FRF, COHERENCE = 4, 6  # UFF 58 function types
@@ -243,21 +243,13 @@ def _functions(recording: Recording, layout: UffLayout, units: UnitSystem, binar
             )
 
 
-def _write_atomically(path: Path, datasets: list[dict], records) -> None:
-    """Write to a temporary file beside ``path``, then rename it over ``path``; remove it on any failure."""
-    temporary = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
-    open(temporary, "x").close()
-    try:
+def _write(path: Path, datasets: list[dict], records) -> None:
+    """The file, whole or not at all: pyuff's datasets, then the 58 records (:func:`~massline.placement.files.atomic_file`)."""
+    with atomic_file(path) as temporary:
         pyuff.UFF(str(temporary)).write_sets(datasets, mode="add")
         with open(temporary, "ab") as handle:
             for record in records:
                 handle.write(record)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
 
 
 def write_uff(
@@ -320,5 +312,5 @@ def write_uff(
         *_systems(layout, nodes_dataset, system),
         _nodes(layout, nodes_dataset, system),
     ]
-    _write_atomically(path, datasets, _functions(recording, layout, system, binary, stamp))
+    _write(path, datasets, _functions(recording, layout, system, binary, stamp))
     return layout

@@ -8,57 +8,15 @@ below the first elastic mode (zone C, error ≈ (f/f_a)²).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from massline.placement.band import Band
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension
+from massline.virtual.suspension import CORD_LENGTH, GRAVITY, STRETCH, UP, Cord, Suspension
 
 TOLERANCE = 0.01  # relative deviation of the FRF matrix from the massline
-
-
-@dataclass(frozen=True)
-class Band:
-    """The predicted massline band.
-
-    Attributes
-    ----------
-    low, high : float
-        Band edges, Hz (nan when no frequency meets the tolerance).
-    suspension_top : float
-        Highest suspension mode, Hz.
-    first_elastic : float
-        First elastic mode of the suspended body, Hz (inf for a rigid model).
-    tolerance : float
-        Relative deviation from the massline allowed inside the band.
-    """
-
-    low: float
-    high: float
-    suspension_top: float
-    first_elastic: float
-    tolerance: float
-
-    @property
-    def exists(self) -> bool:
-        return bool(np.isfinite(self.low) and self.high > self.low)
-
-    def wider_than(self, other: "Band") -> bool:
-        """Wider in log frequency; between two bands open at the top, the one starting lower."""
-        if not self.exists:
-            return False
-        if not other.exists:
-            return True
-        if np.isinf(self.high) and np.isinf(other.high):
-            return self.low < other.low
-        return self.ratio > other.ratio
-
-    @property
-    def ratio(self) -> float:
-        """high/low: how many times wider than a point the band is (nan if none)."""
-        return self.high / self.low if self.exists else np.nan
 
 
 def deviation(model: SuspendedBody, sensors: Lines, exciters: Lines, frequencies: np.ndarray) -> np.ndarray:
@@ -87,11 +45,12 @@ def predict_band(model: SuspendedBody, sensors: Lines, exciters: Lines, toleranc
         low, high = f[start], f[stop - 1]
         if stop == len(f) and not model.n_elastic:
             high = np.inf  # a rigid model has no zone C
-    return Band(low, high, float(model.suspension_frequencies.max()), model.first_elastic_frequency, tolerance)
+    top, elastic = float(model.suspension_frequencies.max()), model.first_elastic_frequency
+    return Band(low, high, top, elastic, "predicted", tolerance)
 
 
 def recommend_suspension(
-    model: SuspendedBody, top_point: np.ndarray, stretch: float = 0.25, length: float = 1.0, up=UP
+    model: SuspendedBody, top_point: np.ndarray, stretch: float = STRETCH, length: float = CORD_LENGTH, up=UP
 ) -> Suspension:
     """Appendix A's advice made concrete: one soft, long cord attached close above the CoG.
 

@@ -27,21 +27,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from massline.placement.effect_names import DISCRETE, EXCITER_EFFECTS, SIMULATED
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 
-SENSOR_EFFECTS = (
-    "sensor_direction",
-    "transverse_sensitivity",
-    "sensor_gain",
-    "sensor_polarity",
-    "sensor_location",
-    "sensor_mass_loading",
-    "channel_swap",
-)
-EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
-EFFECTS = SENSOR_EFFECTS + EXCITER_EFFECTS
-SIZELESS = ("sensor_polarity", "channel_swap")
+EFFECTS = SIMULATED
 
 
 @dataclass(frozen=True)
@@ -60,7 +51,7 @@ class Effect:
         name = name.strip()
         if name not in EFFECTS:
             raise MasslineError(f"unknown effect '{name}': use one of {', '.join(EFFECTS)}")
-        if not has_size and name not in SIZELESS:
+        if not has_size and name not in DISCRETE:
             raise MasslineError(f"effect {name} needs a size: {name}=SIZE[@WHERE] (see 'massline simulate --help')")
         try:
             value = float(size) if has_size else 0.0

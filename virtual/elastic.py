@@ -23,12 +23,13 @@ import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 import trimesh
-from massline.placement.errors import MasslineError
-from massline.virtual.tetmesh import default_size, tetrahedralise
 from scipy.spatial import cKDTree
 from skfem import Basis, BilinearForm, ElementTetP2, ElementVector, MeshTet, asm
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+from massline.placement.errors import MasslineError
+from massline.virtual.tetmesh import default_size, tetrahedralise
 
 N_RIGID = 6
 INTORDER = 2  # the basis's quadrature, exact for the stiffness: strains are linear (degree 1 + 1)
@@ -38,6 +39,9 @@ RIGID_LEVEL = 1e-3  # an eigenvalue below RIGID_LEVEL · |shift| is a zero-frequ
 CANDIDATES = 16  # nearest tetrahedra (by centroid) searched for a point before all of them
 FOUND = 1e-12  # a point within this fraction of the element size of a tetrahedron lies in it
 OUTSIDE = 0.1  # a point may lie this fraction of the element size outside the meshed solid
+
+MATERIALS = {"steel": (210e9, 0.30, 7850.0), "aluminium": (70e9, 0.33, 2700.0), "titanium": (114e9, 0.34, 4430.0)}
+"""Young's modulus (Pa), Poisson's ratio and density (kg/m³) of common metals."""
 
 
 @dataclass(frozen=True)
@@ -70,6 +74,22 @@ class Material:
     def wave_speed(self) -> float:
         """√(E/ρ), m/s: the bar wave speed."""
         return float(np.sqrt(self.youngs / self.density))
+
+    @classmethod
+    def parse(cls, text: str, density: float) -> "Material":
+        """``--material``: a name of ``MATERIALS`` or "E,NU" (Pa, dimensionless), at ``density`` kg/m³."""
+        if text in MATERIALS:
+            return cls(*MATERIALS[text][:2], density)
+        try:
+            youngs, poisson = (float(v) for v in text.split(","))
+        except ValueError:
+            raise MasslineError(f"--material {text}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)") from None
+        return cls(youngs, poisson, density)
+
+    @staticmethod
+    def closest(density: float) -> str:
+        """The name of the metal of ``MATERIALS`` whose density is closest (in ratio) to ``density``."""
+        return min(MATERIALS, key=lambda k: abs(np.log(MATERIALS[k][2] / density)))
 
 
 def stiffness_form(material: Material) -> BilinearForm:
@@ -214,10 +234,20 @@ class ElasticBody:
 
     @classmethod
     def from_mesh(
-        cls, mesh: trimesh.Trimesh, material: Material, size: float | None = None, name: str = "the surface"
+        cls,
+        mesh: trimesh.Trimesh,
+        material: Material,
+        size: float | None = None,
+        name: str = "the surface",
+        progress=None,
     ) -> "ElasticBody":
-        """Mesh a closed surface (m, frame O xyz) with element size ``size`` (m; default :func:`default_size`)."""
+        """Mesh a closed surface (m, frame O xyz) with element size ``size`` (m; default :func:`default_size`).
+
+        ``progress(stage)``, when given, is called with "meshing" before the work starts.
+        """
         size = default_size(mesh) if size is None else float(size)
+        if progress is not None:
+            progress("meshing")
         return cls(*tetrahedralise(mesh, size, name), material, size)
 
     @cached_property
@@ -283,10 +313,22 @@ class ElasticBody:
         R = self.rigid_fields
         return vectors - R @ np.linalg.solve(self.rigid_block, R.T @ (self.mass @ vectors))
 
-    def modes(self, n: int) -> ElasticModes:
-        """The n lowest elastic free-free modes, mass-normalised and M-orthogonal to the rigid motions."""
+    def modes(self, n: int, progress=None) -> ElasticModes:
+        """The n lowest elastic free-free modes, mass-normalised and M-orthogonal to the rigid motions.
+
+        ``progress(stage)``, when given, is called as each stage starts: "assembling stiffness",
+        "assembling mass", "solving for modes".
+        """
         if not 1 <= n <= self.n_dofs - N_RIGID - 1:
             raise MasslineError(f"cannot compute {n} elastic modes of a model with {self.n_dofs} DOF")
+        for stage, step in (
+            ("assembling stiffness", lambda: self.stiffness),
+            ("assembling mass", lambda: self.mass),
+            ("solving for modes", lambda: None),
+        ):
+            if progress is not None:
+                progress(stage)
+            step()
         K, M, shift = self.stiffness, self.mass, self.shift
         values, vectors = scipy.sparse.linalg.eigsh(K, n + N_RIGID, M, sigma=shift, OPinv=self._solver())
         order = np.argsort(values)

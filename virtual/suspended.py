@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from scipy.linalg import eigh
+
 from massline.placement.rigid_body import RigidBody, theta_from_mass_matrix
 from massline.virtual.suspension import Suspension, point_map
-from scipy.linalg import eigh
 
 CHUNK = 256  # frequencies solved at once, to bound memory
 

@@ -16,14 +16,18 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg import eigh
+
 from massline.placement.errors import MasslineError
 from massline.placement.lines import skew
 from massline.placement.rigid_body import RigidBody
-from scipy.linalg import eigh
 
 GRAVITY = 9.80665  # m/s², standard gravity
 UP = np.array([0.0, 0.0, 1.0])
 MAX_TILT = 2.0  # degrees a body may settle out of level on its supports
+STRETCH = 0.25  # m: static stretch of the recommended cord under the weight (bounce at √(g/stretch)/2π ≈ 1 Hz)
+CORD_LENGTH = 1.0  # m: hanging length of the recommended cord (pendulum modes at √(g/L)/2π ≈ 0.5 Hz)
+FOAM_BOUNCE = 4.0  # Hz: the bounce of the default foam pad
 
 
 def point_map(r: np.ndarray) -> np.ndarray:
@@ -119,6 +123,53 @@ class Suspension:
     @property
     def is_free(self) -> bool:
         return not self.cords and self.foam is None
+
+    @classmethod
+    def parse(cls, spec: str, mesh, body: RigidBody) -> "Suspension":
+        """``--suspension``: 'cord[:k=N/m,L=m,at=X;Y;Z,loss=η]', 'foam[:k=N/m,shear=r,loss=η]' or 'none'.
+
+        Defaults follow Appendix A: a soft (``STRETCH``) long (``CORD_LENGTH``) cord tied to the surface point
+        of ``mesh`` straight above the CoG of ``body``; foam under the lowest points with its bounce at
+        ``FOAM_BOUNCE``.
+        """
+        kind, _, rest = spec.partition(":")
+        try:
+            options = {k.strip(): v.strip() for k, v in (item.split("=", 1) for item in rest.split(",") if item)}
+        except ValueError:
+            raise MasslineError(f"cannot read suspension options '{rest}': write key=value,key=value") from None
+        try:
+            loss = float(options.pop("loss", 0.05))
+            if kind == "none":
+                return cls()
+            if kind == "cord":
+                at = options.pop("at", None)
+                point = point_above(mesh, body.cog)[0] if at is None else np.array(at.split(";"), dtype=float)
+                k = float(options.pop("k", body.mass * GRAVITY / STRETCH))
+                length = float(options.pop("L", CORD_LENGTH))
+                suspension = cls(cords=(Cord(point, k, length),), loss_factor=loss)
+            elif kind == "foam":
+                k = float(options.pop("k", body.mass * (2 * np.pi * FOAM_BOUNCE) ** 2))
+                shear = float(options.pop("shear", 0.5))
+                suspension = cls(foam=Foam(lowest_points(mesh), k, shear), loss_factor=loss)
+            else:
+                raise MasslineError(f"unknown suspension '{kind}': use cord, foam or none")
+        except MasslineError:
+            raise
+        except ValueError:
+            raise MasslineError(f"cannot read --suspension {spec}: numbers are needed (e.g. cord:k=500,L=1)") from None
+        if options:
+            raise MasslineError(f"--suspension {kind}: unknown option(s) {', '.join(options)}")
+        return suspension
+
+    def describe(self) -> str:
+        """'free', 'foam k=… N/m' or 'cord k=… N/m, L=… m at (x, y, z) mm'."""
+        if self.is_free:
+            return "free"
+        if self.foam is not None:
+            return f"foam k={self.foam.stiffness:.0f} N/m"
+        c = self.cords[0]
+        point = ", ".join(f"{v * 1e3:.0f}" for v in c.attachment)
+        return f"cord k={c.stiffness:.0f} N/m, L={c.length:g} m at ({point}) mm"
 
     def supports(self) -> tuple[np.ndarray, np.ndarray]:
         """Support points (k, 3) and the unit direction (k, 3) in which each one pushes or pulls."""

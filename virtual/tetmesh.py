@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import validate_solid
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording

@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from cvxpy.error import SolverError
+
 from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
 from massline.identify.diagnose.finding import Finding, accepted_finding
@@ -76,7 +77,7 @@ class Diagnosis:
         return np.sqrt(np.sum(result.rss, axis=axis) / np.sum(energy, axis=axis))
 
 
-def property_std(result: Fit) -> dict | None:
+def fit_std(result: Fit) -> dict | None:
     """1-σ of every property (identify's std keys) from the fit's covariance (None for no body)."""
     if result.body is None:
         return None

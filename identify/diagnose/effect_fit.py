@@ -11,9 +11,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import least_squares
+
 from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem, jacobian
 from massline.placement.errors import MasslineError
-from scipy.optimize import least_squares
 
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
 

@@ -23,19 +23,15 @@ fit weighs every massline by the spectral lines behind it (:mod:`.tails`), so it
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
+
 from massline.identify.estimator import perpendicular_bases
 from massline.identify.tails import Reduced
+from massline.placement.effect_names import EXCITER_EFFECTS
 from massline.placement.lines import Lines
 from massline.placement.model import RigidModel
 
-if TYPE_CHECKING:
-    from massline.identify.diagnose.effect_fit import Fit
-
-SENSOR_EFFECTS = ("sensor_direction", "sensor_gain", "sensor_location")
-EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
 MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
 
 
@@ -228,8 +224,11 @@ class Problem:
             k += n
         return x[:p], tau, values
 
-    def start(self, previous: "Fit | None", blocks) -> np.ndarray:
-        """Parameters to start from: the previous fit's where it had them, zeros for new blocks."""
+    def start(self, previous, blocks) -> np.ndarray:
+        """Parameters to start from: the previous fit's where it had them, zeros for new blocks.
+
+        ``previous``: an earlier fit of this problem (its ``parts`` and ``blocks``), or None.
+        """
         if previous is None:
             theta, tau, old = self.model.theta / self.model.scale, np.zeros(self.n_tau), {}
         else:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.tails import BandData
 
@@ -89,3 +90,27 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict) -> Findi
             "distance_std_mm": float(1e3 * np.linalg.norm(sigma)),
         }
     return Finding(what.effect, (), j, parameters, evidence)
+
+
+def finding_payload(finding: Finding, recording) -> dict:
+    """DESIGN.md's finding: effect, sensor / excitation as {"node", "dir"}, parameters, evidence."""
+
+    def channel(labels, index):
+        if labels is None:
+            return {"node": None, "dir": None, "index": index + 1}
+        node, code = labels[index]
+        return {"node": int(node), "dir": int(code)}
+
+    sensor = channel(recording.sensor_labels, finding.channels[0]) if finding.channels else None
+    excitation = None if finding.exciter is None else channel(recording.exciter_labels, finding.exciter)
+    parameters = dict(finding.parameters)
+    if len(finding.channels) > 1:
+        parameters["channels"] = [channel(recording.sensor_labels, c) for c in finding.channels]
+    evidence = {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in finding.evidence.items()}
+    return {
+        "effect": finding.effect,
+        "sensor": sensor,
+        "excitation": excitation,
+        "parameters": parameters,
+        "evidence": evidence,
+    }

@@ -18,10 +18,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.stats import chi2 as chi2_distribution
+
 from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.diagnose.finding import Finding
 from massline.placement.rigid_body import RigidBody, six_from_tensor, steiner
-from scipy.stats import chi2 as chi2_distribution
 
 CHANCE = 1e-3  # tail probability beyond which a χ² is no longer chance
 SIGMAS = 5.0  # a loading mass must be this many σ from zero

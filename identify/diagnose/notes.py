@@ -1,8 +1,7 @@
-"""A diagnosis finding as an engineer would write it, and as DESIGN.md's JSON."""
+"""A diagnosis finding as an engineer would write it: one sentence."""
 
 from __future__ import annotations
 
-import numpy as np
 from massline.identify.diagnose.finding import Finding
 
 
@@ -10,12 +9,15 @@ def _mm(vector) -> str:
     return "[" + ", ".join(f"{1e3 * v:+.1f}" for v in vector) + "] mm"
 
 
-def finding_note(finding: Finding, sensors: list[str], hits: list[str]) -> str:
-    """One sentence: what is wrong, where, how large, and what was done about it."""
+def finding_note(finding: Finding, sensors: list, hits: list) -> str:
+    """One sentence: what is wrong, where, how large, and what was done about it.
+
+    ``sensors``, ``hits``: the channels' labels (:class:`massline.uff.recording.Channel`), indexed as the finding's.
+    """
     p, e = finding.parameters, finding.evidence
     names = [sensors[c] for c in finding.channels]
-    if len(names) == 3 and len({n.split(":")[0] for n in names}) == 1:
-        who = f"the triaxial sensor at node {names[0].split(':')[0]}"
+    if len(names) == 3 and names[0].node is not None and len({n.node for n in names}) == 1:
+        who = f"the triaxial sensor at node {names[0].node}"
     else:
         who = " and ".join(f"sensor {n}" for n in names)
     hit = None if finding.exciter is None else f"hit {hits[finding.exciter]}"
@@ -75,27 +77,3 @@ def finding_note(finding: Finding, sensors: list[str], hits: list[str]) -> str:
         ),
     }[finding.effect]()
     return text + tail + shift
-
-
-def finding_payload(finding: Finding, recording) -> dict:
-    """DESIGN.md's finding: effect, sensor / excitation as {"node", "dir"}, parameters, evidence."""
-
-    def channel(labels, index):
-        if labels is None:
-            return {"node": None, "dir": None, "index": index + 1}
-        node, code = labels[index]
-        return {"node": int(node), "dir": int(code)}
-
-    sensor = channel(recording.sensor_labels, finding.channels[0]) if finding.channels else None
-    excitation = None if finding.exciter is None else channel(recording.exciter_labels, finding.exciter)
-    parameters = dict(finding.parameters)
-    if len(finding.channels) > 1:
-        parameters["channels"] = [channel(recording.sensor_labels, c) for c in finding.channels]
-    evidence = {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in finding.evidence.items()}
-    return {
-        "effect": finding.effect,
-        "sensor": sensor,
-        "excitation": excitation,
-        "parameters": parameters,
-        "evidence": evidence,
-    }

@@ -12,6 +12,7 @@ flipped polarity from a gain.
 from __future__ import annotations
 
 import numpy as np
+
 from massline.identify.diagnose.effect_model import Layout, line_coordinates
 from massline.identify.tails import BandData
 from massline.placement.lines import Lines

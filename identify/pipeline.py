@@ -1,0 +1,97 @@
+"""Identification of a recording, as ``massline identify`` runs it: band, band fits, estimate, 1-σ.
+
+``identify_recording`` is the pipeline a script calls; ``Identification`` holds what it found and
+serialises itself as DESIGN.md's identify JSON (``payload``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from massline.identify.band import find_band, given_band
+from massline.identify.estimator import TRANSVERSE, Estimate, estimate
+from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.uncertainty import property_std
+from massline.placement.band import Band
+from massline.placement.errors import MasslineError
+from massline.placement.masslines import Masslines
+from massline.placement.methods import DYNAMICS, KINEMATICS, identify
+from massline.placement.rigid_body import RigidBody
+from massline.uff.recording import Recording
+
+PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
+PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF frames carry ~6 digits)
+
+
+def is_planar(sensors, exciters) -> bool:
+    """Plate data (§2.3): every line along ±z (where on the line its point sits does not matter)."""
+    directions = (sensors + exciters).directions
+    return bool(np.abs(directions[:, :2]).max() < PLANAR_TOLERANCE)
+
+
+def properties_payload(body: RigidBody, std: dict, band: tuple, planar: bool) -> dict:
+    """DESIGN.md's identify JSON of a body and its 1-σ; unobservable plate entries are null (NaN here)."""
+    values = {**body.as_dict()}
+    if planar:
+        values["cog"] = [*values["cog"][:2], np.nan]
+        J = np.array(values["inertia_cog"], dtype=float)
+        J[2, :] = J[:, 2] = np.nan
+        values["inertia_cog"] = J
+    std = {k: v for k, v in std.items() if k != "principal_axes_deg"}
+    return {**values, "std": std, "band_hz": list(band), "planar": planar}
+
+
+def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
+    """γ²/(1 − γ²) of every line: the inverse of an H1 estimate's relative variance (None without coherence)."""
+    if coherence is None:
+        return None
+    gamma2 = np.clip(coherence, 0.0, 1 - 1e-6)
+    return gamma2 / (1 - gamma2)
+
+
+@dataclass(frozen=True, eq=False)
+class Identification:
+    """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
+
+    ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``).
+    """
+
+    recording: Recording
+    band: Band
+    fit: BandFit
+    data: Masslines
+    sigma: np.ndarray
+    planar: bool
+    best: Estimate
+    std: dict
+    body: RigidBody
+    method: str = "best"
+
+    @property
+    def payload(self) -> dict:
+        """DESIGN.md's identify JSON."""
+        return properties_payload(self.body, self.std, (self.band.low, self.band.high), self.planar)
+
+
+def identify_recording(
+    recording: Recording, band=None, transverse: float = TRANSVERSE, draws: int = 100, method: str = "best"
+) -> Identification:
+    """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap)."""
+    f = recording.frequencies
+    used = given_band(f, *band) if band else find_band(f, recording.frf)
+    fit = fit_band(f, recording.frf, used.low, used.high, coherence_weights(recording.coherence))
+    data = Masslines(fit.values, recording.sensors, recording.exciters)
+    planar = is_planar(recording.sensors, recording.exciters)
+    sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
+    best = estimate(data, sigma, planar, transverse)
+    std = property_std(data, sigma, best, draws=draws)
+    body = best.body
+    if method != "best":
+        kin, _, dyn = method.partition("+")
+        found = identify(data, kin, dyn or kin)
+        if found.mass is None:
+            raise MasslineError(f"{method} does not identify the mass; choose a method 2 or 3 dynamics")
+        body = found.body
+    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method)
