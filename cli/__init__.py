@@ -1,3 +1,19 @@
-"""massline: plan and evaluate the modal test that identifies mass, CoG and inertia."""
+"""massline: plan and evaluate the modal test that identifies a body's mass, CoG and inertia tensor.
+
+The package is the data flow of ../shared/DESIGN.md, one sub-package per stage; each imports only
+the ones below it:
+
+- ``massline`` (this folder, ``cli/``): the command ``massline`` — argument parsing, console
+  output, exit codes; no science.
+- :mod:`massline.reports`: HTML pages, scenes, renderings and figures.
+- :mod:`massline.identify`: recordings → masslines → properties; :mod:`massline.identify.diagnose`,
+  the mismatch diagnosis.
+- :mod:`massline.virtual`: the virtual test (FE modes, suspension, instrumentation, measurement).
+- :mod:`massline.uff`: Universal Files read and written, and the ``Recording`` type.
+- :mod:`massline.placement`: the core — lines, rigid-body algebra, the paper's methods, the planner.
+- :mod:`massline.meshes`: the bundled bodies.
+"""
 
 __version__ = "0.1.0"
+
+__all__ = ["__version__"]

@@ -20,6 +20,23 @@ from massline.tables import body_table
 
 from . import demo, diagnose_command, identify_command, plan, report_command, simulate
 
+DESCRIPTION = """\
+Find a body's mass, centre of gravity and inertia tensor from a modal test on the softly
+suspended body: plan where the accelerometers and hammer hits go, identify the properties
+with their uncertainty from the FRFs your test software exports (UFF), and say which physics
+a recording shows that the rigid body does not."""
+
+EPILOG = """\
+a test, step by step:
+  massline props part.stl --units mm --density 2700     what the CAD says
+  massline plan part.stl --units mm --density 2700      where to put sensors and hits
+  massline identify test.uff --json result.json         the properties, with their ±
+  massline diagnose test.uff --mesh part.stl --units mm --density 2700
+  massline demo                                         the whole story on a bundled body
+
+'massline COMMAND --help' tells more. Exit codes: 0 done, 2 bad input (one line on stderr),
+1 internal error."""
+
 
 def cmd_props(args: argparse.Namespace, console: Console) -> None:
     """Nominal mass, CoG and inertia of a mesh."""
@@ -35,9 +52,14 @@ def cmd_props(args: argparse.Namespace, console: Console) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="massline", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="massline",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"massline {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", title="commands")
 
     props = sub.add_parser("props", help="nominal mass, CoG and inertia of a mesh")
     add_mesh_arguments(props)

@@ -28,8 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from massline.placement.information import sensitivities
-from massline.placement.likelihood import starting_body
 from massline.placement.masslines import Masslines
+from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody, tensor_from_six
 

@@ -1,4 +1,4 @@
-"""Bundled meshes: the paper's plate, a 3-D steel structure, an oblique bracket.
+"""massline.meshes — bundled meshes: the paper's plate, a 3-D steel structure, an oblique bracket.
 
 Rebuild them with ``python -m massline.meshes.generate``. Each is in metres in
 its own frame; ``BUNDLED`` gives its file, density and a description.
@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+
+__all__ = ["BUNDLED", "Bundled"]
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ from massline.placement.linear_system import RANK_TOLERANCE
 from massline.placement.lines import Lines
 
 
-def _fmt(v) -> str:
+def vector_text(v) -> str:
+    """A vector as "(x, y, z)" with 4 significant digits."""
     return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
 
 
@@ -35,13 +36,13 @@ def describe_motion(q: np.ndarray, length_scale: float) -> str:
     """Put a rigid motion q = (a_O, α) into words: translation, rotation or screw."""
     a, alpha = q[:3], q[3:]
     if np.linalg.norm(alpha) * length_scale < 1e-6 * np.linalg.norm(a):
-        return f"translation along {_fmt(a / np.linalg.norm(a))} is unseen"
+        return f"translation along {vector_text(a / np.linalg.norm(a))} is unseen"
     u = alpha / np.linalg.norm(alpha)
     point = np.cross(alpha, a) / (alpha @ alpha)
     pitch = (alpha @ a) / (alpha @ alpha)
     if abs(pitch) < 1e-6 * length_scale:
-        return f"rotation about the line through {_fmt(point)} m along {_fmt(u)} is unseen"
-    return f"a screw motion about the line through {_fmt(point)} m along {_fmt(u)} (pitch {pitch:.3g} m) is unseen"
+        return f"rotation about the line through {vector_text(point)} m along {vector_text(u)} is unseen"
+    return f"a screw motion about the line through {vector_text(point)} m along {vector_text(u)} (pitch {pitch:.3g} m) is unseen"
 
 
 def unseen_motion(lines: Lines) -> str:
@@ -62,7 +63,7 @@ def unseen_motion(lines: Lines) -> str:
     elif len(points) == 2:
         hint = "all sensors sit at two points (e.g. two triaxials): rotation about the line joining them is unseen"
     elif (d := parallel_direction(lines)) is not None:
-        hint = f"every sensor is parallel to {_fmt(d)}"
+        hint = f"every sensor is parallel to {vector_text(d)}"
     else:
         hint = "every sensor line meets that line or is parallel to it"
     return f"{words}; {hint}. Add a sensor off that line / in another direction"
@@ -72,7 +73,7 @@ def exciter_hint(exciters: Lines) -> str:
     """Why exciters may leave the dynamic equations singular."""
     if (d := parallel_direction(exciters)) is not None:
         return (
-            f"all {len(exciters)} exciters are parallel to {_fmt(d)}, so the inertia about that direction "
+            f"all {len(exciters)} exciters are parallel to {vector_text(d)}, so the inertia about that direction "
             "is never excited; hit in at least two non-parallel directions (the paper uses x, y and z)"
         )
     if len(distinct_points(exciters)) == 1:

@@ -35,6 +35,7 @@ DIAGNOSED = tuple(name for name in SIMULATED if name != "transverse_sensitivity"
 """The effects ``massline diagnose`` names (DESIGN.md). Transverse sensitivity is no finding: every channel's
 transverse reading is estimated under the datasheet's prior, and one beyond it is a ``sensor_direction``."""
 
+
 def kind(name: str) -> str:
-    """"test_physics" for the support and the elastic modes, "fault" for everything else (DESIGN.md)."""
+    """ "test_physics" for the support and the elastic modes, "fault" for everything else (DESIGN.md)."""
     return "test_physics" if name in TEST_PHYSICS else "fault"

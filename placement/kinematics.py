@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from massline.placement.degeneracy import _fmt, distinct_points, unseen_motion
+from massline.placement.degeneracy import distinct_points, unseen_motion, vector_text
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.linear_system import solve
 from massline.placement.lines import Lines
@@ -76,7 +76,7 @@ def method1(data: Masslines) -> RigidAccelerations:
         points = distinct_points(others)
         if len(points) == 1:
             return (
-                f"all transducers of eq. (5) sit at one point {_fmt(points[0])} m: its skew matrix is singular "
+                f"all transducers of eq. (5) sit at one point {vector_text(points[0])} m: its skew matrix is singular "
                 "(rotation about the line from O to that point is unseen); use a point for at most two directions"
             )
         return "the transducer moments r × d do not span three directions; add points off the line through O"

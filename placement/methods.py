@@ -14,6 +14,7 @@ from massline.placement.dynamics import MethodResult
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.plate import identify_plate
+from massline.placement.rigid_body import RigidBody
 
 from . import dynamics, kinematics
 
@@ -37,3 +38,15 @@ def identify(data: Masslines, kinematics: str = "method2", dynamics: str = "meth
             f"dynamics one of {sorted(DYNAMICS)} (or 'plate')"
         ) from None
     return dyn(data, kin(data))
+
+
+def starting_body(data: Masslines, planar: bool) -> RigidBody:
+    """A first body from the masslines: the paper's methods 2 + 3 (or the plate's eqs. 10–13), to start an
+    iterative estimate from; a plate's unobservable entries are a thin plate's."""
+    found = identify(data, "plate" if planar else "method2", "plate" if planar else "method3")
+    if not planar:
+        return found.body
+    J = found.inertia_cog.copy()
+    J[2, :] = J[:, 2] = 0.0
+    J[2, 2] = J[0, 0] + J[1, 1]  # unobservable for a plate: a thin plate's value, never used
+    return RigidBody(found.mass, found.cog, J)

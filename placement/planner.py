@@ -34,7 +34,7 @@ from massline.placement.masslines import synthesise
 from massline.placement.mesh import BodyMesh
 from massline.placement.methods import identify
 from massline.placement.model import RigidModel
-from massline.placement.selection import BlockProblem, greedy, leverages, repair, swap
+from massline.placement.selection import BlockProblem, compress, greedy, leverages, settle
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
@@ -98,20 +98,6 @@ class Plan:
         return worst_relative_std(self.model, self.predicted_std)
 
 
-def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
-    """Exchanges to a local optimum among admissible selections; an inadmissible
-    start is first repaired from the cover set of the motion it leaves unseen."""
-    chosen = swap(problem, chosen, admissible)
-    for _ in range(3):
-        if admissible(chosen):
-            break
-        cover = cover_for(chosen)
-        if cover is None:
-            break
-        chosen = swap(problem, repair(problem, chosen, admissible, cover), admissible)
-    return chosen
-
-
 def is_plate(body: BodyMesh) -> bool:
     """Thin along z, with z a principal axis: the paper's §2.3 case."""
     extents = body.mesh.extents
@@ -120,16 +106,6 @@ def is_plate(body: BodyMesh) -> bool:
     return bool(
         thin and np.abs(J[2, :2]).max() <= 1e-9 * np.abs(J).max() and abs(body.nominal.cog[2]) < 1e-9 * extents.max()
     )
-
-
-def _compress(blocks: np.ndarray) -> np.ndarray:
-    """Blocks with more rows than parameters replaced by p rows of the same information."""
-    n, r, p = blocks.shape
-    if r <= p:
-        return blocks
-    G = np.einsum("nrp,nrq->npq", blocks, blocks)
-    w, V = np.linalg.eigh(G)
-    return np.sqrt(np.clip(w, 0, None))[:, :, None] * V.transpose(0, 2, 1)
 
 
 class Planner:
@@ -172,7 +148,7 @@ class Planner:
         padded = np.concatenate([per_line, np.zeros((1,) + per_line.shape[1:])])  # row −1: nothing
         blocks = padded[side.members].reshape(len(side), -1, self.model.p)
         A0 = (sens(fixed, other) if sensors_side else sens(other, fixed)).reshape(-1, self.model.p)
-        return BlockProblem(_compress(blocks), side.group, budgets, A0.T @ A0)
+        return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0)
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])

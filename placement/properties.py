@@ -90,7 +90,9 @@ class Quantity:
 def _inertia_entries() -> list[Quantity]:
     names = "xyz"
     return [
-        Quantity(f"J_G {names[i]}{names[j]}", "kg·m²", 1.0, "inertia_cog", (i, j)) for i in range(3) for j in range(i, 3)
+        Quantity(f"J_G {names[i]}{names[j]}", "kg·m²", 1.0, "inertia_cog", (i, j))
+        for i in range(3)
+        for j in range(i, 3)
     ]
 
 

@@ -192,3 +192,27 @@ def effective_independence(problem: BlockProblem) -> list:
         batch = 1 if n_removable <= 100 else int(0.025 * n_removable)
         drop = set(np.argsort(loss)[:batch].tolist())
         keep = [c for position, c in enumerate(keep) if position not in drop]
+
+
+def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
+    """Exchanges to a local optimum among admissible selections; an inadmissible
+    start is first repaired from the cover set of the motion it leaves unseen."""
+    chosen = swap(problem, chosen, admissible)
+    for _ in range(3):
+        if admissible(chosen):
+            break
+        cover = cover_for(chosen)
+        if cover is None:
+            break
+        chosen = swap(problem, repair(problem, chosen, admissible, cover), admissible)
+    return chosen
+
+
+def compress(blocks: np.ndarray) -> np.ndarray:
+    """Blocks with more rows than parameters replaced by p rows of the same information."""
+    n, r, p = blocks.shape
+    if r <= p:
+        return blocks
+    G = np.einsum("nrp,nrq->npq", blocks, blocks)
+    w, V = np.linalg.eigh(G)
+    return np.sqrt(np.clip(w, 0, None))[:, :, None] * V.transpose(0, 2, 1)

@@ -84,7 +84,9 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
     sensors, hits = run.sensors, run.hits
     before, after = result.relative_rms("before"), result.relative_rms("after")
     if result.findings:
-        findings = "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in result.findings) + "</ol>"
+        findings = (
+            "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in result.findings) + "</ol>"
+        )
     else:
         findings = f"<p>No findings: the rigid body fits every line within the noise ({before / noise:.2f}× it).</p>"
     fit_line = (
@@ -98,11 +100,7 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
     if body is not None:
         flagged = (flagged_sensors, flagged_hits)
         scene, renderings, views = body_views(mesh, recording, sensors, hits, body, run.planar, flagged)
-        views = (
-            legend(scene, "corrected")
-            + views
-            + axes_table(body, fit_std(result.estimates[1]), nominal, run.planar)
-        )
+        views = legend(scene, "corrected") + views + axes_table(body, fit_std(result.estimates[1]), nominal, run.planar)
     off_rigid = run.off_rigid()
     maps = diagnosis_figure(result, run.data, sensors, hits, off_rigid, grid=True)
     maps_caption = (
@@ -132,7 +130,9 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
         "<section><h2>Properties before and after</h2>"
         + before_after_table(run, nominal)
         + '<p class="note">After: with every finding modelled (and loading masses taken away).</p></section>',
-        "<section><h2>Residual maps and overlays</h2>" + plot_figure(maps, "residual maps", maps_caption) + "</section>",
+        "<section><h2>Residual maps and overlays</h2>"
+        + plot_figure(maps, "residual maps", maps_caption)
+        + "</section>",
         "<section><h2>Fit per channel</h2>"
         + channel_table(run)
         + '<p class="note">Relative RMS residual of each channel over the band and every hit.</p></section>',

@@ -35,7 +35,6 @@ canvas { border: 1px solid #ccc; cursor: grab; touch-action: none; }
 """
 
 
-
 @dataclass(frozen=True, eq=False)
 class Report:
     """A page and the pictures in it (their label boxes and arrow tips, for checks)."""
@@ -96,7 +95,9 @@ def page(title: str, parts: list[str]) -> str:
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
-        f"<title>{escape(title)}</title><style>{STYLE}</style></head>\n<body>\n" + "\n".join(parts) + "\n</body></html>\n"
+        f"<title>{escape(title)}</title><style>{STYLE}</style></head>\n<body>\n"
+        + "\n".join(parts)
+        + "\n</body></html>\n"
     )
 
 
@@ -110,5 +111,3 @@ def with_sigma(value: float, sigma: float, scale: float) -> str:
         return "unobservable"
     shown = num(value * scale, ".6g")
     return shown if sigma is None or not np.isfinite(sigma) else f"{shown} ± {num(sigma * scale, '.2g')}"
-
-

@@ -217,7 +217,9 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + axes_table(found.body, found.std, nominal, found.planar)
         + "</section>",
         turn_it(scene),
-        "<section><h2>FRFs and the massline band</h2>" + plot_figure(frfs, "representative FRFs", band_note) + "</section>",
+        "<section><h2>FRFs and the massline band</h2>"
+        + plot_figure(frfs, "representative FRFs", band_note)
+        + "</section>",
         "<section><h2>How well the identified body fits the masslines</h2>"
         + plot_figure(fitted, "masslines against the identified body", "Each point is one FRF's massline with its 1-σ.")
         + "</section>",

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 from conftest import bundled
+from likelihood import maximum_likelihood
 
 from massline.placement import Lines, Masslines, synthesise
 from massline.placement.accuracy import layout_worst_std
@@ -19,7 +20,6 @@ from massline.placement.hand_layouts import (
     structure_sensors,
 )
 from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
-from massline.placement.likelihood import maximum_likelihood
 from massline.placement.model import RigidModel
 from massline.placement.planner import Budget, CandidateLines, Planner, candidate_lines, plan, plan_on_candidates
 from massline.placement.properties import property_vector

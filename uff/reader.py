@@ -201,9 +201,7 @@ def _frfs(functions: list[Function], length: float, force: float, notes: list[st
             notes.append(f"{label} repeats FRF {twin.number} exactly: ignored")
             continue
         frfs.append(frf)
-    notes += [
-        f"coherence at line {c.line} ({c.response}) has no FRF: ignored" for c in coherences.values()
-    ]
+    notes += [f"coherence at line {c.line} ({c.response}) has no FRF: ignored" for c in coherences.values()]
     weighted = sum(frf.coherence is not None for frf in frfs)
     if 0 < weighted < len(frfs):
         notes.append(f"only {weighted} of {len(frfs)} FRFs have a coherence: none is used")

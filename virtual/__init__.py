@@ -1,7 +1,16 @@
-"""The virtual test: the suspended body, its instrumentation and its recordings, simulated.
+"""massline.virtual — the virtual test: the suspended body, its instrumentation and its recordings, simulated.
 
 The body's elastic modes come from a finite-element model of the solid
 (:mod:`.elastic`, meshed by :mod:`.tetmesh`); the suspension, sensor masses and
 instrumentation effects are added on top, and :mod:`.measurement` turns the
-result into the FRFs a test system would record.
+result into the FRFs a test system would record (:mod:`.virtual_test` runs one test,
+:mod:`.scenarios` the blind ones); :mod:`.band` predicts the massline band before the test.
 """
+
+from massline.virtual.effects import Effect
+from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.suspended import SuspendedBody
+from massline.virtual.suspension import Cord, Foam, Suspension
+from massline.virtual.virtual_test import Acquisition, run
+
+__all__ = ["Acquisition", "Cord", "Effect", "ElasticBody", "Foam", "Material", "Suspension", "SuspendedBody", "run"]

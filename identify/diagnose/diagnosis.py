@@ -36,8 +36,8 @@ from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.tails import TAIL_LAWS, BandData
 from massline.placement.accuracy import predicted_std
 from massline.placement.errors import MasslineError
-from massline.placement.likelihood import starting_body
 from massline.placement.masslines import Masslines
+from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
 

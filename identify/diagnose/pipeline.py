@@ -77,7 +77,11 @@ class DiagnosisRun:
 
         return {
             "findings": [finding_payload(x, self.recording) for x in result.findings],
-            "fit": {"before": result.relative_rms("before"), "after": result.relative_rms("after"), "noise": result.noise},
+            "fit": {
+                "before": result.relative_rms("before"),
+                "after": result.relative_rms("after"),
+                "noise": result.noise,
+            },
             "fit_per_channel": {
                 "before": result.relative_rms("before", axis=1).tolist(),
                 "after": result.relative_rms("after", axis=1).tolist(),

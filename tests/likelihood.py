@@ -1,9 +1,8 @@
-"""The efficient estimator: all masslines at once, weighted by their noise.
+"""The efficient estimator of the planner's accuracy tests: all masslines at once, weighted by their noise.
 
-Gauss–Newton on the weighted residuals (H_ij − ℓ_iᵀ M(θ)⁻¹ w_j) / σ_ij from a
-start (the paper's method 3, or the plate's eqs. 10–13). Its covariance is
-the inverse Fisher information at the solution, the Cramér–Rao bound the
-planner predicts.
+Gauss–Newton on the weighted residuals (H_ij − ℓ_iᵀ M(θ)⁻¹ w_j) / σ_ij from the paper's methods;
+its covariance is the inverse Fisher information at the solution, the Cramér–Rao bound the planner
+predicts (the product's estimator is :mod:`massline.identify.estimator`).
 """
 
 from __future__ import annotations
@@ -12,19 +11,9 @@ import numpy as np
 
 from massline.placement.information import NoiseModel, weighted_sensitivities
 from massline.placement.masslines import Masslines
-from massline.placement.methods import identify
+from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
-
-
-def starting_body(data: Masslines, planar: bool) -> RigidBody:
-    found = identify(data, "plate" if planar else "method2", "plate" if planar else "method3")
-    if not planar:
-        return found.body
-    J = found.inertia_cog.copy()
-    J[2, :] = J[:, 2] = 0.0
-    J[2, 2] = J[0, 0] + J[1, 1]  # unobservable for a plate: a thin plate's value, never used
-    return RigidBody(found.mass, found.cog, J)
 
 
 def maximum_likelihood(
