@@ -67,6 +67,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         found = diagnose_recording(recording, args.band, nominal, args.transverse)
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
+    for note in found.notes:
+        console.print(f"note: {note}")
     console.print(
         f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
         f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"

@@ -64,6 +64,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     recording = to_recording(read_uff(args.uff))
     found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method)
     band, fit = found.band, found.fit
+    for note in found.notes:
+        console.print(f"note: {note}")
     console.print(
         f"massline band {band.low:.1f}–{band.high:.1f} Hz ({band.rule}); band fits: median RMS residual "
         f"{np.median(fit.quality):.2%} of the massline, worst {fit.quality.max():.2%}; suspension and "

@@ -51,11 +51,24 @@ def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
     return gamma2 / (1 - gamma2)
 
 
+def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
+    """The recording without its lines at or below 0 Hz, and a note saying so when there were any."""
+    kept = recording.above_zero()
+    dropped = len(recording.frequencies) - len(kept.frequencies)
+    if not dropped:
+        return recording, ()
+    if not len(kept.frequencies):
+        raise MasslineError("the recording has no line above 0 Hz: export the FRFs over a frequency range")
+    lines = "the 0 Hz line" if dropped == 1 and recording.frequencies[0] == 0 else f"{dropped} lines at or below 0 Hz"
+    return kept, (f"{lines} set aside (an exporter's DC line holds no massline)",)
+
+
 @dataclass(frozen=True, eq=False)
 class Identification:
     """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
 
-    ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``).
+    ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``). ``recording`` is
+    the one identified: the file's without its lines at or below 0 Hz; ``notes`` say what was set aside.
     """
 
     recording: Recording
@@ -68,6 +81,7 @@ class Identification:
     std: dict
     body: RigidBody
     method: str = "best"
+    notes: tuple = ()
 
     @property
     def payload(self) -> dict:
@@ -79,6 +93,7 @@ def identify_recording(
     recording: Recording, band=None, transverse: float = TRANSVERSE, draws: int = 100, method: str = "best"
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap)."""
+    recording, notes = usable_lines(recording)
     f = recording.frequencies
     used = given_band(f, *band) if band else find_band(f, recording.frf)
     fit = fit_band(f, recording.frf, used.low, used.high, coherence_weights(recording.coherence))
@@ -94,4 +109,4 @@ def identify_recording(
         if found.mass is None:
             raise MasslineError(f"{method} does not identify the mass; choose a method 2 or 3 dynamics")
         body = found.body
-    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method)
+    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes)

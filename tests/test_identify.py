@@ -194,3 +194,35 @@ def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
         inside.append(z < 2)
     share = np.mean(inside, axis=0)
     assert share.min() >= 0.9, share
+
+
+def test_an_exporters_zero_hz_line_is_set_aside(structure, tmp_path):
+    """Exporters start the axis at 0 Hz with noise there: identify and diagnose set the line aside, find the
+    band over the rest and give what the same file without that line gives."""
+    cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
+    setup = Acquisition(200.0, 400, Noise(0.01, 0.0))
+    rec, _ = run(structure, structure_sensors(), structure_exciters(), None, cord, (), setup, seed=1)
+    rng = np.random.default_rng(0)
+    dc = 1e-3 * (rng.standard_normal(rec.frf.shape[:2]) + 1j * rng.standard_normal(rec.frf.shape[:2]))
+    exported = type(rec)(
+        np.concatenate([[0.0], rec.frequencies]),
+        np.concatenate([dc[:, :, None], rec.frf], axis=2),
+        rec.sensors,
+        rec.exciters,
+    )
+    plain, with_dc = tmp_path / "plain.uff", tmp_path / "dc.uff"
+    write_uff(plain, rec)
+    write_uff(with_dc, exported)
+    results = {}
+    for path in (plain, with_dc):
+        out = tmp_path / f"{path.stem}.json"
+        result = massline("identify", path, "--json", out, "--bootstrap", "0")
+        assert result.returncode == 0, result.stderr
+        results[path.stem] = json.loads(out.read_text())
+        assert ("0 Hz line set aside" in result.stdout) == (path == with_dc)
+    assert results["dc"]["band_hz"] == results["plain"]["band_hz"]
+    assert results["dc"]["mass"] == pytest.approx(results["plain"]["mass"], rel=1e-12)
+    assert abs(results["dc"]["mass"] / structure.mass - 1) < 0.003
+    diagnosed = massline("diagnose", with_dc)
+    assert diagnosed.returncode == 0, diagnosed.stderr
+    assert "0 Hz line set aside" in diagnosed.stdout

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -98,6 +98,19 @@ class Recording:
         for name in ("sensor_labels", "exciter_labels"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, tuple(Channel(int(n), int(c)) for n, c in getattr(self, name)))
+
+    def above_zero(self) -> "Recording":
+        """The recording without its lines at or below 0 Hz: exporters start the axis at 0 Hz, where an FRF
+        holds noise or window residue and no massline (a massline is ω²-weighted receptance: nothing at DC)."""
+        keep = self.frequencies > 0
+        if keep.all():
+            return self
+        return replace(
+            self,
+            frequencies=self.frequencies[keep],
+            frf=self.frf[:, :, keep],
+            coherence=None if self.coherence is None else self.coherence[:, :, keep],
+        )
 
     @property
     def sensor_channels(self) -> list:

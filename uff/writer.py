@@ -10,7 +10,7 @@ The file holds, in this order (DESIGN.md, "Recordings"):
   node and direction code, reference (exciter) node and direction code; then, when the recording has coherence,
   one record of function type 6 (coherence, UFF's code for it) per pair.
 
-Nodes and direction codes: :mod:`.uff_layout`.
+Nodes and direction codes: :mod:`.layout`.
 
 pyuff 2.5 writes 151, 164, 15, 18, 2411 and 2420 as the format says, so those go through `pyuff.UFF.write_sets`.
 Dataset 58 is formatted here: pyuff's 58b header states 8 bytes per point for complex data (16 are written), it

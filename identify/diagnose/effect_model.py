@@ -16,7 +16,7 @@ T_i holds two unit vectors ⊥ d_i: what lies along the line is unobservable. Ev
 the ``sensor_direction`` effect widens that prior for one accelerometer to a
 mounting error's (``MISALIGNMENT``), and pays the Laplace evidence's Occam factor
 for it, 2 ln(σ_wide/σ_datasheet) per component, instead of BIC's ln n. The
-fit weighs every massline by the spectral lines behind it (:mod:`.tails`), so its
+fit weighs every massline by the spectral lines behind it (:mod:`massline.identify.tails`), so its
 χ² counts every line.
 """
 

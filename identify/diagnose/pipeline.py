@@ -16,7 +16,7 @@ from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.finding import finding_payload
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import is_planar, properties_payload
+from massline.identify.pipeline import is_planar, properties_payload, usable_lines
 from massline.identify.tails import BandData
 from massline.placement.band import Band
 from massline.placement.rigid_body import RigidBody
@@ -45,6 +45,8 @@ class DiagnosisRun:
     screens : dict
         The model-free screens.
     result : Diagnosis
+    notes : tuple of str
+        What was set aside before the diagnosis (an exporter's 0 Hz line).
     """
 
     recording: Recording
@@ -58,6 +60,7 @@ class DiagnosisRun:
     noise: float
     screens: dict
     result: Diagnosis
+    notes: tuple = ()
 
     def off_rigid(self) -> np.ndarray | None:
         """How far each recorded channel sits from the rigid motions at every band line (None without redundancy)."""
@@ -96,7 +99,11 @@ class DiagnosisRun:
 
 
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
-    """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band."""
+    """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band.
+
+    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed).
+    """
+    recording, notes = usable_lines(recording)
     f = recording.frequencies
     used = given_band(f, *band) if band else find_band(f, recording.frf)
     estimation = estimation_band(f, recording.frf, used)
@@ -118,4 +125,5 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         relative_noise(data),
         screens,
         result,
+        notes,
     )
