@@ -14,7 +14,7 @@ from massline.placement.band import Band
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import CORD_LENGTH, GRAVITY, STRETCH, UP, Cord, Suspension
+from massline.virtual.suspension import CORD_LENGTH, STRETCH, UP, Cord, Suspension
 
 TOLERANCE = 0.01  # relative deviation of the FRF matrix from the massline
 
@@ -66,5 +66,4 @@ def recommend_suspension(
     length : float
         Hanging length, m: the pendulum modes fall as √(g/L).
     """
-    mass = model.loaded.mass
-    return Suspension(cords=(Cord(np.asarray(top_point, dtype=float), mass * GRAVITY / stretch, length),), up=up)
+    return Suspension(cords=(Cord.soft(top_point, model.loaded.mass, stretch, length),), up=up)

@@ -83,6 +83,12 @@ class Cord:
         if not (self.stiffness > 0 and self.length > 0):
             raise MasslineError(f"cords need a positive stiffness and length, not k={self.stiffness}, L={self.length}")
 
+    @classmethod
+    def soft(cls, attachment, mass: float, stretch: float = STRETCH, length: float = CORD_LENGTH) -> "Cord":
+        """Appendix A's soft cord: stretched ``stretch`` m by the weight of ``mass`` kg (k = m g / stretch, bounce
+        at √(g/stretch)/2π), ``length`` m long (pendulum modes at √(g/L)/2π)."""
+        return cls(attachment, mass * GRAVITY / stretch, length)
+
 
 @dataclass(frozen=True)
 class Foam:
@@ -144,8 +150,9 @@ class Suspension:
             if kind == "cord":
                 at = options.pop("at", None)
                 point = point_above(mesh, body.cog)[0] if at is None else np.array(at.split(";"), dtype=float)
-                k = float(options.pop("k", body.mass * GRAVITY / STRETCH))
-                length = float(options.pop("L", CORD_LENGTH))
+                default = Cord.soft(point, body.mass)
+                k = float(options.pop("k", default.stiffness))
+                length = float(options.pop("L", default.length))
                 suspension = cls(cords=(Cord(point, k, length),), loss_factor=loss)
             elif kind == "foam":
                 k = float(options.pop("k", body.mass * (2 * np.pi * FOAM_BOUNCE) ** 2))
