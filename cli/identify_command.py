@@ -78,6 +78,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"reduced χ² {found.best.chi2:.3g} over {found.data.values.size} masslines"
         + ("; physical-consistency constraint active" if found.best.constrained else "")
     )
+    for warning in found.warnings:
+        console.print(f"[bold]warning:[/bold] {warning}")
     if args.json:
         write_atomic(args.json, to_json(found.payload), args.force)
         console.print(f"wrote {args.json}")

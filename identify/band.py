@@ -22,6 +22,7 @@ OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbe
 ABOVE_SUSPENSION = 3.0  # band starts this many times above the top suspension resonance
 BELOW_ELASTIC = 3.0  # and ends this many times below the first elastic resonance
 MIN_LINES = 8
+FLAT = 0.5  # mean |d log|H| / d log f| below which a stretch reads a massline
 
 
 def imaginary_fraction(frf: np.ndarray) -> np.ndarray:
@@ -35,12 +36,44 @@ def runs_of(frequencies: np.ndarray, marked: np.ndarray) -> np.ndarray:
     return np.column_stack([frequencies[edges[:, 0]], frequencies[edges[:, 1] - 1]])
 
 
-def widest_gap(frequencies: np.ndarray, runs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
-    """Index of the widest log-frequency gap between runs; the gaps' lower and upper ends (Hz)."""
+def gaps_between(frequencies: np.ndarray, runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper ends (Hz) of the stretches between runs: where a resonance ends, where the next starts."""
     f = frequencies
-    tops = np.concatenate([[f[0] / ABOVE_SUSPENSION], runs[:, 1]])  # a resonance ends
-    bottoms = np.concatenate([runs[:, 0], [f[-1] * BELOW_ELASTIC]])  # the next one starts
-    return int(np.argmax(np.log(bottoms) - np.log(tops))), tops, bottoms
+    tops = np.concatenate([[f[0] / ABOVE_SUSPENSION], runs[:, 1]])
+    bottoms = np.concatenate([runs[:, 0], [f[-1] * BELOW_ELASTIC]])
+    return tops, bottoms
+
+
+def steepness(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float) -> float:
+    """Mean over FRFs of |d log|H| / d log f| across the middle half (in log f) of low–high.
+
+    0 on a massline; 2 where the FRFs follow a stiffness line (below a stiff support's bounce, the lines
+    it moves are spring-like while the others already read the mass)."""
+    quarter = (high / low) ** 0.25
+    ends = []
+    for centre in (low * quarter, high / quarter):
+        near = np.abs(np.log(frequencies / centre)) <= np.log(quarter) / 4
+        if not near.any():
+            return np.inf
+        ends.append(np.sqrt(np.mean(np.abs(frf[:, :, near]) ** 2, axis=2)))
+    scale = np.maximum(ends[0], 1e-300)
+    return float(np.mean(np.abs(np.log(np.maximum(ends[1], 1e-300) / scale))) / np.log(quarter**2))
+
+
+def widest_gap(frequencies: np.ndarray, frf: np.ndarray, runs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """Index of the widest log-frequency gap between runs where the FRFs are flat (mass-like); the gaps'
+    lower and upper ends (Hz). A stiff support's bounce can leave a wider gap below it than above, where
+    the FRFs it moves still follow a spring: flatness tells the massline's gap apart."""
+    tops, bottoms = gaps_between(frequencies, runs)
+    width = np.log(bottoms) - np.log(tops)
+    if frf is None or len(width) == 1:
+        return int(np.argmax(width)), tops, bottoms
+    low = np.maximum(tops, frequencies[0])
+    high = np.minimum(bottoms, frequencies[-1])
+    slope = np.array([steepness(frequencies, frf, lo, hi) if hi > lo * 1.5 else np.inf for lo, hi in zip(low, high)])
+    flat = slope < FLAT
+    candidates = np.flatnonzero(flat) if flat.any() else np.arange(len(width))
+    return int(candidates[np.argmax(width[candidates])]), tops, bottoms
 
 
 def log_spaced(frequencies: np.ndarray, where: np.ndarray, count: int = 200) -> np.ndarray:
@@ -55,18 +88,37 @@ def log_spaced(frequencies: np.ndarray, where: np.ndarray, count: int = 200) -> 
 def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
     """Lines inside a resonance: imaginary-dominated, or off the level of the quietest stretch."""
     phase = imaginary_fraction(frf) > RESONANT
-    k, tops, bottoms = widest_gap(frequencies, runs_of(frequencies, phase))
+    k, tops, bottoms = widest_gap(frequencies, frf, runs_of(frequencies, phase))
     quiet = (frequencies > tops[k]) & (frequencies < bottoms[k])
     reference = np.median(frf.real[:, :, log_spaced(frequencies, quiet)], axis=2)
     departure = np.linalg.norm(frf.real - reference[:, :, None], axis=(0, 1)) / np.linalg.norm(reference)
     return phase | (departure > OFF_LEVEL)
 
 
+def resonance_free(frequencies: np.ndarray, frf: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
+    """The flat resonance-free stretches: their lower and upper ends (Hz), the widest one's index, and how many
+    runs of disturbed lines there are. Lines at or below 0 Hz (an exporter's DC line) are left out."""
+    f = np.asarray(frequencies, dtype=float)
+    above = f > 0
+    f, frf = f[above], frf[:, :, above]
+    runs = runs_of(f, disturbed(f, frf))
+    k, tops, bottoms = widest_gap(f, frf, runs)
+    return tops, bottoms, k, len(runs)
+
+
+def stretch(frequencies: np.ndarray, frf: np.ndarray) -> Band:
+    """The widest flat resonance-free stretch, edge to edge (no margins): where a band may be sought."""
+    tops, bottoms, k, n_runs = resonance_free(frequencies, frf)
+    suspension = tops[k] if k > 0 else np.nan
+    elastic = bottoms[k] if k < n_runs else np.nan
+    return Band(float(tops[k]), float(bottoms[k]), float(suspension), float(elastic), "stretch")
+
+
 def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Band:
     """Zone B: the widest resonance-free stretch, with margins to the resonances on either side."""
     f = np.asarray(frequencies, dtype=float)
-    runs = runs_of(f, disturbed(f, frf))
-    k, tops, bottoms = widest_gap(f, runs)
+    f = f[f > 0]
+    tops, bottoms, k, n_runs = resonance_free(frequencies, frf)
     low, high = max(tops[k] * ABOVE_SUSPENSION, f[0]), min(bottoms[k] / BELOW_ELASTIC, f[-1])
     if np.count_nonzero((f >= low) & (f <= high)) < MIN_LINES:
         raise MasslineError(
@@ -74,7 +126,7 @@ def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Band:
             "too narrow once clear of its resonances; soften the suspension or give --band LO HI"
         )
     suspension = tops[k] if k > 0 else np.nan
-    elastic = bottoms[k] if k < len(runs) else np.nan
+    elastic = bottoms[k] if k < n_runs else np.nan
     return Band(float(low), float(high), float(suspension), float(elastic), "found")
 
 

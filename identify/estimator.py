@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
 from massline.placement.masslines import Masslines
 from massline.placement.methods import starting_body
@@ -197,6 +198,11 @@ def estimate(
         system, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
+        if not np.all(np.isfinite(candidate)):
+            raise MasslineError(
+                "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band "
+                "across a resonance?); run massline diagnose, or give --band LO HI"
+            )
         if not planar and not is_consistent(candidate, model.scale[-1]):
             step = constrained_step(*system.dense(), theta, model)
             x, tau, constrained = step[: model.p], step[model.p :].reshape(tilt.shape), True
@@ -207,11 +213,29 @@ def estimate(
             break
     s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
     system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
-    chi2 = system.chi2_sum / max(data.values.size - model.p, 1)
-    covariance = np.linalg.inv(system.step()[2]) * max(chi2, 1.0)
+    chi2 = reduced_chi2(system)
+    covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
     prior = 0.0 if T is None else transverse
     return Estimate(model.nominal, model, covariance, chi2, data.values - H, constrained, readings, prior)
+
+
+def reduced_chi2(system: WeightedSystem) -> float:
+    """Σ r_ij² / (n − p_eff) over the masslines: ≈ 1 when the band fits' σ explain the residuals.
+
+    p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ) counts the parameters the data pay for: the properties and as much of
+    each channel's transverse reading as the data, not the prior, determine. Counting the two transverse
+    components of every channel in full (or not at all) makes χ² too small on a layout with few hits per
+    channel. nan when nothing is left over to judge the fit by (no redundancy).
+    """
+    J, _ = system.dense()
+    n = system.r.size
+    try:
+        hat = J[:n] @ np.linalg.solve(J.T @ J, J[:n].T)
+    except np.linalg.LinAlgError:
+        return np.nan
+    left = n - float(np.trace(hat))
+    return float(np.sum(system.r**2) / left) if left > 0.5 else np.nan
 
 
 def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:

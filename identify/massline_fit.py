@@ -50,38 +50,44 @@ class BandFit:
     bias: np.ndarray
 
 
-def design_matrix(omega: np.ndarray) -> np.ndarray:
-    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1)."""
+def design_matrix(omega: np.ndarray, richer: bool = False) -> np.ndarray:
+    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1).
+
+    ``richer`` adds each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): the model a band is checked against.
+    """
     x = scaled_frequency(omega)  # ω²/ω_mid²: keeps the columns comparable
     zero = np.zeros_like(x)
-    real = np.column_stack([np.ones_like(x), 1 / x, zero, x, zero, x**2])
-    imag = np.column_stack([zero, zero, 1 / x, zero, x, zero])
-    return np.vstack([real, imag])
+    real = [np.ones_like(x), 1 / x, zero, x, zero, x**2] + ([1 / x**2, x**3] if richer else [])
+    imag = [zero, zero, 1 / x, zero, x, zero] + ([zero, zero] if richer else [])
+    return np.vstack([np.column_stack(real), np.column_stack(imag)])
 
 
-def fit_band(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float, weights=None) -> BandFit:
+def fit_band(
+    frequencies: np.ndarray, frf: np.ndarray, low: float, high: float, weights=None, richer: bool = False
+) -> BandFit:
     """Least-squares fit of A + B/ω² + Cω² + Dω⁴ to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
 
-    ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF.
+    ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF;
+    ``richer`` fits each tail's next term too (:func:`design_matrix`).
     """
     keep = (frequencies >= low) & (frequencies <= high)
     n = int(keep.sum())
     if n < 8:
         raise MasslineError(f"the band {low:g}–{high:g} Hz holds {n} spectral lines; at least 8 are needed")
     omega = 2 * np.pi * frequencies[keep]
-    X = design_matrix(omega)
+    X = design_matrix(omega, richer)
     mid2 = omega[0] * omega[-1]
     H = frf[:, :, keep]
     Y = np.concatenate([H.real, H.imag], axis=2)  # (n_s, n_e, 2n)
     w = np.ones_like(Y) if weights is None else np.sqrt(np.concatenate([weights[:, :, keep]] * 2, axis=2))
-    coef = np.empty(Y.shape[:2] + (6,))
+    coef = np.empty(Y.shape[:2] + (X.shape[1],))
     std = np.empty(Y.shape[:2])
     rms = np.empty(Y.shape[:2])
     for i, j in np.ndindex(*Y.shape[:2]):
         Xw, yw = X * w[i, j, :, None], Y[i, j] * w[i, j]
         c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
         r = yw - Xw @ c
-        sigma2 = r @ r / max(len(yw) - 6, 1)
+        sigma2 = r @ r / max(len(yw) - X.shape[1], 1)
         cov = sigma2 * np.linalg.pinv(Xw.T @ Xw)
         coef[i, j], std[i, j] = c, np.sqrt(cov[0, 0])
         rms[i, j] = np.sqrt(np.mean((Y[i, j] - X @ c) ** 2))

@@ -10,9 +10,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.identify.band import find_band, given_band
+from massline.identify.band import given_band
+from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings
 from massline.identify.uncertainty import property_std
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
@@ -82,11 +84,14 @@ class Identification:
     body: RigidBody
     method: str = "best"
     notes: tuple = ()
+    warnings: tuple = ()
 
     @property
     def payload(self) -> dict:
         """DESIGN.md's identify JSON."""
-        return properties_payload(self.body, self.std, (self.band.low, self.band.high), self.planar)
+        found = properties_payload(self.body, self.std, (self.band.low, self.band.high), self.planar)
+        chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
+        return {**found, "chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": 0.0}
 
 
 def identify_recording(
@@ -95,12 +100,21 @@ def identify_recording(
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap)."""
     recording, notes = usable_lines(recording)
     f = recording.frequencies
-    used = given_band(f, *band) if band else find_band(f, recording.frf)
-    fit = fit_band(f, recording.frf, used.low, used.high, coherence_weights(recording.coherence))
-    data = Masslines(fit.values, recording.sensors, recording.exciters)
+    weights = coherence_weights(recording.coherence)
     planar = is_planar(recording.sensors, recording.exciters)
+    if band:
+        used = given_band(f, *band)
+    else:
+        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar, weights)
+    fit = fit_band(f, recording.frf, used.low, used.high, weights)
+    data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     best = estimate(data, sigma, planar, transverse)
+    if not (np.isfinite(best.body.mass) and np.all(np.isfinite(best.body.inertia_cog))):
+        raise MasslineError(
+            f"the estimate from the band {used.low:.3g}–{used.high:.3g} Hz did not converge to a body: "
+            "check the recording's channels, or give --band LO HI clear of the resonances"
+        )
     std = property_std(data, sigma, best, draws=draws)
     body = best.body
     if method != "best":
@@ -109,4 +123,12 @@ def identify_recording(
         if found.mass is None:
             raise MasslineError(f"{method} does not identify the mass; choose a method 2 or 3 dynamics")
         body = found.body
-    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes)
+    in_band = (f >= used.low) & (f <= used.high)
+    channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
+    dof = data.values.size - best.model.p
+    warnings = (
+        fit_warnings(best.chi2, dof)
+        + band_warnings(used, int(in_band.sum()))
+        + coherence_warnings(recording.coherence, in_band, channels)
+    )
+    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes, tuple(warnings))

@@ -155,6 +155,14 @@ def body_views(mesh, recording, sensors, hits, body, planar, flagged=((), ())):
     return (scene, *_views(scene))
 
 
+def warnings_block(warnings) -> str:
+    """The identification's warnings, first on the page (empty when nothing is suspect)."""
+    if not warnings:
+        return ""
+    items = "".join(f"<li>{escape(w)}</li>" for w in warnings)
+    return f'<section class="warnings"><h2>Warnings</h2><ul>{items}</ul></section>'
+
+
 def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = None) -> Report:
     """The identification report of ``found`` (``massline identify --report``), against ``mesh`` when given."""
     recording, zones, fit = found.recording, found.band, found.fit
@@ -207,6 +215,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         f"<h1>Identification: {escape(Path(uff_path).name)}</h1>",
         f'<p class="note">{recording_line(recording, uff_path)} {body_line(mesh)}</p>',
         f"<p>{summary}</p>",
+        warnings_block(found.warnings),
         f"<section><h2>Properties ({escape(method)})</h2>"
         + properties_table(found.body, found.std, nominal, found.planar)
         + f'<p class="note">{fit_note} J about the CoG, tensor sign (off-diagonals are minus the products of '

@@ -1,0 +1,102 @@
+"""The massline band chosen by the model: the candidate band whose masslines give the smallest predicted
+uncertainty of the properties, among those that the band fit explains.
+
+The resonance-free stretch (:func:`.band.find_band`) bounds the search: from just above its support
+resonance to just below its elastic one. Inside it, candidate bands start at 1–5 × their lower margin and
+end at 1–5 × below their upper one. For each, every FRF is fitted with its massline and tails
+(:func:`.massline_fit.fit_band`), and
+
+* the predicted covariance of the properties is the inverse information Σ g_ij g_ijᵀ/σ_ij², with g_ij the
+  sensitivity of massline ij at the start body and σ_ij its band-fit 1-σ (DESIGN.md, "Information"); the
+  score is its trace in scaled parameters;
+* the band is *explained* when its masslines agree with those of the most conservative band (the
+  stretch's middle, clear of both resonances by the widest margins) to the noise: the mean over FRFs of
+  (A_ij − A°_ij)²/(σ_ij² + σ°_ij²) at most ``AGREEMENT``. A wider band whose tails the fit cannot remove
+  moves its masslines away from the conservative ones, and is passed over.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from massline.identify.band import MIN_LINES, stretch
+from massline.identify.massline_fit import BandFit, fit_band
+from massline.placement.band import Band
+from massline.placement.errors import MasslineError
+from massline.placement.information import sensitivities
+from massline.placement.lines import Lines
+from massline.placement.masslines import Masslines
+from massline.placement.methods import starting_body
+from massline.placement.model import RigidModel
+
+STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
+MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
+AGREEMENT = 2.0  # mean normalised squared difference to the conservative band's masslines
+
+
+def candidates(frequencies: np.ndarray, stretch: Band) -> list[tuple[float, float]]:
+    """(low, high) Hz of every candidate band inside the stretch, each with at least MIN_LINES lines."""
+    f = frequencies
+    bottom = max(stretch.suspension_top * MARGIN if np.isfinite(stretch.suspension_top) else f[0], f[0])
+    top = min(stretch.first_elastic / MARGIN if np.isfinite(stretch.first_elastic) else f[-1], f[-1])
+    pairs = [(bottom * a, top / b) for a in STEPS for b in STEPS]
+    return [(lo, hi) for lo, hi in pairs if hi > 1.2 * lo and np.count_nonzero((f >= lo) & (f <= hi)) >= MIN_LINES]
+
+
+def conservative(pairs: list[tuple[float, float]]) -> tuple[float, float]:
+    """The candidate farthest from both resonances: the largest of its two margins' smaller one."""
+    low0, high0 = min(p[0] for p in pairs), max(p[1] for p in pairs)
+    return max(pairs, key=lambda p: (min(p[0] / low0, high0 / p[1]), np.log(p[1] / p[0])))
+
+
+def predicted_spread(fit: BandFit, model: RigidModel, s: np.ndarray, e: np.ndarray) -> float:
+    """trace F⁻¹ in scaled parameters, F = Σ g_ij g_ijᵀ / σ_ij² (inf when singular)."""
+    G, _ = sensitivities(model, s, e)
+    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.values).max())
+    F = np.einsum("ijp,ijq->pq", G / sigma[..., None], G / sigma[..., None])
+    try:
+        return float(np.trace(np.linalg.inv(F)))
+    except np.linalg.LinAlgError:
+        return np.inf
+
+
+def agreement(fit: BandFit, richer: BandFit) -> float:
+    """Mean over FRFs of (A − A⁺)²/(σ⁺² − σ²): how far each tail's next term moves the masslines, against
+    what noise alone moves them by (the variance of a difference between nested least-squares fits)."""
+    variance = np.maximum(richer.std**2 - fit.std**2, 0.05 * richer.std**2)
+    return float(np.mean((fit.values - richer.values) ** 2 / np.maximum(variance, 1e-300)))
+
+
+def choose_band(
+    frequencies: np.ndarray, frf: np.ndarray, sensors: Lines, exciters: Lines, planar: bool, weights=None
+) -> Band:
+    """The band with the smallest predicted spread of the properties among the explained candidates.
+
+    ``frequencies`` (Hz) above 0, ``frf`` (n_s, n_e, n_f) accelerance, ``weights`` the lines' coherence
+    weights or None. Raises MasslineError (from :func:`.band.find_band`) when no stretch can carry a massline.
+    """
+    free = stretch(frequencies, frf)
+    pairs = candidates(frequencies, free)
+    if not pairs:
+        raise MasslineError(
+            f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
+            f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more lines, "
+            "or give --band LO HI"
+        )
+    safe = conservative(pairs)
+    reference = fit_band(frequencies, frf, *safe, weights)
+    try:
+        model = RigidModel(starting_body(Masslines(reference.values, sensors, exciters), planar), planar)
+    except (MasslineError, np.linalg.LinAlgError):
+        return Band(*safe, free.suspension_top, free.first_elastic, "chosen")
+    s, e = model.coordinates(sensors), model.coordinates(exciters)
+    best, best_spread = safe, np.inf
+    for pair in pairs:
+        fit = fit_band(frequencies, frf, *pair, weights)
+        spread = predicted_spread(fit, model, s, e)
+        if (
+            spread < best_spread
+            and agreement(fit, fit_band(frequencies, frf, *pair, weights, richer=True)) <= AGREEMENT
+        ):
+            best, best_spread = pair, spread
+    return Band(*best, free.suspension_top, free.first_elastic, "chosen")
