@@ -12,10 +12,12 @@ value and its σ then sharing one exponent ("4.254e−5 ± 0.030e−5").
 from __future__ import annotations
 
 import math
-from decimal import ROUND_HALF_EVEN, Decimal
+import re
+from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Context, Decimal
 
 MINUS = "−"
 SMALLEST_PLAIN, LARGEST_PLAIN = -3, 5  # decimal exponents of the leading digit written without an exponent
+EXACT = Context(prec=1000)  # room for any double's digits from its leading one to a σ's last (|exponents| ≤ 324)
 
 
 def _decimal(value: float) -> Decimal:
@@ -25,7 +27,7 @@ def _decimal(value: float) -> Decimal:
 
 def _rounded(d: Decimal, place: int) -> Decimal:
     """``d`` rounded to the digit of 10**place, with no negative zero."""
-    r = d.quantize(Decimal((0, (1,), place)), rounding=ROUND_HALF_EVEN)
+    r = d.quantize(Decimal((0, (1,), place)), rounding=ROUND_HALF_EVEN, context=EXACT)
     return r.copy_abs() if r.is_zero() else r
 
 
@@ -39,7 +41,7 @@ def _fixed(d: Decimal, place: int) -> str:
 
 
 def _scientific(d: Decimal, place: int, exponent: int) -> str:
-    mantissa = _fixed(d.scaleb(-exponent), place - exponent)
+    mantissa = _fixed(d.scaleb(-exponent, context=EXACT), place - exponent)
     return f"{mantissa}e{exponent}".replace("-", MINUS)
 
 
@@ -53,18 +55,13 @@ def _written(d: Decimal, place: int, exponent: int) -> str:
 def sigma_place(sigma: float) -> int:
     """Decimal place of the last digit a 1-σ keeps, by the Particle Data Group's rule.
 
-    Take σ's three leading digits: 100–354 keep two significant digits, 355–949 one, and 950–999 are
+    Take σ's three leading digits (truncated): 100–354 keep two significant digits, 355–949 one, and 950–999 are
     raised to 1000 and keep two ("0.0996" → "0.10"). Particle Data Group, *Review of Particle Physics*,
-    Introduction §5.3 "Rounding" (e.g. R. L. Workman et al., Prog. Theor. Exp. Phys. 2022, 083C01).
+    Introduction, "Rounding" (R. L. Workman et al., Prog. Theor. Exp. Phys. 2022, 083C01).
     """
     d = _decimal(sigma)
-    exponent = d.adjusted()
-    three = int(_rounded(d.scaleb(2 - exponent), 0))
-    if three >= 1000:
-        exponent, three = exponent + 1, 100
-    if three <= 354:
-        return exponent - 1
-    return exponent
+    three = int(d.scaleb(2 - d.adjusted()).to_integral_value(ROUND_DOWN))
+    return d.adjusted() - 1 if three <= 354 else d.adjusted()
 
 
 def value_with_sigma(value: float, sigma: float | None) -> tuple[str, str]:
@@ -112,20 +109,27 @@ def number(value: float, digits: int = 6) -> str:
 
 def _trimmed(d: Decimal) -> str:
     """``d`` written without trailing zeros, plainly or with its leading digit's exponent."""
-    exponent, place = _leading(d), d.normalize().as_tuple().exponent
+    exponent, place = _leading(d), d.normalize(context=EXACT).as_tuple().exponent
     if SMALLEST_PLAIN <= exponent <= LARGEST_PLAIN:
         place = min(place, 0)
     return _written(d, place, exponent)
 
 
 def formatted(value: float, spec: str) -> str:
-    """``format(value, spec)`` with the true minus sign and no "−0" ("—" for NaN, "∞" for infinity)."""
+    """``format(value, spec)`` with the true minus sign, no "−0" and a short exponent ("1.5e3"); "—" for NaN."""
     if math.isnan(value) or math.isinf(value):
         return number(value)
-    text = format(value, spec)
+    text = re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", format(value, spec))  # "1.5e+03" → "1.5e3", "e-05" → "e-5"
     if text.startswith("-") and not any(c in "123456789" for c in text.split("e")[0]):
         text = ("+" if "+" in spec else "") + text[1:]
     return text.replace("-", MINUS)
+
+
+def signed(text: str) -> str:
+    """A printed number with an explicit "+" when it is positive (zero and negative ones as they are)."""
+    if text.startswith(MINUS) or not any(c in "123456789" for c in text.partition("e")[0]):
+        return text
+    return "+" + text
 
 
 def vector_text(vector, digits: int = 4) -> str:

@@ -30,7 +30,9 @@ def significant(text: str, place: int) -> int:
 
 
 def leading_three(sigma: float) -> int:
-    return int(f"{sigma:.2e}".replace(".", "")[:3])
+    """σ's three leading digits, truncated (the PDG rule's)."""
+    digits = repr(sigma).partition("e")[0].replace(".", "").lstrip("0")
+    return int((digits + "00")[:3])
 
 
 @given(finite, positive)
@@ -104,3 +106,4 @@ def test_numbers_and_vectors_examples():
         and formatted(-0.0001, ".1%") == "0.0%"
         and formatted(-3.25, ".1f") == "−3.2"
     )
+    assert formatted(1650.0, ".3g") == "1.65e3" and formatted(-2.5e-5, ".2g") == "−2.5e−5"
