@@ -1,6 +1,7 @@
 """The command line: tables, JSON contract, exit codes, nothing overwritten."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -176,6 +177,14 @@ def test_identify_plate_data_shows_unobservable_entries(plate_uff, tmp_path, met
     assert data["planar"] is True and data["mass"] == pytest.approx(bundled("plate").nominal.mass, rel=1e-6)
     assert data["cog"][2] is None and data["inertia_cog"][2] == [None, None, None]
     assert data["principal_moments"][2] is None and data["principal_moments"][0] is not None
+
+
+def test_identify_plate_method_report_shows_unobservable_entries(plate_uff, tmp_path):
+    page = tmp_path / "p.html"
+    run = massline("identify", plate_uff, "--band", 5, 95, "--method", "plate", "--mesh", "plate", "--report", page)
+    assert run.returncode == 0, run.stderr
+    text = re.sub(r"data:[^\"']*", "", page.read_text())
+    assert "unobservable" in text and not re.search(r"\bnan\b", text, re.IGNORECASE)
 
 
 @pytest.mark.parametrize("method", [m for m in PAPER_METHODS if m != "plate"])
