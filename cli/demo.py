@@ -26,6 +26,7 @@ from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.mesh import load_body
+from massline.placement.numbers import formatted, number, signed, value_with_sigma
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.placement.properties import SUMMARY
@@ -93,7 +94,9 @@ def concealed(truth: dict, planned, recording, sensors: list[str], hits: list[st
     low, high = truth["planned_band_hz"]
     where = sensors[channels[0]] if channels else None
     text = {
-        "sensor_gain": lambda: f"sensor {where} reads {100 * size:+.1f} % of what it should (its sensitivity is wrong)",
+        "sensor_gain": lambda: (
+            f"sensor {where} reads {formatted(100 * size, '+.1f')} % of what it should (its sensitivity is wrong)"
+        ),
         "sensor_direction": lambda: f"sensor {where} is tilted {size:.1f}° off its labelled axis",
         "sensor_location": lambda: f"sensor {where} sits {1e3 * size:.1f} mm from its labelled point",
         "sensor_polarity": lambda: f"sensor {where} is wired with its polarity flipped",
@@ -125,15 +128,10 @@ def _named(finding, fault: str, channels: list, hit: int | None) -> bool:
 
 def _errors(body, nominal) -> str:
     """Mass, CoG and principal moments against the mesh's, in one phrase."""
-    mass = _round(100 * (body.mass / nominal.mass - 1))
+    mass = formatted(100 * (body.mass / nominal.mass - 1), "+.2f")
     cog = 1e3 * np.linalg.norm(body.cog - nominal.cog)
     moments = 100 * np.abs(body.principal_moments / nominal.principal_moments - 1).max()
-    return f"mass {mass:+.2f} %, CoG {cog:.2f} mm off, principal moments within {moments:.2f} %"
-
-
-def _round(value: float) -> float:
-    """Rounded to two decimals, without a minus sign on zero."""
-    return round(float(value), 2) + 0.0
+    return f"mass {mass} %, CoG {cog:.2f} mm off, principal moments within {moments:.2f} %"
 
 
 def properties_table(nominal, columns: list) -> Table:
@@ -149,14 +147,15 @@ def properties_table(nominal, columns: list) -> Table:
         table.add_column(name, justify="right")
     for q in SUMMARY:
         reference = q.value(nominal)
-        cells = [f"{reference * q.scale:.5g}"]
+        cells = [number(reference * q.scale, 5)]
         for _, body, std in columns:
             if body is None:
                 cells.append("no body")
                 continue
             relative = 1e3 if q.unit == "mm" else 100 / reference
             error, sigma = (q.value(body) - reference) * relative, q.sigma(std) * abs(relative)
-            cells.append(f"{_round(error):+.2f} ± {sigma:.2g}" + ("" if q.unit == "mm" else " %"))
+            shown, spread = value_with_sigma(error, sigma)
+            cells.append(f"{signed(shown)} ± {spread}" + ("" if q.unit == "mm" else " %"))
         table.add_row(f"{q.name} ({q.unit})", *cells)
     return table
 

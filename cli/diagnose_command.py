@@ -15,6 +15,7 @@ from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.output import write_report
 from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.numbers import number, value_with_sigma
 from massline.placement.properties import SUMMARY
 from massline.reports.diagnosis_figures import diagnosis_figure
 from massline.uff.reader import read_uff, to_recording
@@ -33,17 +34,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
 
 
-def properties_table(result: Diagnosis, nominal) -> Table:
+def properties_table(result: Diagnosis, nominal, planar: bool = False) -> Table:
+    """Mass, CoG and principal moments before and after, both to the digits the 1-σ (after) supports."""
     table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ of the fit)")
     table.caption = "estimated over the found band with the suspension and residual-flexibility tails, as identify does"
     for col in ("quantity", "before", "after", "± 1-σ", "nominal (mesh)", "unit"):
         table.add_column(col, justify="right")
     before, after, std = result.estimates[0].body, result.corrected, fit_std(result.estimates[1])
     for q in SUMMARY:
-        shown = "" if nominal is None else f"{q.value(nominal) * q.scale:.6g}"
-        old = "no body" if before is None else f"{q.value(before) * q.scale:.6g}"
-        new = "no body" if after is None else f"{q.value(after) * q.scale:.6g}"
-        table.add_row(q.name, old, new, "" if std is None else f"{q.sigma(std) * q.scale:.2g}", shown, q.unit)
+        sigma = None if std is None else q.sigma(std) * q.scale
+        old = "no body" if before is None else value_with_sigma(q.value(before, planar) * q.scale, sigma)[0]
+        new, spread = ("no body", "") if after is None else value_with_sigma(q.value(after, planar) * q.scale, sigma)
+        shown = "" if nominal is None else number(q.value(nominal) * q.scale)
+        table.add_row(q.name, old, new, spread, shown, q.unit)
     return table
 
 
@@ -54,7 +57,8 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
         listed = ", ".join(f"{sensors[k]} ({screens['channel_consistency'][k]:.1%})" for k in worst)
         console.print(f"model-free: channels farthest from the others' rigid motion (LOCO misfit): {listed}")
     if screens["negative_driving_points"]:
-        console.print(f"model-free: driving points with a non-positive massline: {screens['negative_driving_points']}")
+        pairs = ", ".join(f"sensor {sensors[i - 1]} × hit {j}" for i, j in screens["negative_driving_points"])
+        console.print(f"model-free: driving points with a non-positive massline: {pairs}")
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
@@ -88,7 +92,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
         f"({before / noise:.2f}× → {after / noise:.2f}× the noise)"
     )
-    console.print(properties_table(result, nominal))
+    console.print(properties_table(result, nominal, found.planar))
     if args.plot:
         write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")

@@ -13,6 +13,7 @@ from massline.identify.pipeline import PAPER_METHODS, identify_recording
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.output import write_report
 from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.numbers import number, sigma_text, value_with_sigma
 from massline.placement.properties import QUANTITIES
 from massline.placement.rigid_body import RigidBody
 from massline.uff.reader import read_uff, to_recording
@@ -46,13 +47,12 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
     for col in ("quantity", "value", "± 1-σ", "unit") + (() if nominal is None else ("nominal (mesh)",)):
         table.add_column(col, justify="right")
     for q in QUANTITIES:
-        value, sigma = q.value(body), q.sigma(std)
-        extra = () if nominal is None else ("" if np.isnan(q.value(nominal)) else f"{q.value(nominal) * q.scale:.6g}",)
-        if planar and np.isnan(sigma):
-            table.add_row(q.name, "unobservable", "", q.unit, *extra)
+        value, sigma = q.value(body, planar) * q.scale, q.sigma(std) * q.scale
+        extra = () if nominal is None else ("" if np.isnan(q.value(nominal)) else number(q.value(nominal) * q.scale),)
+        if q.key == "principal_axes" and not np.isnan(sigma):
+            table.add_row(q.name, "", sigma_text(sigma), q.unit, *extra)
             continue
-        shown = "" if np.isnan(value) else f"{value * q.scale:.6g}"
-        table.add_row(q.name, shown, f"{sigma * q.scale:.2g}", q.unit, *extra)
+        table.add_row(q.name, *value_with_sigma(value, sigma), q.unit, *extra)
     return table
 
 

@@ -18,6 +18,7 @@ from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.information import NoiseModel
 from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS
+from massline.placement.numbers import formatted, number, sigma_text, vector_text
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.report_command import build_report
@@ -73,8 +74,8 @@ def layout_table(title: str, lines: Lines, nodes) -> Table:
         table.add_row(
             str(k),
             str(n),
-            *(f"{v * 1e3:.1f}" for v in p),
-            np.array2string(np.round(d, 3) + 0.0, precision=3, suppress_small=True),
+            *(formatted(v * 1e3, ".1f") for v in p),
+            vector_text(d, 3),
             "" if t < 0 else str(t),
         )
     return table
@@ -98,12 +99,12 @@ def std_table(plan) -> Table:
     rows += [(f"principal axis {k + 1}", np.nan, s["principal_axes_deg"][k], "°", np.nan) for k in range(3)]
     for name, value, sigma, unit, ref in rows:
         if np.isnan(sigma):
-            table.add_row(name, "—" if np.isnan(value) else f"{value:.5g}", "unobservable", unit, "")
+            table.add_row(name, number(value, 5), "unobservable", unit, "")
             continue
         table.add_row(
             name,
-            "" if np.isnan(value) else f"{value:.5g}",
-            f"{sigma:.3g}",
+            "" if np.isnan(value) else number(value, 5),
+            sigma_text(sigma),
             unit,
             "" if np.isnan(ref) else f"{sigma / ref:.2%}",
         )

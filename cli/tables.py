@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
 from rich.table import Table
 
+from massline.placement.numbers import number, vector_text
 from massline.placement.properties import TENSOR
 from massline.placement.rigid_body import RigidBody
 
@@ -14,8 +14,8 @@ def body_table(body: RigidBody, title: str) -> Table:
     for col, justify in (("quantity", "left"), ("value", "right"), ("unit", "left")):
         table.add_column(col, justify=justify)
     for q in TENSOR:
-        table.add_row(q.name, f"{q.value(body) * q.scale:.6g}", q.unit)
+        table.add_row(q.name, number(q.value(body) * q.scale), q.unit)
     for k, (moment, axis) in enumerate(zip(body.principal_moments, body.principal_axes.T), 1):
-        table.add_row(f"principal moment {k}", f"{moment:.6g}", "kg·m²")
-        table.add_row(f"  axis {k}", np.array2string(axis, precision=4, suppress_small=True), "—")
+        table.add_row(f"principal moment {k}", number(moment), "kg·m²")
+        table.add_row(f"  axis {k}", vector_text(axis), "—")
     return table

@@ -20,6 +20,8 @@ from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.methods import DYNAMICS, KINEMATICS, identify
+from massline.placement.plate import plate_theta
+from massline.placement.properties import reported_values
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
@@ -35,14 +37,34 @@ def is_planar(sensors, exciters) -> bool:
 
 def properties_payload(body: RigidBody, std: dict, band: tuple, planar: bool) -> dict:
     """DESIGN.md's identify JSON of a body and its 1-σ; unobservable plate entries are null (NaN here)."""
-    values = {**body.as_dict()}
-    if planar:
-        values["cog"] = [*values["cog"][:2], np.nan]
-        J = np.array(values["inertia_cog"], dtype=float)
-        J[2, :] = J[:, 2] = np.nan
-        values["inertia_cog"] = J
+    values = reported_values(body, planar)
     std = {k: v for k, v in std.items() if k != "principal_axes_deg"}
     return {**values, "std": std, "band_hz": list(band), "planar": planar}
+
+
+def check_method(method: str, planar: bool) -> None:
+    """Refuse a paper method the data's lines cannot serve: the 3-D methods on plate data, the plate's on 3-D."""
+    if planar and method not in ("best", "plate"):
+        raise MasslineError(
+            f"method {method} needs 3-D lines, but every line in this recording is along z (plate data): "
+            "use --method plate or best"
+        )
+    if not planar and method == "plate":
+        raise MasslineError(
+            "method plate needs every line along z (plate data), but this recording has lines off z: "
+            "use --method best or a 3-D method such as method2+method3"
+        )
+
+
+def paper_body(data: Masslines, method: str, best: Estimate) -> RigidBody:
+    """The body a paper method identifies; the plate's unobservable entries kept as the estimate's (never shown)."""
+    kin, _, dyn = method.partition("+")
+    found = identify(data, kin, dyn or kin)
+    if found.mass is None:
+        raise MasslineError(f"{method} does not identify the mass; choose a method 2 or 3 dynamics")
+    if method == "plate":
+        return best.model.body(plate_theta(found.mass, found.cog, found.inertia_cog))
+    return found.body
 
 
 def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
@@ -99,9 +121,10 @@ def identify_recording(
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap)."""
     recording, notes = usable_lines(recording)
+    planar = is_planar(recording.sensors, recording.exciters)
+    check_method(method, planar)
     f = recording.frequencies
     weights = coherence_weights(recording.coherence)
-    planar = is_planar(recording.sensors, recording.exciters)
     if band:
         used = given_band(f, *band)
     else:
@@ -116,13 +139,7 @@ def identify_recording(
             "check the recording's channels, or give --band LO HI clear of the resonances"
         )
     std = property_std(data, sigma, best, draws=draws)
-    body = best.body
-    if method != "best":
-        kin, _, dyn = method.partition("+")
-        found = identify(data, kin, dyn or kin)
-        if found.mass is None:
-            raise MasslineError(f"{method} does not identify the mass; choose a method 2 or 3 dynamics")
-        body = found.body
+    body = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)
     channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
     dof = data.values.size - best.model.p

@@ -12,7 +12,7 @@ Pure functions over numpy arrays and small frozen dataclasses, in the one frame 
   :mod:`.information` (Fisher information), :mod:`.accuracy` (Cramér–Rao), :mod:`.selection`,
   :mod:`.relaxation`, :mod:`.certificate`, :mod:`.planner`, :mod:`.plan_file`, :mod:`.hand_layouts`;
 - shared by every layer: :mod:`.errors` (the user's mistakes), :mod:`.files` (atomic writes),
-  :mod:`.effect_names` (the effects' names).
+  :mod:`.effect_names` (the effects' names), :mod:`.numbers` (numbers as printed: a value to its ±).
 """
 
 from massline.placement.band import Band

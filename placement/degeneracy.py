@@ -12,11 +12,7 @@ import numpy as np
 
 from massline.placement.linear_system import RANK_TOLERANCE
 from massline.placement.lines import Lines
-
-
-def vector_text(v) -> str:
-    """A vector as "(x, y, z)" with 4 significant digits."""
-    return "(" + ", ".join(f"{x:.4g}" for x in v) + ")"
+from massline.placement.numbers import number, vector_text
 
 
 def distinct_points(lines: Lines, tol: float = 1e-9) -> np.ndarray:
@@ -42,7 +38,7 @@ def describe_motion(q: np.ndarray, length_scale: float) -> str:
     pitch = (alpha @ a) / (alpha @ alpha)
     if abs(pitch) < 1e-6 * length_scale:
         return f"rotation about the line through {vector_text(point)} m along {vector_text(u)} is unseen"
-    return f"a screw motion about the line through {vector_text(point)} m along {vector_text(u)} (pitch {pitch:.3g} m) is unseen"
+    return f"a screw motion about the line through {vector_text(point)} m along {vector_text(u)} (pitch {number(pitch, 3)} m) is unseen"
 
 
 def unseen_motion(lines: Lines) -> str:

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from massline.placement.errors import MasslineError
+from massline.placement.numbers import vector_text
 
 AXES = np.eye(3)
 AXIS_NAMES = ("x", "y", "z")
@@ -106,11 +107,8 @@ class Lines:
         return Lines(self.points * length, self.directions, self.triaxial)
 
     def describe(self, i: int) -> str:
-        """A short human label: '+y at (0.100, 0.020, 0.000) m'."""
+        """A short human label: '+y at (0.1, 0.02, 0) m'; an oblique direction as its vector."""
         d = self.directions[i]
         k = int(np.argmax(np.abs(d)))
-        name = (
-            ("+" if d[k] > 0 else "-") + AXIS_NAMES[k] if abs(abs(d[k]) - 1) < 1e-9 else np.array2string(d, precision=3)
-        )
-        x, y, z = self.points[i]
-        return f"{name} at ({x:.4g}, {y:.4g}, {z:.4g}) m"
+        name = ("+" if d[k] > 0 else "-") + AXIS_NAMES[k] if abs(abs(d[k]) - 1) < 1e-9 else vector_text(d, 3)
+        return f"{name} at {vector_text(self.points[i])} m"

@@ -32,6 +32,23 @@ def property_vector(body: RigidBody, planar: bool) -> np.ndarray:
     return np.concatenate([[body.mass], body.cog, J.reshape(-1), moments, axes.T.reshape(-1)])
 
 
+def reported_values(body: RigidBody, planar: bool = False) -> dict:
+    """identify's value keys of a body (DESIGN.md); for plate data the unobservable entries are NaN.
+
+    A plate (§2.3) shows neither z_G, nor J_G's z row and column, nor a third principal moment and axis;
+    its principal moments and axes are the in-plane ones (as ``std_of`` orders their 1-σ), which need
+    J_G's in-plane entries only.
+    """
+    if not planar:
+        return body.as_dict()
+    J = np.array(body.inertia_cog, dtype=float)
+    J[2, :] = J[:, 2] = np.nan
+    moments, axes = in_plane_principal(J)
+    axes[:, 2] = np.nan
+    cog = np.array([*body.cog[:2], np.nan])
+    return {"mass": body.mass, "cog": cog, "inertia_cog": J, "principal_moments": moments, "principal_axes": axes}
+
+
 def axes_angles_deg(axes_std: np.ndarray) -> np.ndarray:
     """1-σ angle of each principal axis, degrees, from the 1-σ of its three components (3, 3; columns)."""
     return np.degrees(np.sqrt(np.sum(np.asarray(axes_std) ** 2, axis=0)))
@@ -75,10 +92,12 @@ class Quantity:
     key: str
     index: int | tuple
 
-    def value(self, body: RigidBody) -> float:
-        """The value in SI units (NaN for a principal axis)."""
+    def value(self, body: RigidBody, planar: bool = False) -> float:
+        """The value in SI units (NaN for a principal axis; for plate data, NaN where unobservable)."""
         if self.key == "principal_axes":
             return np.nan
+        if planar:
+            return float(np.asarray(reported_values(body, True)[self.key])[self.index])
         return float(np.asarray(getattr(body, self.key))[self.index])
 
     def sigma(self, std: dict) -> float:

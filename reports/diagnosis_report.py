@@ -11,6 +11,7 @@ from massline.identify.diagnose.diagnosis import fit_std
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun
 from massline.placement.mesh import BodyMesh
+from massline.placement.numbers import number
 from massline.placement.properties import SUMMARY
 from massline.placement.rigid_body import RigidBody
 from massline.reports.diagnosis_figures import diagnosis_figure
@@ -66,11 +67,10 @@ def before_after_table(run: DiagnosisRun, nominal: RigidBody | None) -> str:
             if body is None:
                 cells.append("no body" if k < 2 else "—")
                 continue
-            value, sigma = q.value(body), None if std is None else q.sigma(std)
-            if run.planar and (q.name == "CoG z" or q.key == "principal_moments"):
-                cells.append("unobservable" if k < 2 else num(value * q.scale, ".6g"))
+            if std is None:  # the mesh's
+                cells.append(number(q.value(body) * q.scale))
                 continue
-            cells.append(with_sigma(value, sigma, q.scale))
+            cells.append(with_sigma(q.value(body, run.planar), q.sigma(std), q.scale))
         rows.append([escape(q.name), *cells, q.unit])
     return html_table(
         ["property", "before ± 1-σ", "after ± 1-σ", "nominal (mesh)", "unit"], rows, "lrrrl", [22, 27, 27, 14, 10]

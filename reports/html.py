@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image
 
+from massline.placement.numbers import formatted, number, value_with_sigma
 from massline.reports.plan_scene import Marker
 from massline.reports.rendering import Rendering
 
@@ -56,8 +57,8 @@ def escape(text) -> str:
 
 
 def num(value, fmt: str = ".4g") -> str:
-    """A number for a table, with a true minus sign; '—' for a missing one."""
-    return "—" if value is None or not np.isfinite(value) else format(value, fmt).replace("-", "−")
+    """A number for a table, with a true minus sign and never "−0"; '—' for a missing one."""
+    return "—" if value is None or not np.isfinite(value) else formatted(value, fmt)
 
 
 def html_table(head: list[str] | None, rows: list[list[str]], align: str, widths: list[int]) -> str:
@@ -101,13 +102,11 @@ def page(title: str, parts: list[str]) -> str:
     )
 
 
-def fixed(value: float, digits: int) -> str:
-    """A number with ``digits`` decimals and no minus sign on zero."""
-    return num(round(float(value), digits) + 0.0, f".{digits}f")
-
-
-def with_sigma(value: float, sigma: float, scale: float) -> str:
+def with_sigma(value: float, sigma: float | None, scale: float) -> str:
+    """ "value ± σ" (both × ``scale``), the value rounded to what its σ supports; the value alone when σ is
+    None or not finite; "unobservable" for a NaN value."""
     if not np.isfinite(value):
         return "unobservable"
-    shown = num(value * scale, ".6g")
-    return shown if sigma is None or not np.isfinite(sigma) else f"{shown} ± {num(sigma * scale, '.2g')}"
+    if sigma is None or not np.isfinite(sigma):
+        return number(value * scale)
+    return " ± ".join(value_with_sigma(value * scale, sigma * scale))

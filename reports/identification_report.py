@@ -17,13 +17,13 @@ import numpy as np
 from massline import __version__
 from massline.identify.pipeline import Identification
 from massline.placement.mesh import BodyMesh
+from massline.placement.numbers import formatted, number, sigma_text, signed, value_with_sigma, vector_text
 from massline.placement.properties import QUANTITIES
 from massline.placement.rigid_body import RigidBody
 from massline.reports.body_scene import identification_scene, principal_frame
 from massline.reports.html import (
     Report,
     escape,
-    fixed,
     html_table,
     num,
     page,
@@ -52,7 +52,7 @@ def properties_table(body: RigidBody, std: dict, nominal: RigidBody | None, plan
     for q in QUANTITIES:
         if q.key == "principal_axes":
             continue
-        value, sigma, scale = q.value(body), q.sigma(std), q.scale
+        value, sigma, scale = q.value(body, planar), q.sigma(std), q.scale
         if planar and not np.isfinite(sigma):
             value = np.nan
         cells = [escape(q.name), with_sigma(value, sigma, scale)]
@@ -60,17 +60,21 @@ def properties_table(body: RigidBody, std: dict, nominal: RigidBody | None, plan
             reference = q.value(nominal)
             difference = value - reference
             in_sigma = difference / sigma if np.isfinite(sigma) and sigma > 0 else np.nan
-            cells += [
-                num(reference * scale, ".6g"),
-                num(difference * scale, "+.3g"),
-                num(round(in_sigma, 1) + 0.0, "+.1f"),
-            ]
+            cells += [number(reference * scale), difference_text(difference, sigma, scale), num(in_sigma, "+.1f")]
         rows.append([*cells, q.unit])
     head = ["property", "identified ± 1-σ", "unit"]
     if nominal is not None:
         head[2:2] = ["nominal (mesh)", "difference", "in σ"]
         return html_table(head, rows, "lrrrrl", [22, 27, 17, 14, 8, 12])
     return html_table(head, rows, "lrl", [35, 45, 20])
+
+
+def difference_text(difference: float, sigma: float, scale: float) -> str:
+    """A signed difference (× ``scale``) to its σ's digits ("—" when unobservable)."""
+    if not np.isfinite(difference):
+        return "—"
+    shown = value_with_sigma(difference * scale, sigma * scale)[0] if np.isfinite(sigma) else number(difference * scale)
+    return signed(shown) if any(c in "123456789" for c in shown.partition("e")[0]) else "0"
 
 
 def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
@@ -87,10 +91,9 @@ def axes_table(body: RigidBody, std: dict | None, nominal: RigidBody | None, pla
     rows = []
     for k in range(axes.shape[1]):
         sigma = None if std is None else std["principal_moments"][k]
-        direction = "(" + ", ".join(fixed(c, 3) for c in axes[:, k]) + ")"
-        row = [f"I{k + 1}", direction, with_sigma(moments[k], sigma, 1.0)]
+        row = [f"I{k + 1}", vector_text(axes[:, k], 3), with_sigma(moments[k], sigma, 1.0)]
         row += [num(1e3 * np.sqrt(max(moments[k], 0.0) / body.mass), ".1f")]
-        row += ["" if std is None else num(std["principal_axes_deg"][k], ".2g")]
+        row += ["" if std is None else sigma_text(std["principal_axes_deg"][k])]
         if nominal is not None:
             row.append(num(_angle_deg(axes[:, k], reference[:, k]), ".2f"))
         rows.append(row)
@@ -171,8 +174,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
     scene, renderings, views = body_views(mesh, recording, sensors, hits, found.body, found.planar)
     picks = representative(recording.sensors, recording.exciters, fit.values)
     notes = {
-        (i, j): f"massline {num(fit.values[i, j], '.4g')} ± {num(fit.std[i, j], '.2g')}, "
-        f"fit RMS {100 * fit.quality[i, j]:.2f} %"
+        (i, j): f"massline {with_sigma(fit.values[i, j], fit.std[i, j], 1.0)}, fit RMS {100 * fit.quality[i, j]:.2f} %"
         for i, j in picks
     }
     frfs = frf_figure(
@@ -205,7 +207,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
     )
     method = "weighted estimate over all masslines, physically consistent" if found.method == "best" else found.method
     fit_note = (
-        f"Reduced χ² {num(found.best.chi2, '.3g')} over {found.data.values.size} masslines"
+        f"Reduced χ² {number(found.best.chi2, 3)} over {found.data.values.size} masslines"
         + ("; the physical-consistency constraint is active" if found.best.constrained else "")
         + ". The ± is the larger of the information-based 1-σ (scaled by the reduced χ²) and a bootstrap over the "
         "sensors."
@@ -238,15 +240,13 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
 
 def _summary(body: RigidBody, std: dict, nominal: RigidBody | None, planar: bool) -> str:
     """One sentence: mass, CoG and principal moments with their 1-σ, and how far they are from the mesh's."""
-    text = (
-        f"<b>Mass {num(body.mass, '.5g')} ± {num(std['mass'], '.2g')} kg</b>, CoG ("
-        + ", ".join(fixed(1e3 * c, 1) if np.isfinite(s) else "—" for c, s in zip(body.cog, std["cog"]))
-        + ") mm"
-    )
+    cog = (value_with_sigma(c, s)[0] if np.isfinite(s) else "—" for c, s in zip(1e3 * body.cog, 1e3 * std["cog"]))
+    text = f"<b>Mass {with_sigma(body.mass, std['mass'], 1.0)} kg</b>, CoG (" + ", ".join(cog) + ") mm"
     if not planar:
-        text += ", principal moments " + ", ".join(num(v, ".4g") for v in body.principal_moments) + " kg·m²"
+        moments = (value_with_sigma(v, s)[0] for v, s in zip(body.principal_moments, std["principal_moments"]))
+        text += ", principal moments " + ", ".join(moments) + " kg·m²"
     if nominal is not None:
-        text += f"; against the mesh: mass {100 * (body.mass / nominal.mass - 1):+.2f} %"
+        text += f"; against the mesh: mass {formatted(100 * (body.mass / nominal.mass - 1), '+.2f')} %"
         cog = np.linalg.norm((body.cog - nominal.cog)[: 2 if planar else 3])
         text += f", CoG {num(1e3 * cog, '.2f')} mm off"
         if not planar:

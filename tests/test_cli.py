@@ -1,12 +1,15 @@
 """The command line: tables, JSON contract, exit codes, nothing overwritten."""
 
 import json
+import re
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 from conftest import FIXTURE_MESHES, bundled
+
+from massline.identify.pipeline import PAPER_METHODS
 
 
 def massline(*args, cwd=None):
@@ -132,3 +135,81 @@ def test_plan_on_a_real_cad_part_in_inches(tmp_path):
 def test_plan_bad_budgets_exit_2(tmp_path, args, words):
     run = massline(*args, "--out", tmp_path)
     assert run.returncode == 2 and words in run.stderr and "Traceback" not in run.stderr
+
+
+def _recorded(tmp_path_factory, name, sensors, exciters):
+    from massline.uff.writer import write_uff
+    from massline.virtual import virtual_test
+    from massline.virtual.measurement import Noise
+    from massline.virtual.virtual_test import Acquisition
+
+    setup = Acquisition(100.0, 200, Noise(0, 0))
+    recording, _ = virtual_test.run(bundled(name).nominal, sensors, exciters, setup=setup)
+    path = tmp_path_factory.mktemp(name) / f"{name}.uff"
+    write_uff(path, recording)
+    return path
+
+
+@pytest.fixture(scope="module")
+def plate_uff(tmp_path_factory):
+    from massline.placement.hand_layouts import plate_table1
+
+    return _recorded(tmp_path_factory, "plate", *plate_table1())
+
+
+@pytest.fixture(scope="module")
+def structure_uff(tmp_path_factory):
+    from massline.placement.hand_layouts import structure_exciters, structure_sensors
+
+    return _recorded(tmp_path_factory, "structure", structure_sensors(), structure_exciters(2))
+
+
+@pytest.mark.parametrize("method", ["best", "plate"])
+def test_identify_plate_data_shows_unobservable_entries(plate_uff, tmp_path, method):
+    out = tmp_path / "p.json"
+    run = massline("identify", plate_uff, "--band", 5, 95, "--method", method, "--json", out)
+    assert run.returncode == 0, run.stderr
+    rows = {line.split("│")[1].strip(): line for line in run.stdout.splitlines() if line.count("│") > 3}
+    for name in ("CoG z", "J_G zz", "J_G xz", "principal moment 3", "principal axis 3"):
+        assert "unobservable" in rows[name]
+    assert "nan" not in run.stdout.lower() and "0.567" in rows["mass"]
+    data = json.loads(out.read_text())
+    assert data["planar"] is True and data["mass"] == pytest.approx(bundled("plate").nominal.mass, rel=1e-6)
+    assert data["cog"][2] is None and data["inertia_cog"][2] == [None, None, None]
+    assert data["principal_moments"][2] is None and data["principal_moments"][0] is not None
+
+
+def test_identify_plate_method_report_shows_unobservable_entries(plate_uff, tmp_path):
+    page = tmp_path / "p.html"
+    run = massline("identify", plate_uff, "--band", 5, 95, "--method", "plate", "--mesh", "plate", "--report", page)
+    assert run.returncode == 0, run.stderr
+    text = re.sub(r"data:[^\"']*", "", page.read_text())
+    assert "unobservable" in text and not re.search(r"\bnan\b", text, re.IGNORECASE)
+
+
+@pytest.mark.parametrize("method", [m for m in PAPER_METHODS if m != "plate"])
+def test_identify_refuses_a_3d_method_on_plate_data(plate_uff, method):
+    run = massline("identify", plate_uff, "--band", 5, 95, "--method", method)
+    assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1, run.stderr
+    assert "plate data" in run.stderr and "--method plate" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_identify_refuses_the_plate_method_on_3d_data(structure_uff):
+    run = massline("identify", structure_uff, "--band", 5, 95, "--method", "plate")
+    assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1, run.stderr
+    assert "--method best" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_identify_rounds_each_value_to_its_sigma(structure_uff):
+    run = massline("identify", structure_uff, "--band", 5, 95, "--method", "method2+method3", "--bootstrap", "20")
+    assert run.returncode == 0, run.stderr
+    rows = [line.split("│")[1:5] for line in run.stdout.splitlines() if line.count("│") > 3]
+    for name, value, sigma, _ in rows:
+        value, sigma = value.strip(), sigma.strip()
+        if value and sigma and value != "unobservable":
+            decimals = len(value.partition("e")[0].partition(".")[2])
+            assert decimals == len(sigma.partition("e")[0].partition(".")[2]), (name, value, sigma)
+            assert value.partition("e")[2] == sigma.partition("e")[2]
+    cells = [cell.strip() for row in rows for cell in row]
+    assert not any(cell.startswith(("-", "−0")) and cell.strip("−0.") == "" for cell in cells)
+    assert not any("-" in cell or "[" in cell for cell in cells)

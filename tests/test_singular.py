@@ -25,7 +25,7 @@ def test_two_triaxial_points_leave_rotation_about_their_line_unseen(structure):
     assert "two points" in message and "rotation about the line" in message
     # the unseen axis named in the message is the line joining the two points
     u = (p2 - p1) / np.linalg.norm(p2 - p1)
-    axis = np.array([float(x) for x in message.split("along (")[1].split(")")[0].split(",")])
+    axis = np.array([float(x.replace("−", "-")) for x in message.split("along (")[1].split(")")[0].split(",")])
     assert abs(abs(axis @ u) - 1) < 1e-3
 
 

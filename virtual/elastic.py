@@ -29,6 +29,7 @@ from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from massline.placement.errors import MasslineError
+from massline.placement.numbers import number, vector_text
 from massline.virtual.tetmesh import default_size, tetrahedralise
 
 N_RIGID = 6
@@ -179,7 +180,7 @@ class ElasticModes:
         if len(outside):
             i = outside[0]
             raise MasslineError(
-                f"point {np.round(points[i], 6).tolist()} m lies {distance[i]:.3g} m outside the solid: "
+                f"point {vector_text(points[i])} m lies {number(distance[i], 3)} m outside the solid: "
                 "place sensors on or in the body"
             )
         return cells, local

@@ -3,10 +3,17 @@
 from __future__ import annotations
 
 from massline.identify.diagnose.finding import Finding
+from massline.placement.numbers import formatted, signed, value_with_sigma
 
 
-def _mm(vector) -> str:
-    return "[" + ", ".join(f"{1e3 * v:+.1f}" for v in vector) + "] mm"
+def _pm(value: float, sigma: float) -> str:
+    """ "value ± σ", the value to what its σ supports."""
+    return " ± ".join(value_with_sigma(value, sigma))
+
+
+def _mm(vector, sigma_mm: float) -> str:
+    """An offset (m) in mm, each entry to the digits of the distance's 1-σ (mm)."""
+    return "(" + ", ".join(signed(value_with_sigma(1e3 * v, sigma_mm)[0]) for v in vector) + ") mm"
 
 
 def finding_note(finding: Finding, sensors: list, hits: list) -> str:
@@ -24,30 +31,30 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
     also = e.get("alternatives") or []
     tail = f" (the data fit {' or '.join(also)} there as well)" if also else ""
     moved = e.get("moved")
-    shift = f"; modelling it moves the mass by {moved['mass_percent']:+.3f} %" if moved else ""
+    shift = f"; modelling it moves the mass by {formatted(moved['mass_percent'], '+.3f')} %" if moved else ""
     text = {
         "sensor_direction": lambda: (
-            f"{who} reads {max(p['angle_deg']):.1f} ± {max(p['angle_std_deg']):.1f}° off its labelled axis: "
+            f"{who} reads {_pm(max(p['angle_deg']), max(p['angle_std_deg']))}° off its labelled axis: "
             "misalignment or transverse sensitivity beyond the datasheet (the data cannot tell them apart)"
         ),
         "sensor_gain": lambda: (
-            f"{who} reads {100 * (p['gain'] - 1):+.1f} % of what it should "
-            f"(gain {p['gain']:.3f} ± {p['gain_std']:.3f}): check its sensitivity in the channel table"
+            f"{who} reads {signed(value_with_sigma(100 * (p['gain'] - 1), 100 * p['gain_std'])[0])} % of what it "
+            f"should (gain {_pm(p['gain'], p['gain_std'])}): check its sensitivity in the channel table"
         ),
         "sensor_polarity": lambda: (
             f"{who} has its polarity flipped: its readings are the rigid body's with the opposite sign; corrected"
         ),
         "channel_swap": lambda: f"{who} are swapped: each channel reads what the other should; corrected",
         "sensor_location": lambda: (
-            f"{who} sits {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
-            f"(offset {_mm(p['offset_m'])}; along its axis an offset cannot be seen)"
+            f"{who} sits {_pm(p['distance_mm'], p['distance_std_mm'])} mm from its labelled point "
+            f"(offset {_mm(p['offset_m'], p['distance_std_mm'])}; along its axis an offset cannot be seen)"
         ),
         "excitation_direction": lambda: (
-            f"{hit} went in {p['angle_deg']:.1f} ± {p['angle_std_deg']:.1f}° off its labelled direction"
+            f"{hit} went in {_pm(p['angle_deg'], p['angle_std_deg'])}° off its labelled direction"
         ),
         "excitation_location": lambda: (
-            f"{hit} landed {p['distance_mm']:.1f} ± {p['distance_std_mm']:.1f} mm from its labelled point "
-            f"(offset {_mm(p['offset_m'])})"
+            f"{hit} landed {_pm(p['distance_mm'], p['distance_std_mm'])} mm from its labelled point "
+            f"(offset {_mm(p['offset_m'], p['distance_std_mm'])})"
         ),
         "suspension": lambda: (
             f"the suspension's tail reaches {p['tail_max']:.1%} of the massline at "
@@ -72,7 +79,7 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
             )
         ),
         "sensor_mass_loading": lambda: (
-            f"the body is {1e3 * p['mass_kg']:.1f} ± {1e3 * p['mass_std_kg']:.1f} g "
+            f"the body is {_pm(1e3 * p['mass_kg'], 1e3 * p['mass_std_kg'])} g "
             f"heavier than the mesh, as a mass at {who} would make it; taken away"
         ),
     }[finding.effect]()

@@ -1,0 +1,109 @@
+"""Printed numbers: a value to what its ± supports, no "−0", no numpy repr."""
+
+import math
+import re
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from massline.placement.numbers import formatted, number, sigma_place, sigma_text, value_with_sigma, vector_text
+
+finite = st.floats(min_value=-1e12, max_value=1e12, allow_nan=False, allow_infinity=False)
+positive = st.floats(min_value=1e-15, max_value=1e12, allow_nan=False, allow_infinity=False)
+
+
+def parsed(text: str) -> float:
+    return float(text.replace("−", "-"))
+
+
+def last_digit(text: str) -> float:
+    """The unit of the last digit a printed number shows."""
+    mantissa, _, exponent = text.replace("−", "-").partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    return 10.0 ** (int(exponent or 0) - decimals)
+
+
+def significant(text: str, place: int) -> int:
+    """Significant digits of a printed σ whose last digit is at 10**place."""
+    return math.floor(math.log10(parsed(text)) + 1e-9) - place + 1
+
+
+def leading_three(sigma: float) -> int:
+    """σ's three leading digits, truncated (the PDG rule's)."""
+    digits = repr(sigma).partition("e")[0].replace(".", "").lstrip("0")
+    return int((digits + "00")[:3])
+
+
+@given(finite, positive)
+def test_the_value_is_within_half_a_unit_of_its_last_digit(value, sigma):
+    shown, _ = value_with_sigma(value, sigma)
+    unit = 10.0 ** sigma_place(sigma)
+    assert last_digit(shown) <= unit * (1 + 1e-9)
+    assert abs(parsed(shown) - value) <= 0.5 * unit * (1 + 1e-9) + 1e-12 * abs(value)
+
+
+@given(finite, positive)
+def test_sigma_keeps_the_pdg_digits_and_the_value_its_place(value, sigma):
+    shown, spread = value_with_sigma(value, sigma)
+    three = leading_three(sigma)
+    assert significant(spread, sigma_place(sigma)) == (1 if 355 <= three <= 949 else 2)
+    assert last_digit(shown) == pytest.approx(last_digit(spread))
+    assert last_digit(spread) <= 10.0 ** sigma_place(sigma) * (1 + 1e-9)
+    assert parsed(spread) == pytest.approx(sigma, rel=0.15)
+
+
+@given(finite, positive)
+def test_no_negative_zero_and_a_shared_exponent(value, sigma):
+    shown, spread = value_with_sigma(value, sigma)
+    for text in (shown, spread, number(value), vector_text([value, -value, 0.0])):
+        assert not re.search(r"(^|[^\d.])−0(\.0*)?($|[^\d.])", text), text
+        assert "-" not in text
+    assert shown.partition("e")[2] == spread.partition("e")[2]
+
+
+@given(st.lists(finite, min_size=3, max_size=3))
+def test_a_vector_has_no_numpy_repr(vector):
+    text = vector_text(vector)
+    assert text.startswith("(") and text.endswith(")") and text.count(",") == 2
+    assert "[" not in text and "  " not in text
+
+
+@pytest.mark.parametrize(
+    "value,sigma,expected",
+    [
+        (4.00127, 0.035, ("4.001", "0.035")),
+        (4.00127, 0.05, ("4.00", "0.05")),
+        (12.5, 0.0996, ("12.50", "0.10")),
+        (2.0, 355.0, ("0", "400")),
+        (-0.0001, 0.05, ("0.00", "0.05")),
+        (-2.5, 0.5, ("−2.5", "0.5")),
+        (4.25368e-5, 3e-7, ("4.254e−5", "0.030e−5")),
+        (3e9, 2e8, ("3.00e9", "0.20e9")),
+        (1.0, 0.0, ("1", "0")),
+        (2.0, math.inf, ("2", "∞")),
+        (math.nan, 1.0, ("unobservable", "")),
+        (1.0, math.nan, ("unobservable", "")),
+        (0.567, None, ("0.567", "")),
+    ],
+)
+def test_value_with_sigma_examples(value, sigma, expected):
+    assert value_with_sigma(value, sigma) == expected
+
+
+def test_sigma_place_follows_the_pdg_rule():
+    assert [sigma_place(s) for s in (0.0354, 0.0355, 0.0949, 0.095, 1.0)] == [-3, -2, -2, -2, -1]
+    assert sigma_text(0.0996) == "0.10" and sigma_text(3e-12) == "3.0e−12" and sigma_text(math.nan) == "—"
+
+
+def test_numbers_and_vectors_examples():
+    assert number(0.00425368125) == "0.00425368" and number(-7.2e-18) == "−7.2e−18" and number(-0.0) == "0"
+    assert vector_text([2.2e-15, 1.0, -0.0]) == "(0, 1, 0)"
+    assert vector_text([0.0, 0.0, -1.0]) == "(0, 0, −1)"
+    assert vector_text([0.16, 0.06, 0.006]) == "(0.16, 0.06, 0.006)"
+    assert (
+        formatted(-0.0001, "+.2f") == "+0.00"
+        and formatted(-0.0001, ".1%") == "0.0%"
+        and formatted(-3.25, ".1f") == "−3.2"
+    )
+    assert formatted(1650.0, ".3g") == "1.65e3" and formatted(-2.5e-5, ".2g") == "−2.5e−5"
