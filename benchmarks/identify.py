@@ -34,7 +34,7 @@ from massline.virtual.virtual_test import Acquisition, run
 
 
 def identify_file(path: Path):
-    recording = to_recording(read_uff(path))
+    recording = to_recording(read_uff(path)).above_zero()
     zones = find_band(recording.frequencies, recording.frf)
     fit = fit_band(recording.frequencies, recording.frf, zones.low, zones.high)
     data = Masslines(fit.values, recording.sensors, recording.exciters)

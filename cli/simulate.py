@@ -1,5 +1,10 @@
 """``massline simulate PLAN.json --out FILE.uff``: the virtual test of a plan, as a test system would record it.
 
+By default the file is what a lab's exporter writes: lines + the 0 Hz line, coherence beside every FRF, geometry
+in mm (164 code 5) and accelerance in g/N. Accelerometers are calibrated in mV/g and analysers show and export
+accelerance in g/N (Testlab, ME'scope "Gs/N"), while the geometry comes from CAD in mm; ``--units``,
+``--acceleration``, ``--nodes`` and ``--no-dc`` write the other conventions.
+
 Also the pre-test check: where the massline band will lie with the planned
 suspension, and a suspension that widens it (``--check`` stops there).
 """
@@ -19,6 +24,7 @@ from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output, to_json, write_atomic
 from massline.placement.mesh import BodyMesh
 from massline.placement.plan_file import read_plan
+from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
 from massline.virtual.band import predict_band, recommend_suspension
 from massline.virtual.effects import EFFECTS, Effect, check_targets
@@ -28,6 +34,8 @@ from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension, point_above
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses
 from massline.virtual.virtual_test import run as run_test
+
+AUTO = -1.0  # --impact without a pulse length: the analyser setup chooses it
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -52,10 +60,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"an instrumentation effect (repeatable): {', '.join(EFFECTS)}",
     )
     parser.add_argument("--sensor-mass", type=float, default=0.0, metavar="KG", help="mass of each accelerometer")
-    parser.add_argument("--impact", type=float, metavar="MS", help="simulate hammer hits with this pulse length (ms)")
+    parser.add_argument(
+        "--impact",
+        type=float,
+        nargs="?",
+        const=AUTO,
+        metavar="MS",
+        help="simulate hammer hits (half-sine pulse of MS ms; without MS the tip an engineer fits to the bandwidth)",
+    )
     parser.add_argument("--averages", type=int, default=5, help="hits averaged per exciter (impact route)")
-    parser.add_argument("--fmax", type=float, metavar="HZ", help="bandwidth (default 1.5 × first elastic mode)")
-    parser.add_argument("--lines", type=int, default=2000, help="spectral lines (default 2000)")
+    parser.add_argument(
+        "--fmax",
+        type=float,
+        metavar="HZ",
+        help="bandwidth (default: 1.5 × first elastic mode; with --impact an analyser bandwidth ≥ 3 × the band's top)",
+    )
+    parser.add_argument(
+        "--lines",
+        type=int,
+        help="spectral lines (default 2000; with --impact 400·2^k, a record long enough for the lowest support mode)",
+    )
     parser.add_argument("--modes", type=int, default=20, help="elastic modes kept (default 20)")
     parser.add_argument("--rigid", action="store_true", help="no elastic modes: a rigid body")
     parser.add_argument("--fe-size", type=float, metavar="M", help="element size of the FE mesh (default: automatic)")
@@ -63,6 +87,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--material", metavar="NAME|E,NU", help=f"{', '.join(MATERIALS)}, or Young's modulus (Pa) and Poisson's ratio"
     )
     parser.add_argument("--binary", action="store_true", help="write FRFs as binary 58b records")
+    parser.add_argument(
+        "--units",
+        type=str.upper,
+        choices=sorted(UNITS),
+        default="MM",
+        help="the file's unit system (dataset 164): SI (m, N), MM (mm, mN) or IN (in, lbf); default MM",
+    )
+    parser.add_argument(
+        "--acceleration",
+        choices=ACCELERATIONS,
+        default="g",
+        help="accelerance in g per force unit (g/N, or g/lbf with --units in; default) or in length/s² per force",
+    )
+    parser.add_argument(
+        "--nodes", type=int, choices=(15, 2411), default=15, help="nodes in dataset 15 (+18) or 2411 (+2420)"
+    )
+    parser.add_argument("--no-dc", action="store_true", help="start the axis at Δf, without the exporter's 0 Hz line")
     parser.add_argument("--plot", metavar="PNG", help="predicted driving-point FRFs with the band marked")
     parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
 
@@ -115,14 +156,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
         console.print(f"wrote {args.plot}")
     if args.check:
         return
-    setup = Acquisition(
-        fmax=args.fmax,
-        lines=args.lines,
-        noise=Noise(args.noise, args.noise_floor),
-        impact=None if args.impact is None else ImpactTest(pulse=args.impact * 1e-3, averages=args.averages),
-        sensor_mass=added,
-    )
-    recording, truth = run_test(nominal, sensors, exciters, modes, suspension, effects, setup, args.seed)
+    recording, truth = run_test(nominal, sensors, exciters, modes, suspension, effects, acquisition(args), args.seed)
+    for warning in truth["warnings"]:
+        console.print(f"warning: {warning}", markup=False, soft_wrap=True)
     truth |= {"plan": str(plan_path), "mesh": doc.get("mesh"), "units": doc.get("units")}
     if material is not None:
         truth["fe"] = {
@@ -131,13 +167,44 @@ def run(args: argparse.Namespace, console: Console) -> None:
             "dofs": modes.n_dofs,
             "element_size": modes.element_size,
         }
-    write_uff(outputs[0], recording, binary=args.binary, force=args.force)
+    options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
+    write_uff(outputs[0], recording, acceleration=args.acceleration, force=args.force, **options)
     write_atomic(outputs[1], to_json(truth), args.force)
     console.print(
-        f"wrote {outputs[0]} ({len(sensors)} × {len(exciters)} FRFs, {len(recording.frequencies)} lines to "
-        f"{recording.frequencies[-1]:.0f} Hz) and {outputs[1]} (what was simulated, including "
+        f"wrote {outputs[0]} ({len(sensors)} × {len(exciters)} FRFs and their coherence, {recording_axis(truth)}, "
+        f"{frf_units(args)}) and {outputs[1]} (what was simulated, including "
         f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
     )
+
+
+def acquisition(args: argparse.Namespace) -> Acquisition:
+    """The test as the options set it up; what they leave out is chosen as a lab would (virtual.analyser)."""
+    impact = None
+    if args.impact is not None:
+        impact = ImpactTest(pulse=None if args.impact == AUTO else args.impact * 1e-3, averages=args.averages)
+    return Acquisition(
+        fmax=args.fmax,
+        lines=args.lines,
+        noise=Noise(args.noise, args.noise_floor),
+        impact=impact,
+        sensor_mass=args.sensor_mass,
+        dc_line=not args.no_dc,
+    )
+
+
+def recording_axis(truth: dict) -> str:
+    """'12800 lines + DC to 400 Hz (T = 32 s, 1.2 ms pulse)': the analyser setup as simulated."""
+    text = f"{truth['lines']} lines{' + DC' if truth['dc_line'] else ''} to {truth['fmax_hz']:g} Hz"
+    text += f" (T = {truth['record_s']:.3g} s"
+    return text + (f", {truth['impact']['pulse'] * 1e3:.2g} ms pulse)" if truth["impact"] else ")")
+
+
+def frf_units(args: argparse.Namespace) -> str:
+    """'geometry in mm, accelerance in g/N': what the file's readers will see."""
+    system = UNITS[args.units]
+    force = system.g_force_label if args.acceleration == "g" else system.force_label
+    top = "g" if args.acceleration == "g" else f"({system.length_label}/s²)"
+    return f"geometry in {system.length_label}, accelerance in {top}/{force}"
 
 
 def elastic_modes(body: BodyMesh, material: Material, size: float | None, n: int, console: Console):

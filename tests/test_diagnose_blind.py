@@ -53,7 +53,7 @@ def blind_case(bench: Bench, fault: str | None, seed: int, folder: Path) -> dict
     recording, truth = scenario(bench, fault, seed)
     path = folder / f"{fault}-{seed}.uff"
     write_uff(path, recording, force=True)
-    read = to_recording(read_uff(path))
+    read = to_recording(read_uff(path)).above_zero()
     f = read.frequencies
     planned = given_band(f, *truth["planned_band_hz"])
     band = BandData.from_recording(f, read.frf, planned.low, planned.high)

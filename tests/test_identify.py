@@ -63,7 +63,8 @@ def test_band_fit_removes_suspension_and_flexibility_tails():
 
 def test_found_band_lies_between_suspension_and_elastic_resonances(structure):
     cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
-    rec, truth = run(structure, structure_sensors(), structure_exciters(), None, cord, (), Acquisition(200.0, 2000))
+    setup = Acquisition(200.0, 2000, dc_line=False)
+    rec, truth = run(structure, structure_sensors(), structure_exciters(), None, cord, (), setup)
     zones = find_band(rec.frequencies, rec.frf)
     assert 2.5 * max(truth["suspension"]["modes_hz"]) <= zones.low < 20.0
     assert zones.high == pytest.approx(200.0)
@@ -152,7 +153,15 @@ def bracket_test(bracket_plan):
     modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
     transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
-    return body, sensors, exciters, modes, cord, transverse, Acquisition(modes.frequencies_hz[0] / 2.5, 2000)
+    return (
+        body,
+        sensors,
+        exciters,
+        modes,
+        cord,
+        transverse,
+        Acquisition(modes.frequencies_hz[0] / 2.5, 2000, dc_line=False),
+    )
 
 
 def identified(rec, sensors, exciters):
@@ -207,7 +216,7 @@ def test_an_exporters_zero_hz_line_is_set_aside(structure, tmp_path):
     """Exporters start the axis at 0 Hz with noise there: identify and diagnose set the line aside, find the
     band over the rest and give what the same file without that line gives."""
     cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
-    setup = Acquisition(200.0, 400, Noise(0.01, 0.0))
+    setup = Acquisition(200.0, 400, Noise(0.01, 0.0), dc_line=False)
     rec, _ = run(structure, structure_sensors(), structure_exciters(), None, cord, (), setup, seed=1)
     rng = np.random.default_rng(0)
     dc = 1e-3 * (rng.standard_normal(rec.frf.shape[:2]) + 1j * rng.standard_normal(rec.frf.shape[:2]))

@@ -1,6 +1,7 @@
 """``massline simulate``: plan → virtual test → UFF that identifies the body (end to end)."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -43,8 +44,8 @@ def test_pyuff_reads_back_what_was_written(simulated):
     assert len(frfs) == 18 and {s["type"] for s in sets} >= {15, 164, 58}
     ours = to_recording(read_uff(simulated))
     for s in frfs:
-        assert len(s["data"]) == 4000 and np.isfinite(s["data"]).all()
-    assert ours.frf.shape == (6, 3, 4000)
+        assert len(s["data"]) == 4001 and np.isfinite(s["data"]).all()  # 4000 lines + DC
+    assert ours.frf.shape == (6, 3, 4001)
     assert truth["fe"]["dofs"] > 10_000
 
 
@@ -97,3 +98,74 @@ def test_nothing_is_overwritten(planned, tmp_path):
     out.write_text("precious")
     run = massline("simulate", planned, "--out", out, "--rigid")
     assert run.returncode == 2 and "--force" in run.stderr and out.read_text() == "precious"
+
+
+def test_the_file_is_what_a_lab_exports_and_identify_sets_its_dc_line_aside(planned, tmp_path):
+    """Default: lines + DC (a real outlier, low coherence), coherence records, mm geometry, accelerance in g/N.
+    The same test written in inches with (in/s²)/lbf, nodes in 2411 and no DC line reads back the same."""
+    lab, plain = tmp_path / "lab.uff", tmp_path / "plain.uff"
+    assert massline("simulate", planned, "--out", lab, "--rigid").returncode == 0
+    options = ("--units", "in", "--acceleration", "length", "--nodes", "2411", "--no-dc")
+    run = massline("simulate", planned, "--out", plain, "--rigid", *options)
+    assert run.returncode == 0, run.stderr
+    assert "geometry in in, accelerance in (in/s²)/lbf" in " ".join(run.stdout.split())
+    sets = pyuff.UFF(str(lab)).read_sets()
+    assert sets[1]["units_code"] == 5 and {s["type"] for s in sets} >= {15, 58}
+    frfs = [s for s in sets if s["type"] == 58 and s["func_type"] == 4]
+    assert len(frfs) == 18 and sum(s["type"] == 58 and s["func_type"] == 6 for s in sets) == 18
+    assert (frfs[0]["ordinate_axis_units_lab"], frfs[0]["orddenom_axis_units_lab"]) == ("g", "N")
+    assert frfs[0]["x"][0] == 0.0 and all(s["data"][0].imag == 0 for s in frfs)
+    found, other = to_recording(read_uff(lab)), to_recording(read_uff(plain))
+    assert found.frequencies[0] == 0 and found.coherence[:, :, 0].max() < 0.5
+    assert found.coherence[:, :, 1:].min() > 0.99  # 1 % noise: γ² = 1/(1 + 0.01²)
+    assert other.frequencies[0] > 0 and {15, 2411} & set(read_uff(plain).datasets) == {2411}
+    np.testing.assert_allclose(other.frf, found.above_zero().frf, rtol=1e-10)
+    np.testing.assert_allclose(found.sensors.points, other.sensors.points, rtol=5e-6)  # dataset 15: 6 digits
+    out = tmp_path / "id.json"
+    identified = massline("identify", lab, "--json", out, "--bootstrap", "0")
+    assert identified.returncode == 0, identified.stderr
+    assert "0 Hz line set aside" in identified.stdout
+    assert json.loads(out.read_text())["mass"] == pytest.approx(bundled("structure").nominal.mass, rel=0.005)
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (("--impact", "0.5", "--fmax", "3000", "--lines", "2000"), "warning: a record of 0.667 s"),
+        (("--impact", "8"), "warning: a 8 ms pulse's spectrum falls"),
+    ],
+)
+def test_a_truncating_setting_is_kept_with_a_warning(planned, tmp_path, args, words):
+    out = tmp_path / "t.uff"
+    run = massline("simulate", planned, "--out", out, "--rigid", *args)
+    assert run.returncode == 0, run.stderr
+    [line] = [line for line in run.stdout.splitlines() if line.startswith("warning:")]
+    assert line.startswith(words) and "choose --" in line
+    assert json.loads(out.with_suffix(".truth.json").read_text())["warnings"] == [line.removeprefix("warning: ")]
+
+
+@pytest.fixture(scope="module")
+def bracket_plan(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("bracket")
+    run = massline("plan", "bracket", "--out", folder)
+    assert run.returncode == 0, run.stderr
+    return folder / "plan.json"
+
+
+def test_default_impact_test_of_the_bracket_identifies_its_mass(bracket_plan, tmp_path):
+    """An analyser set up as a lab would: a record long enough for the pendulum modes, fmax a few times the
+    band's top; identify given the predicted band the console printed recovers the mass."""
+    out = tmp_path / "impact.uff"
+    run = massline("simulate", bracket_plan, "--impact", "--out", out)
+    assert run.returncode == 0, run.stderr
+    assert "warning" not in run.stdout
+    truth = json.loads(out.with_suffix(".truth.json").read_text())
+    support = [f for f in truth["suspension"]["modes_hz"] if f > 0.01]
+    low, high = re.search(r"planned: .*?([\d.]+) – ([\d.]+)", run.stdout).groups()
+    assert float(high) == pytest.approx(truth["band_hz"][1], abs=0.05)
+    assert truth["record_s"] >= np.log(100) / (0.05 * 2 * np.pi * min(support))  # window adds ≤ 5 % damping
+    assert truth["lines"] in [400 * 2**k for k in range(8)] and 3 <= truth["fmax_hz"] / truth["band_hz"][1] < 4
+    result = massline("identify", out, "--band", low, high, "--json", tmp_path / "id.json", "--bootstrap", "0")
+    assert result.returncode == 0, result.stderr
+    mass = json.loads((tmp_path / "id.json").read_text())["mass"]
+    assert mass == pytest.approx(bundled("bracket").nominal.mass, rel=0.005)

@@ -9,7 +9,9 @@ from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff import writer as uff_export
 from massline.uff.layout import line_from_code, uff_layout
+from massline.uff.reader import read_uff, to_recording
 from massline.uff.recording import Recording
+from massline.uff.units import INCH, LBF, G
 from massline.uff.writer import write_uff
 
 ROTATED = Rotation.from_euler("xyz", [20, -35, 50], degrees=True).as_matrix()
@@ -206,6 +208,43 @@ def test_millimetre_units(tmp_path):
     np.testing.assert_allclose(frf["data"], rec.frf[0, 0], rtol=1e-12)
 
 
+# units, acceleration: 164 code, FRF unit labels (numerator, denominator), file numbers per (m/s²)/N
+UNIT_CASES = {
+    ("SI", "length"): (1, ("m/s^2", "N"), 1.0),
+    ("MM", "g"): (5, ("g", "N"), 1 / G),
+    ("IN", "g"): (7, ("g", "lbf"), LBF / G),
+    ("IN", "length"): (7, ("in/s^2", "lbf"), LBF / INCH),
+}
+
+
+@pytest.mark.parametrize("nodes_dataset", [15, 2411])
+@pytest.mark.parametrize("binary", [False, True])
+@pytest.mark.parametrize("units, acceleration", list(UNIT_CASES))
+def test_unit_systems_round_trip(tmp_path, units, acceleration, binary, nodes_dataset):
+    """What exporters write (g/N beside mm, g/lbf or in/s²/lbf beside inches) reads back as SI."""
+    code, labels, factor = UNIT_CASES[units, acceleration]
+    rec = recording()
+    path = tmp_path / "units.uff"
+    write_uff(path, rec, units=units, acceleration=acceleration, binary=binary, nodes_dataset=nodes_dataset)
+    sets = pyuff.UFF(str(path)).read_sets()
+    assert sets[1]["units_code"] == code
+    frf = next(s for s in sets if s["type"] == 58 and s["func_type"] == uff_export.FRF)
+    assert (frf["ordinate_axis_units_lab"], frf["orddenom_axis_units_lab"]) == labels
+    assert (frf["ordinate_spec_data_type"], frf["orddenom_spec_data_type"]) == (12, 13)
+    i, j = frf["rsp_node"], frf["ref_node"]  # sensor 1 at node 1 against hit 1 at node 101
+    assert (i, j) == (1, 101)
+    np.testing.assert_allclose(frf["data"], factor * rec.frf[0, 0], rtol=1e-11)
+    contents = read_uff(path)
+    found = to_recording(contents)
+    assert contents.warnings == []
+    np.testing.assert_allclose(found.frf, rec.frf, rtol=1e-11)
+    np.testing.assert_allclose(found.coherence, rec.coherence, rtol=1e-11)
+    digits = 5e-6 if nodes_dataset == 15 else 1e-15  # 15/18 hold 6 significant digits (E13.5), 2411/2420 exact
+    for got, want in ((found.sensors, rec.sensors), (found.exciters, rec.exciters)):
+        assert np.all(np.abs(got.points - want.points) <= digits * np.abs(want.points) + 1e-15)
+        np.testing.assert_allclose(got.directions, want.directions, atol=4 * digits)
+
+
 def test_refuses_to_overwrite(tmp_path):
     path = tmp_path / "test.uff"
     path.write_text("earlier test\n")
@@ -243,6 +282,8 @@ def test_rejects_bad_options(tmp_path):
     with pytest.raises(MasslineError, match="nodes_dataset"):
         write_uff(tmp_path / "a.uff", recording(), nodes_dataset=2412)
     with pytest.raises(MasslineError, match="units"):
-        write_uff(tmp_path / "a.uff", recording(), units="IN")
+        write_uff(tmp_path / "a.uff", recording(), units="FT")
+    with pytest.raises(MasslineError, match="acceleration"):
+        write_uff(tmp_path / "a.uff", recording(), acceleration="G")
     with pytest.raises(MasslineError, match="increase"):
         write_uff(tmp_path / "a.uff", recording([1.0, 3.0, 2.0]))

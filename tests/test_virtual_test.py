@@ -4,17 +4,19 @@ import numpy as np
 import pytest
 from conftest import bundled
 
+from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines, synthesise
 from massline.placement.methods import identify
+from massline.virtual.analyser import LINE_COUNTS, impact_setup
 from massline.virtual.effects import Effect
-from massline.virtual.measurement import ImpactTest, Noise
+from massline.virtual.measurement import ImpactTest, Noise, half_sine_spectrum
 from massline.virtual.suspension import single_cord
 from massline.virtual.virtual_test import Acquisition, run
 
-QUIET = Acquisition(fmax=200.0, lines=400, noise=Noise(0.0, 0.0))
+QUIET = Acquisition(fmax=200.0, lines=400, noise=Noise(0.0, 0.0), dc_line=False)
 
 
 @pytest.fixture(scope="module")
@@ -121,6 +123,44 @@ def test_finite_pulse_keeps_the_massline(structure, pulse):
 def test_noisy_impact_test_identifies_the_mass(structure):
     suspension = single_cord(structure, structure.mass * 9.81 / 0.25, 1.0, 0.05)
     rec, truth = record(structure, suspension=suspension, setup=Acquisition(fmax=200.0, lines=800, impact=ImpactTest()))
-    assert rec.coherence.min() > 0.9
+    assert rec.coherence[:, :, rec.frequencies >= truth["band_hz"][0]].min() > 0.9  # low at DC, low lines
     found = identify(band_average(rec, truth["band_hz"], top=150.0))
     assert found.mass == pytest.approx(structure.mass, rel=0.005)
+
+
+# ---- the analyser a test engineer sets up for an impact test
+
+BRACKET_BAND = Band(34.5, 164.3)
+PENDULUM = np.array([0.0, 0.487, 0.487, 0.997, 2.66, 4.22])  # the bracket on its cord, Hz (0: yaw, free)
+
+
+def test_impact_setup_holds_the_lowest_support_mode():
+    setup = impact_setup(BRACKET_BAND, PENDULUM, 0.01)
+    assert setup.warnings == () and setup.lines in LINE_COUNTS and 3 <= setup.fmax / BRACKET_BAND.high < 4
+    assert np.log(100) / setup.record <= 0.05 * 2 * np.pi * 0.487  # the window adds ≤ 5 % damping to it
+    assert setup.lines == LINE_COUNTS[0] or np.log(100) / (setup.record / 2) > 0.05 * 2 * np.pi * 0.487
+    pulse = half_sine_spectrum(np.array([0.0, BRACKET_BAND.high, setup.fmax]), 0.0, setup.pulse, 1.0)
+    assert 20 * np.log10(np.abs(pulse[1:]) / np.abs(pulse[0])) == pytest.approx([-0.95, -10.0], abs=0.1)
+
+
+def test_settings_given_by_hand_are_kept_and_what_they_truncate_is_said():
+    short = impact_setup(BRACKET_BAND, PENDULUM, 0.01, fmax=500.0, lines=1600, pulse=8e-3)
+    assert (short.fmax, short.lines, short.pulse) == (500.0, 1600, 8e-3)
+    record, pulse = short.warnings
+    assert "3.2 s" in record and "choose --lines 25600" in record
+    assert "8 ms pulse" in pulse and "choose --impact 2 " in pulse
+    wide = impact_setup(BRACKET_BAND, PENDULUM, 0.01, fmax=3000.0)
+    assert wide.lines == LINE_COUNTS[-1] and "choose --fmax 1600 --lines 51200" in wide.warnings[0]
+
+
+def test_both_routes_record_the_dc_line_as_exporters_do(structure):
+    """A real 0 Hz value with a low coherence, before lines at Δf … fmax; the direct route's coherence is
+    |H|²/(|H|² + σ²) for its relative noise σ/|H| = 1 %."""
+    suspension = single_cord(structure, structure.mass * 9.81 / 0.25, 1.0, 0.05)
+    direct, _ = record(structure, setup=Acquisition(fmax=200.0, lines=400))
+    impact, _ = record(structure, suspension=suspension, setup=Acquisition(200.0, 800, impact=ImpactTest()))
+    for rec, lines in ((direct, 400), (impact, 800)):
+        assert len(rec.frequencies) == lines + 1 and rec.frequencies[0] == 0 and rec.frequencies[1] > 0
+        assert np.all(rec.frf[:, :, 0].imag == 0) and np.median(rec.coherence[:, :, 0]) < 0.5
+    assert np.all(np.abs(direct.frf[:, :, 0]) >= np.median(np.abs(direct.frf[:, :, 1:]), axis=2))
+    np.testing.assert_allclose(direct.coherence[:, :, 1:], 1 / (1 + 0.01**2), rtol=1e-12)

@@ -4,7 +4,7 @@
 (18/2420), units (164) and FRFs with their coherence (58/58b; accelerance, mobility or receptance,
 :mod:`.frf_kind`) from any exporter's file (:mod:`.datasets` splits and parses it);
 :func:`~.writer.write_uff` writes a :class:`~.recording.Recording` the same way, with nodes and
-direction codes from :mod:`.layout`. A channel is a :class:`~.recording.Channel`: a node and a
+direction codes from :mod:`.layout`, in the unit systems of :mod:`.units` (SI, mm, in; g/N). A channel is a :class:`~.recording.Channel`: a node and a
 direction code.
 """
 

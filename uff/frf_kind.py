@@ -26,12 +26,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.uff.units import INCH, LBF, G
+
 KINDS = ("accelerance", "mobility", "receptance")  # index: time derivatives from the stored FRF to accelerance
 MOTION_TYPES = {12: 0, 11: 1, 8: 2}  # ordinate numerator specific data type → index in KINDS
 FORCE_TYPES = (0, 1, 9, 13)  # denominator types of a force FRF: unknown, general, reaction force, excitation force
-G = 9.80665  # m/s² per g
-LBF = 4.4482216152605  # N per lbf (exact, by definition)
-INCH = 0.0254  # m per in
 SILENT_LABELS = ("", "none", "1", "-", "?", "unknown")
 
 LENGTH, TIME, FORCE = (1, 0, 0), (0, 1, 0), (0, 0, 1)

@@ -1,5 +1,7 @@
 """Write a virtual test's FRFs as a Universal File, the way modal test software exports them.
 
+Units (164, and the labels of 58: SI, mm or inches; accelerance in length/s² or g per force unit): :mod:`.units`.
+
 The file holds, in this order (DESIGN.md, "Recordings"):
 
 - 151 header (the recording's description) and 164 units;
@@ -25,7 +27,6 @@ and increment are E13.5 in both.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -35,27 +36,12 @@ from massline.placement.errors import MasslineError
 from massline.placement.files import atomic_file
 from massline.uff.layout import UffLayout, uff_layout
 from massline.uff.recording import Recording, code_name
+from massline.uff.units import ACCELERATIONS, UNITS, AccelerationUnits, Characteristic, UnitSystem, accelerance_units
 
 COLOR = 8
 FRF, COHERENCE = 4, 6  # UFF 58 function types
-
-
-@dataclass(frozen=True)
-class UnitSystem:
-    """A UFF 164 unit system: file units per SI unit, and the labels written in dataset 58."""
-
-    code: int
-    description: str
-    length: float
-    force: float
-    length_label: str
-    force_label: str
-
-
-UNITS = {
-    "SI": UnitSystem(1, "SI: Meter (newton)", 1.0, 1.0, "m", "N"),
-    "MM": UnitSystem(5, "MM: mm (milli N)", 1e3, 1e3, "mm", "mN"),
-}
+ABSCISSA = Characteristic(18, (0, 0, 0), "Frequency", "Hz")
+SILENT = Characteristic(0, (0, 0, 0), "NONE", "NONE")
 
 
 def _text(text: str) -> str:
@@ -156,9 +142,10 @@ def _even_step(frequencies: np.ndarray) -> float | None:
     return float((frequencies[-1] - frequencies[0]) / len(steps))
 
 
-def _characteristics(kind: int, exponents: tuple[int, int, int], label: str, unit: str) -> str:
+def _characteristics(c: Characteristic) -> str:
     """Records 8-11: specific data type, length/force/temperature exponents, axis label and unit label."""
-    return f"{kind:10d}{exponents[0]:5d}{exponents[1]:5d}{exponents[2]:5d} {label:<20.20s} {unit:<20.20s}\n"
+    (a, b, t), label, unit = c.exponents, c.axis_label, c.unit_label
+    return f"{c.data_type:10d}{a:5d}{b:5d}{t:5d} {label:<20.20s} {unit:<20.20s}\n"
 
 
 def _ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
@@ -187,7 +174,7 @@ def _dataset_58(
     reference: tuple[int, int],
     frequencies: np.ndarray,
     values: np.ndarray,
-    ordinate: tuple[str, str],
+    ordinate: tuple[Characteristic, Characteristic],
     binary: bool,
 ) -> bytes:
     """One function at nodal DOF, with the record layout of Addendum B (complex or real, double precision).
@@ -209,25 +196,19 @@ def _dataset_58(
             f" {'NONE':<10s}{reference[0]:10d}{reference[1]:4d}\n",
             f"{6 if len(parts) == 2 else 4:10d}{len(frequencies):10d}{int(even):10d}"
             f"{minimum:13.5E}{increment:13.5E}{0.0:13.5E}\n",
-            _characteristics(18, (0, 0, 0), "Frequency", "Hz"),
-            *ordinate,
-            _characteristics(0, (0, 0, 0), "NONE", "NONE"),
+            _characteristics(ABSCISSA),
+            *map(_characteristics, ordinate),
+            _characteristics(SILENT),
         ]
     )
     return header.encode("ascii") + body + f"{-1:6d}\n".encode()
 
 
-def _functions(recording: Recording, layout: UffLayout, units: UnitSystem, binary: bool, stamp: str):
-    """The 58 records: every FRF (accelerance, in file units), then every coherence."""
-    accelerance = (
-        _characteristics(12, (1, 0, 0), "Acceleration", f"{units.length_label}/s^2"),
-        _characteristics(13, (0, 1, 0), "Force", units.force_label),
-    )
-    dimensionless = (
-        _characteristics(1, (0, 0, 0), "Coherence", "NONE"),
-        _characteristics(0, (0, 0, 0), "NONE", "NONE"),
-    )
-    functions = [("Frequency Response Function", FRF, recording.frf * units.length / units.force, accelerance)]
+def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits, binary: bool, stamp: str):
+    """The 58 records: every FRF (accelerance, in the file's units), then every coherence."""
+    accelerance = (units.numerator, units.denominator)
+    dimensionless = (Characteristic(1, (0, 0, 0), "Coherence", "NONE"), SILENT)
+    functions = [("Frequency Response Function", FRF, recording.frf * units.factor, accelerance)]
     if recording.coherence is not None:
         functions.append(("Coherence", COHERENCE, np.asarray(recording.coherence, dtype=float), dimensionless))
     pairs = [(i, j) for i in range(len(recording.sensors)) for j in range(len(recording.exciters))]
@@ -260,6 +241,7 @@ def write_uff(
     nodes_dataset: int = 15,
     node_systems: bool = True,
     units: str = "SI",
+    acceleration: str = "length",
     force: bool = False,
 ) -> UffLayout:
     """Write a recording as a Universal File: 151, 164, 18/2420, 15/2411, then 58 or 58b records.
@@ -277,9 +259,13 @@ def write_uff(
     node_systems : bool
         Give each node with lines off the global axes its own displacement coordinate system; if False,
         every line must be along a ± global axis.
-    units : {"SI", "MM"}
-        Dataset 164 unit system: m and N, or mm and mN (coordinates in mm; accelerance (mm/s²)/mN, the
-        same numbers as (m/s²)/N).
+    units : {"SI", "MM", "IN"}
+        Dataset 164 unit system (:mod:`.units`): m and N (code 1), mm and mN (code 5; accelerance (mm/s²)/mN,
+        the same numbers as (m/s²)/N) or in and lbf (code 7; accelerance (in/s²)/lbf); coordinates in its
+        length unit.
+    acceleration : {"length", "g"}
+        Accelerance as length/s² per force in the system's units, or as exporters show it to test engineers:
+        g/N (SI, MM) or g/lbf (IN), said by the unit labels.
     force : bool
         Overwrite an existing file.
 
@@ -302,6 +288,8 @@ def write_uff(
         raise MasslineError(f"nodes_dataset must be 15 or 2411, got {nodes_dataset!r}")
     if units not in UNITS:
         raise MasslineError(f"units must be one of {', '.join(UNITS)}, got {units!r}")
+    if acceleration not in ACCELERATIONS:
+        raise MasslineError(f"acceleration must be one of {', '.join(ACCELERATIONS)}, got {acceleration!r}")
     if np.any(np.diff(recording.frequencies) <= 0):
         raise MasslineError("the frequencies of a recording must increase")
     layout = uff_layout(recording.sensors, recording.exciters, node_systems)
@@ -312,5 +300,6 @@ def write_uff(
         *_systems(layout, nodes_dataset, system),
         _nodes(layout, nodes_dataset, system),
     ]
-    _write(path, datasets, _functions(recording, layout, system, binary, stamp))
+    frf_units = accelerance_units(system, acceleration)
+    _write(path, datasets, _functions(recording, layout, frf_units, binary, stamp))
     return layout

@@ -4,7 +4,8 @@ The body's elastic modes come from a finite-element model of the solid
 (:mod:`.elastic`, meshed by :mod:`.tetmesh`); the suspension, sensor masses and
 instrumentation effects are added on top, and :mod:`.measurement` turns the
 result into the FRFs a test system would record (:mod:`.virtual_test` runs one test,
-:mod:`.scenarios` the blind ones); :mod:`.band` predicts the massline band before the test.
+:mod:`.scenarios` the blind ones); :mod:`.band` predicts the massline band before the test,
+and :mod:`.analyser` sets an impact test up around it as a test engineer would.
 """
 
 from massline.virtual.effects import Effect

@@ -8,18 +8,21 @@ was actually on the suspension with its sensor masses).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
+from massline.virtual.analyser import impact_setup
 from massline.virtual.band import predict_band
-from massline.virtual.effects import Effect, instrument
-from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs
+from massline.virtual.effects import Effect, Instrumentation, instrument
+from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
+
+LINES = 2000  # the direct route's spectral lines
 
 
 @dataclass(frozen=True)
@@ -29,26 +32,33 @@ class Acquisition:
     Attributes
     ----------
     fmax : float or None
-        Analysis bandwidth, Hz; None: 1.5 × the first elastic mode (or 40 × the top suspension
-        mode for a rigid model), so the recording shows zones A, B and the start of C.
-    lines : int
-        Spectral lines (Δf = fmax / lines).
+        Analysis bandwidth, Hz; None: on the direct route 1.5 × the first elastic mode (or 40 × the top
+        suspension mode for a rigid model), so the recording shows zones A, B and the start of C; on the impact
+        route what a test engineer sets up around the predicted band (:mod:`.analyser`).
+    lines : int or None
+        Spectral lines (Δf = fmax / lines); the recording holds lines + 1 values with the DC line. None: 2000 on
+        the direct route; on the impact route enough for the lowest support mode (:mod:`.analyser`).
     noise : Noise
         FRF noise of the direct route (ignored by the impact route, which has its own).
     impact : ImpactTest or None
-        Simulate hammer hits and H1 averaging instead of adding noise to exact FRFs.
+        Simulate hammer hits and H1 averaging instead of adding noise to exact FRFs (its pulse None: the
+        hammer tip :mod:`.analyser` chooses).
     sensor_mass : float
         Mass of every accelerometer (kg), added at its point (a triaxial counts once).
     modal_loss : float
         Loss factor of the elastic modes.
+    dc_line : bool
+        Start the recording at 0 Hz, as exporters store lines + DC: a real-valued outlier with a low
+        coherence (noise and window residue, no massline), which identify sets aside.
     """
 
     fmax: float | None = None
-    lines: int = 2000
+    lines: int | None = None
     noise: Noise = field(default_factory=Noise)
     impact: ImpactTest | None = None
     sensor_mass: float = 0.0
     modal_loss: float = 0.002
+    dc_line: bool = True
 
 
 def accelerometer_masses(sensors: Lines, mass: float) -> tuple[np.ndarray, np.ndarray]:
@@ -60,6 +70,7 @@ def accelerometer_masses(sensors: Lines, mass: float) -> tuple[np.ndarray, np.nd
 
 
 def auto_fmax(model: SuspendedBody) -> float:
+    """The direct route's bandwidth, Hz: 1.5 × the first elastic mode, or 40 × the top support mode if rigid."""
     if model.n_elastic:
         return 1.5 * model.first_elastic_frequency
     return 40.0 * max(model.suspension_frequencies.max(), 1.0)
@@ -90,22 +101,16 @@ def run(
         np.vstack([points, inst.mass_points]),
         setup.modal_loss,
     )
-    fmax = setup.fmax or auto_fmax(model)
-
-    def accelerance(f):
-        H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
-        return H[inst.channel_order]
-
-    coherence = None
-    if setup.impact is None:
-        frequencies = fmax / setup.lines * np.arange(1, setup.lines + 1)
-        frf = noisy_frfs(accelerance(frequencies), setup.noise, body.mass, rng)
-    else:
-        frequencies, frf, coherence = impact_test(
-            accelerance, len(sensors), len(exciters), fmax, setup.lines, setup.impact, rng
-        )
-    recording = Recording(frequencies, frf, sensors, exciters, coherence, "massline virtual test")
     band = predict_band(model, sensors, exciters)
+    analyser = None
+    if setup.impact is not None:
+        impact = setup.impact
+        given = (setup.fmax, setup.lines, impact.pulse)
+        analyser = impact_setup(band, model.suspension_frequencies, impact.window_end, *given)
+        setup = replace(setup, fmax=analyser.fmax, lines=analyser.lines, impact=replace(impact, pulse=analyser.pulse))
+    setup = replace(setup, fmax=setup.fmax or auto_fmax(model), lines=setup.lines or LINES)
+    frequencies, frf, coherence = measure(model, inst, setup, body.mass, rng)
+    recording = Recording(frequencies, frf, sensors, exciters, coherence, "massline virtual test")
     truth = {
         "seed": seed,
         "nominal": body.as_dict(),
@@ -119,8 +124,11 @@ def run(
         "band_hz": [band.low, band.high],
         "noise": None if setup.impact else {"relative": setup.noise.relative, "floor": setup.noise.floor},
         "impact": None if setup.impact is None else vars(setup.impact),
-        "fmax_hz": fmax,
+        "fmax_hz": setup.fmax,
         "lines": setup.lines,
+        "record_s": setup.lines / setup.fmax,
+        "dc_line": setup.dc_line,
+        "warnings": [] if analyser is None else list(analyser.warnings),
         "instrumented": {
             "sensor_points": inst.sensor_points.tolist(),
             "sensor_vectors": inst.sensor_vectors.tolist(),
@@ -130,6 +138,23 @@ def run(
         },
     }
     return recording, truth
+
+
+def measure(model: SuspendedBody, inst: Instrumentation, setup: Acquisition, mass: float, rng: np.random.Generator):
+    """Frequencies (Hz), FRFs ((m/s²)/N) and coherence as the test system stores them, by either route."""
+
+    def accelerance(f):
+        H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
+        return H[inst.channel_order]
+
+    n_s, n_e = len(inst.sensor_vectors), len(inst.exciter_vectors)
+    if setup.impact is not None:
+        return impact_test(accelerance, n_s, n_e, setup.fmax, setup.lines, setup.impact, rng, dc=setup.dc_line)
+    frequencies = setup.fmax / setup.lines * np.arange(1, setup.lines + 1)
+    frf, coherence = noisy_frfs(accelerance(frequencies), setup.noise, mass, rng)
+    if setup.dc_line:
+        return with_dc_line(frequencies, frf, coherence, rng)
+    return frequencies, frf, coherence
 
 
 def suspension_summary(suspension: Suspension, model: SuspendedBody) -> dict:
