@@ -64,7 +64,7 @@ def test_report_is_one_self_contained_page(reports, name):
     assert "@page { size: A4" in html and not re.search(r"<script[^>]*\ssrc=", html)
     words = {
         "identify": ("Properties (weighted", "Principal axes on the body", "FRFs and the massline band", "No mesh"),
-        "diagnose": ("Findings", "reads -28.", "Properties before and after", "Residual maps", "nominal (mesh)"),
+        "diagnose": ("Findings", "reads −28", "Properties before and after", "Residual maps", "nominal (mesh)"),
     }[name]
     for w in words:
         assert w in html
