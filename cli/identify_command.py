@@ -75,7 +75,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
     console.print(
-        f"reduced χ² {found.best.chi2:.3g} over {found.data.values.size} masslines"
+        f"reduced χ² {number(found.best.chi2, 3)} over {found.data.values.size} masslines"
         + ("; physical-consistency constraint active" if found.best.constrained else "")
     )
     for warning in found.warnings:

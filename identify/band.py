@@ -66,7 +66,7 @@ def widest_gap(frequencies: np.ndarray, frf: np.ndarray, runs: np.ndarray) -> tu
     the FRFs it moves still follow a spring: flatness tells the massline's gap apart."""
     tops, bottoms = gaps_between(frequencies, runs)
     width = np.log(bottoms) - np.log(tops)
-    if frf is None or len(width) == 1:
+    if len(width) == 1:
         return int(np.argmax(width)), tops, bottoms
     low = np.maximum(tops, frequencies[0])
     high = np.minimum(bottoms, frequencies[-1])
@@ -95,22 +95,19 @@ def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
     return phase | (departure > OFF_LEVEL)
 
 
-def resonance_free(frequencies: np.ndarray, frf: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, int]:
-    """The flat resonance-free stretches: their lower and upper ends (Hz), the widest one's index, and how many
-    runs of disturbed lines there are. Lines at or below 0 Hz (an exporter's DC line) are left out."""
+def stretch(frequencies: np.ndarray, frf: np.ndarray) -> Band:
+    """The widest flat resonance-free stretch, edge to edge (no margins): where a band may be sought.
+
+    Lines at or below 0 Hz (an exporter's DC line) are left out. ``suspension_top`` and ``first_elastic``
+    are where the FRFs leave their massline below and above (nan on a side with no resonance in the record).
+    """
     f = np.asarray(frequencies, dtype=float)
     above = f > 0
     f, frf = f[above], frf[:, :, above]
     runs = runs_of(f, disturbed(f, frf))
     k, tops, bottoms = widest_gap(f, frf, runs)
-    return tops, bottoms, k, len(runs)
-
-
-def stretch(frequencies: np.ndarray, frf: np.ndarray) -> Band:
-    """The widest flat resonance-free stretch, edge to edge (no margins): where a band may be sought."""
-    tops, bottoms, k, n_runs = resonance_free(frequencies, frf)
     suspension = tops[k] if k > 0 else np.nan
-    elastic = bottoms[k] if k < n_runs else np.nan
+    elastic = bottoms[k] if k < len(runs) else np.nan
     return Band(float(tops[k]), float(bottoms[k]), float(suspension), float(elastic), "stretch")
 
 
@@ -118,16 +115,14 @@ def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Band:
     """Zone B: the widest resonance-free stretch, with margins to the resonances on either side."""
     f = np.asarray(frequencies, dtype=float)
     f = f[f > 0]
-    tops, bottoms, k, n_runs = resonance_free(frequencies, frf)
-    low, high = max(tops[k] * ABOVE_SUSPENSION, f[0]), min(bottoms[k] / BELOW_ELASTIC, f[-1])
+    free = stretch(frequencies, frf)
+    low, high = max(free.low * ABOVE_SUSPENSION, f[0]), min(free.high / BELOW_ELASTIC, f[-1])
     if np.count_nonzero((f >= low) & (f <= high)) < MIN_LINES:
         raise MasslineError(
-            f"no massline band found: the widest resonance-free stretch is {tops[k]:.3g}–{bottoms[k]:.3g} Hz, "
+            f"no massline band found: the widest resonance-free stretch is {free.low:.3g}–{free.high:.3g} Hz, "
             "too narrow once clear of its resonances; soften the suspension or give --band LO HI"
         )
-    suspension = tops[k] if k > 0 else np.nan
-    elastic = bottoms[k] if k < n_runs else np.nan
-    return Band(float(low), float(high), float(suspension), float(elastic), "found")
+    return Band(float(low), float(high), free.suspension_top, free.first_elastic, "found")
 
 
 def given_band(frequencies: np.ndarray, low: float, high: float) -> Band:

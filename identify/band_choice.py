@@ -1,18 +1,21 @@
 """The massline band chosen by the model: the candidate band whose masslines give the smallest predicted
 uncertainty of the properties, among those that the band fit explains.
 
-The resonance-free stretch (:func:`.band.find_band`) bounds the search: from just above its support
-resonance to just below its elastic one. Inside it, candidate bands start at 1–5 × their lower margin and
+The resonance-free stretch (:func:`.band.stretch`) bounds the search: from ``MARGIN`` above where the
+support's resonances leave the massline to ``MARGIN`` below where the elastic modes do. Inside it, candidate bands start at 1–5 × their lower margin and
 end at 1–5 × below their upper one. For each, every FRF is fitted with its massline and tails
 (:func:`.massline_fit.fit_band`), and
 
 * the predicted covariance of the properties is the inverse information Σ g_ij g_ijᵀ/σ_ij², with g_ij the
   sensitivity of massline ij at the start body and σ_ij its band-fit 1-σ (DESIGN.md, "Information"); the
   score is its trace in scaled parameters;
-* the band is *explained* when its masslines agree with those of the most conservative band (the
-  stretch's middle, clear of both resonances by the widest margins) to the noise: the mean over FRFs of
-  (A_ij − A°_ij)²/(σ_ij² + σ°_ij²) at most ``AGREEMENT``. A wider band whose tails the fit cannot remove
-  moves its masslines away from the conservative ones, and is passed over.
+* the band is *explained* when each tail's next term (B₂/ω⁴, D₂ω⁶) leaves its masslines in place to the
+  noise: the mean over FRFs of (A_ij − A⁺_ij)²/(σ⁺_ij² − σ_ij²) at most ``AGREEMENT``, A⁺ and σ⁺ from the
+  richer fit. A band reaching so close to a resonance that the fitted tails are truncated moves its
+  masslines when the next term is let in, and is passed over.
+
+The most conservative candidate (farthest from both resonances) is the fallback when none is explained,
+and gives the start body whose sensitivities score the others.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from massline.placement.model import RigidModel
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
 MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
-AGREEMENT = 2.0  # mean normalised squared difference to the conservative band's masslines
+AGREEMENT = 2.0  # mean normalised squared shift of the masslines when each tail's next term is fitted
 
 
 def candidates(frequencies: np.ndarray, stretch: Band) -> list[tuple[float, float]]:
@@ -72,8 +75,8 @@ def choose_band(
 ) -> Band:
     """The band with the smallest predicted spread of the properties among the explained candidates.
 
-    ``frequencies`` (Hz) above 0, ``frf`` (n_s, n_e, n_f) accelerance, ``weights`` the lines' coherence
-    weights or None. Raises MasslineError (from :func:`.band.find_band`) when no stretch can carry a massline.
+    ``frequencies`` (Hz), ``frf`` (n_s, n_e, n_f) accelerance, ``weights`` the lines' coherence weights or
+    None. Raises MasslineError when the stretch holds no candidate of MIN_LINES lines.
     """
     free = stretch(frequencies, frf)
     pairs = candidates(frequencies, free)
@@ -92,7 +95,7 @@ def choose_band(
     s, e = model.coordinates(sensors), model.coordinates(exciters)
     best, best_spread = safe, np.inf
     for pair in pairs:
-        fit = fit_band(frequencies, frf, *pair, weights)
+        fit = reference if pair == safe else fit_band(frequencies, frf, *pair, weights)
         spread = predicted_spread(fit, model, s, e)
         if (
             spread < best_spread

@@ -51,7 +51,9 @@ class Estimate:
     covariance : (p, p) array
         Covariance of the scaled parameters θ̃.
     chi2 : float
-        Reduced χ² of the weighted residuals (≈ 1 when the band fits' σ explain them).
+        Reduced χ² of the weighted residuals (≈ 1 when the band fits' σ explain them; nan with no redundancy).
+    dof : float
+        The degrees of freedom χ² is reduced by: masslines less the parameters the data pay for.
     residual : (n_s, n_e) array
         H_measured − H_model, (m/s²)/N.
     constrained : bool
@@ -66,6 +68,7 @@ class Estimate:
     model: RigidModel
     covariance: np.ndarray
     chi2: float
+    dof: float
     residual: np.ndarray
     constrained: bool
     transverse: np.ndarray
@@ -213,29 +216,29 @@ def estimate(
             break
     s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
     system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
-    chi2 = reduced_chi2(system)
+    chi2, dof = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
     prior = 0.0 if T is None else transverse
-    return Estimate(model.nominal, model, covariance, chi2, data.values - H, constrained, readings, prior)
+    return Estimate(model.nominal, model, covariance, chi2, dof, data.values - H, constrained, readings, prior)
 
 
-def reduced_chi2(system: WeightedSystem) -> float:
-    """Σ r_ij² / (n − p_eff) over the masslines: ≈ 1 when the band fits' σ explain the residuals.
+def reduced_chi2(system: WeightedSystem) -> tuple[float, float]:
+    """Σ r_ij² / (n − p_eff) over the masslines, and n − p_eff: ≈ 1 when the band fits' σ explain the residuals.
 
     p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ) counts the parameters the data pay for: the properties and as much of
     each channel's transverse reading as the data, not the prior, determine. Counting the two transverse
     components of every channel in full (or not at all) makes χ² too small on a layout with few hits per
-    channel. nan when nothing is left over to judge the fit by (no redundancy).
+    channel. χ² is nan when nothing is left over to judge the fit by (no redundancy).
     """
     J, _ = system.dense()
     n = system.r.size
     try:
         hat = J[:n] @ np.linalg.solve(J.T @ J, J[:n].T)
     except np.linalg.LinAlgError:
-        return np.nan
+        return np.nan, 0.0
     left = n - float(np.trace(hat))
-    return float(np.sum(system.r**2) / left) if left > 0.5 else np.nan
+    return (float(np.sum(system.r**2) / left) if left > 0.5 else np.nan), max(left, 0.0)
 
 
 def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:

@@ -133,18 +133,12 @@ def identify_recording(
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     best = estimate(data, sigma, planar, transverse)
-    if not (np.isfinite(best.body.mass) and np.all(np.isfinite(best.body.inertia_cog))):
-        raise MasslineError(
-            f"the estimate from the band {used.low:.3g}–{used.high:.3g} Hz did not converge to a body: "
-            "check the recording's channels, or give --band LO HI clear of the resonances"
-        )
     std = property_std(data, sigma, best, draws=draws)
     body = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)
     channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
-    dof = data.values.size - best.model.p
     warnings = (
-        fit_warnings(best.chi2, dof)
+        fit_warnings(best.chi2, best.dof)
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(recording.coherence, in_band, channels)
     )

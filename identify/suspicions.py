@@ -26,8 +26,8 @@ POOR_COHERENCE = 0.9  # median γ² of an FRF's band lines below which it is fla
 FEW_LINES = 40
 
 
-def fit_warnings(chi2: float, dof: int) -> list[str]:
-    """The fit statistic: reduced χ² beyond chance, or no redundancy to compute it."""
+def fit_warnings(chi2: float, dof: float) -> list[str]:
+    """The fit statistic: reduced χ² (over ``dof`` degrees of freedom) beyond chance, or no redundancy."""
     if not np.isfinite(chi2):
         return [
             "no redundancy: the layout has no more masslines than the fit has unknowns, so no error in the "

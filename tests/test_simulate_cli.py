@@ -17,12 +17,17 @@ from massline.uff.reader import read_uff, to_recording
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture(scope="module")
-def planned(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("plan")
-    run = massline("plan", "structure", "--out", folder)
+def default_plan(body: str, tmp_path_factory):
+    """``massline plan BODY`` with its defaults, into a fresh folder; the path of its plan.json."""
+    folder = tmp_path_factory.mktemp(body)
+    run = massline("plan", body, "--out", folder)
     assert run.returncode == 0, run.stderr
     return folder / "plan.json"
+
+
+@pytest.fixture(scope="module")
+def planned(tmp_path_factory):
+    return default_plan("structure", tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
@@ -146,10 +151,7 @@ def test_a_truncating_setting_is_kept_with_a_warning(planned, tmp_path, args, wo
 
 @pytest.fixture(scope="module")
 def bracket_plan(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("bracket")
-    run = massline("plan", "bracket", "--out", folder)
-    assert run.returncode == 0, run.stderr
-    return folder / "plan.json"
+    return default_plan("bracket", tmp_path_factory)
 
 
 def test_default_impact_test_of_the_bracket_identifies_its_mass(bracket_plan, tmp_path):
