@@ -2,7 +2,7 @@
 
 A virtual test of the bundled structure with 334 accelerometers × 3 hits (1,002 FRFs,
 2,000 lines, ascii 58) is written once; then it is read by massline's reader, the
-band is found, every FRF is fitted and the properties are estimated (with a
+band is chosen among the candidates (``identify_recording``), every FRF is fitted and the properties are estimated (with a
 bootstrap of 100 draws), and the same file is read by ``pyuff.UFF(path).read_sets()``
 alone (the baseline). Prints times, peak Python memory (tracemalloc) and ratios.
 
@@ -19,13 +19,9 @@ import numpy as np
 import pyuff
 from common import measured, surface_lines
 
-from massline.identify.band import find_band
-from massline.identify.estimator import estimate
-from massline.identify.massline_fit import fit_band
-from massline.identify.uncertainty import property_std
+from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
-from massline.placement.masslines import Masslines
 from massline.placement.mesh import load_body
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
@@ -34,12 +30,8 @@ from massline.virtual.virtual_test import Acquisition, run
 
 
 def identify_file(path: Path):
-    recording = to_recording(read_uff(path)).above_zero()
-    zones = find_band(recording.frequencies, recording.frf)
-    fit = fit_band(recording.frequencies, recording.frf, zones.low, zones.high)
-    data = Masslines(fit.values, recording.sensors, recording.exciters)
-    result = estimate(data, fit.std)
-    return result, property_std(data, fit.std, result, draws=100)
+    """``massline identify``'s pipeline: the band chosen by the model, the fits, the estimate, 100 draws."""
+    return identify_recording(to_recording(read_uff(path)), draws=100)
 
 
 def main() -> None:
@@ -59,9 +51,12 @@ def main() -> None:
         print(f"{n_frf} FRFs × {recording.frf.shape[2]} lines, {path.stat().st_size / 2**20:.0f} MiB on disk")
         _, plain = measured("baseline: pyuff read_sets", lambda: pyuff.UFF(str(path)).read_sets())
         _, ours_read = measured("massline read_uff + to_recording", lambda: to_recording(read_uff(path)))
-        (result, std), ours = measured("massline read + band + fits + estimate + 1-σ", lambda: identify_file(path))
+        found, ours = measured("massline read + band choice + fits + estimate + 1-σ", lambda: identify_file(path))
     print(f"read: {plain / ours_read:.2f}× pyuff's speed; whole identification {ours / plain:.2f}× a pyuff read")
-    print(f"mass {result.body.mass:.5f} ± {std['mass']:.5f} kg (true {nominal.mass:.5f})")
+    print(
+        f"band {found.band.low:.1f}–{found.band.high:.1f} Hz; mass {found.body.mass:.5f} ± {found.std['mass']:.5f} kg "
+        f"(true {nominal.mass:.5f})"
+    )
 
 
 if __name__ == "__main__":
