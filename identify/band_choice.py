@@ -1,21 +1,19 @@
 """The massline band chosen by the model: the candidate band whose masslines give the smallest predicted
-uncertainty of the properties, among those that the band fit explains.
+error of the properties, their scatter and the bias their truncated tails may carry.
 
 The resonance-free stretch (:func:`.band.stretch`) bounds the search: from ``MARGIN`` above where the
-support's resonances leave the massline to ``MARGIN`` below where the elastic modes do. Inside it, candidate bands start at 1–5 × their lower margin and
-end at 1–5 × below their upper one. For each, every FRF is fitted with its massline and tails
-(:func:`.massline_fit.fit_band`), and
+support's resonances leave the massline to ``MARGIN`` below where the elastic modes do. Inside it, candidate
+bands start at 1–5 × their lower margin and end at 1–5 × below their upper one. For each, every FRF is fitted
+with its massline and tails (:func:`.massline_fit.fit_band`), and the predicted mean squared error of the
+scaled parameters is
 
-* the predicted covariance of the properties is the inverse information Σ g_ij g_ijᵀ/σ_ij², with g_ij the
-  sensitivity of massline ij at the start body and σ_ij its band-fit 1-σ (DESIGN.md, "Information"); the
-  score is its trace in scaled parameters;
-* the band is *explained* when each tail's next term (B₂/ω⁴, D₂ω⁶) leaves its masslines in place to the
-  noise: the mean over FRFs of (A_ij − A⁺_ij)²/(σ⁺_ij² − σ_ij²) at most ``AGREEMENT``, A⁺ and σ⁺ from the
-  richer fit. A band reaching so close to a resonance that the fitted tails are truncated moves its
-  masslines when the next term is let in, and is passed over.
+    trace F⁻¹ + ‖F⁻¹ Σ g_ij δA_ij/σ_ij²‖²,     F = Σ g_ij g_ijᵀ/σ_ij²,
 
-The most conservative candidate (farthest from both resonances) is the fallback when none is explained,
-and gives the start body whose sensitivities score the others.
+with g_ij the sensitivity of massline ij at the start body, σ_ij its band-fit 1-σ and δA_ij the shift that
+each tail's next term may carry into it (:func:`.massline_fit.truncation_shift`). A wide band has many lines
+but reaches where the tails are large; a narrow one keeps clear of them but sees few: the score weighs both.
+The widest candidate gives the start body; the one farthest from both resonances is the fallback when
+that body cannot be found.
 """
 
 from __future__ import annotations
@@ -33,8 +31,8 @@ from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
+GAPS = 3  # flat gaps tried, from the widest up the axis, before the fallback
 MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
-AGREEMENT = 2.0  # mean normalised squared shift of the masslines when each tail's next term is fitted
 
 
 def candidates(frequencies: np.ndarray, stretch: Band) -> list[tuple[float, float]]:
@@ -53,53 +51,61 @@ def conservative(pairs: list[tuple[float, float]]) -> tuple[float, float]:
 
 
 def predicted_spread(fit: BandFit, model: RigidModel, s: np.ndarray, e: np.ndarray) -> float:
-    """trace F⁻¹ in scaled parameters, F = Σ g_ij g_ijᵀ / σ_ij² (inf when singular)."""
+    """Predicted mean squared error of the scaled parameters: trace F⁻¹ + ‖F⁻¹ Σ g_ij δA_ij/σ_ij²‖².
+
+    F = Σ g_ij g_ijᵀ / σ_ij² is the information of the band's masslines (their variance, trace F⁻¹), and
+    δA_ij the shift the truncation of their tails may carry (``fit.truncation``): the bias it moves the
+    properties by. inf when F is singular.
+    """
     G, _ = sensitivities(model, s, e)
     sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.values).max())
-    F = np.einsum("ijp,ijq->pq", G / sigma[..., None], G / sigma[..., None])
+    weighted = G / sigma[..., None]
+    F = np.einsum("ijp,ijq->pq", weighted, weighted)
     try:
-        return float(np.trace(np.linalg.inv(F)))
+        covariance = np.linalg.inv(F)
     except np.linalg.LinAlgError:
         return np.inf
-
-
-def agreement(fit: BandFit, richer: BandFit) -> float:
-    """Mean over FRFs of (A − A⁺)²/(σ⁺² − σ²): how far each tail's next term moves the masslines, against
-    what noise alone moves them by (the variance of a difference between nested least-squares fits)."""
-    variance = np.maximum(richer.std**2 - fit.std**2, 0.05 * richer.std**2)
-    return float(np.mean((fit.values - richer.values) ** 2 / np.maximum(variance, 1e-300)))
+    bias = covariance @ np.einsum("ijp,ij->p", weighted, fit.truncation / sigma)
+    return float(np.trace(covariance) + bias @ bias)
 
 
 def choose_band(
     frequencies: np.ndarray, frf: np.ndarray, sensors: Lines, exciters: Lines, planar: bool, weights=None
 ) -> Band:
-    """The band with the smallest predicted spread of the properties among the explained candidates.
+    """The candidate band with the smallest predicted error of the properties.
 
     ``frequencies`` (Hz), ``frf`` (n_s, n_e, n_f) accelerance, ``weights`` the lines' coherence weights or
     None. Raises MasslineError when the stretch holds no candidate of MIN_LINES lines.
     """
-    free = stretch(frequencies, frf)
-    pairs = candidates(frequencies, free)
-    if not pairs:
-        raise MasslineError(
-            f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
-            f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more lines, "
-            "or give --band LO HI"
-        )
-    safe = conservative(pairs)
-    reference = fit_band(frequencies, frf, *safe, weights)
+    above = np.ones(len(frequencies), dtype=bool)
+    for _ in range(GAPS):
+        free = stretch(frequencies[above], frf[:, :, above])
+        pairs = candidates(frequencies, free)
+        if not pairs:
+            raise MasslineError(
+                f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
+                f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
+                "lines, or give --band LO HI"
+            )
+        chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
+        if chosen is not None or not np.isfinite(free.high):
+            break
+        above = frequencies > free.high  # a gap whose masslines hold no body: a spring's, below a stiff bounce
+    low, high = chosen or conservative(pairs)
+    return Band(low, high, free.suspension_top, free.first_elastic, "chosen")
+
+
+def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:
+    """The candidate of least predicted error, scored at the widest candidate's body; None when that body
+    is none (no positive mass: the FRFs of the gap follow a spring, not a mass)."""
+    widest = pairs[0]
+    reference = fit_band(frequencies, frf, *widest, weights)
     try:
         model = RigidModel(starting_body(Masslines(reference.values, sensors, exciters), planar), planar)
     except (MasslineError, np.linalg.LinAlgError):
-        return Band(*safe, free.suspension_top, free.first_elastic, "chosen")
+        return None
+    if not model.nominal.mass > 0:
+        return None
     s, e = model.coordinates(sensors), model.coordinates(exciters)
-    best, best_spread = safe, np.inf
-    for pair in pairs:
-        fit = reference if pair == safe else fit_band(frequencies, frf, *pair, weights)
-        spread = predicted_spread(fit, model, s, e)
-        if (
-            spread < best_spread
-            and agreement(fit, fit_band(frequencies, frf, *pair, weights, richer=True)) <= AGREEMENT
-        ):
-            best, best_spread = pair, spread
-    return Band(*best, free.suspension_top, free.first_elastic, "chosen")
+    fits = {pair: reference if pair == widest else fit_band(frequencies, frf, *pair, weights) for pair in pairs}
+    return min(pairs, key=lambda pair: predicted_spread(fits[pair], model, s, e))

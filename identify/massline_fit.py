@@ -40,6 +40,8 @@ class BandFit:
         RMS residual of each fit relative to |A|.
     bias : (n_s, n_e) array
         How far the plain band average of Re H sits from A, relative to |A|.
+    truncation : (n_s, n_e) array
+        How far A moves when each tail's next term is taken out (:func:`truncation_shift`), (m/s²)/N.
     """
 
     values: np.ndarray
@@ -48,6 +50,7 @@ class BandFit:
     flexibility: np.ndarray
     quality: np.ndarray
     bias: np.ndarray
+    truncation: np.ndarray
 
 
 def design_matrix(omega: np.ndarray, richer: bool = False) -> np.ndarray:
@@ -60,6 +63,29 @@ def design_matrix(omega: np.ndarray, richer: bool = False) -> np.ndarray:
     real = [np.ones_like(x), 1 / x, zero, x, zero, x**2] + ([1 / x**2, x**3] if richer else [])
     imag = [zero, zero, 1 / x, zero, x, zero] + ([zero, zero] if richer else [])
     return np.vstack([np.column_stack(real), np.column_stack(imag)])
+
+
+def truncation_shift(X: np.ndarray, coef: np.ndarray) -> np.ndarray:
+    """The change of each massline when each tail's next term is removed from the data, (n_s, n_e).
+
+    A single mode below the band gives the real tail A (x_s/x + x_s²/x² + …) and one above it
+    R (x/x_r + x²/x_r² + x³/x_r³ + …), so the first terms the fit leaves out are B₂/x² with B₂ = B²/A and
+    D₂x³ with D₂ = D²/C (scaled coefficients ``coef`` of :func:`design_matrix`'s columns). The band's
+    design ``X`` carries a part of each into A: that part, the row of X⁺ that gives A applied to them,
+    is what the truncation of the tails may bias the massline by. Several modes make the next terms larger
+    than a single one does when they are far apart, so this is a size, not a correction.
+    """
+    n = X.shape[0] // 2
+    x = X[:n, 3]  # the Cω² column: x = ω²/ω_mid²
+    zero = np.zeros(n)
+    row = np.linalg.pinv(X)[0]
+    into_suspension = row @ np.concatenate([1 / x**2, zero])
+    into_flexibility = row @ np.concatenate([x**3, zero])
+    A, B, C, D = coef[..., 0], coef[..., 1], coef[..., 3], coef[..., 5]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        B2 = np.where(A != 0, B**2 / A, 0.0)
+        D2 = np.where(C != 0, D**2 / C, 0.0)
+    return into_suspension * B2 + into_flexibility * D2
 
 
 def fit_band(
@@ -98,4 +124,4 @@ def fit_band(
     C = (coef[..., 3] + 1j * coef[..., 4]) / mid2
     scale = np.maximum(np.abs(A), 1e-300)
     plain = H.real.mean(axis=2)
-    return BandFit(A, std, B, C, rms / scale, np.abs(plain - A) / scale)
+    return BandFit(A, std, B, C, rms / scale, np.abs(plain - A) / scale, truncation_shift(X, coef))

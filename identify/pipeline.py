@@ -14,8 +14,8 @@ from massline.identify.band import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
-from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings
-from massline.identify.uncertainty import property_std
+from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings, truncation_warnings
+from massline.identify.uncertainty import property_std, truncation_std, with_truncation
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
@@ -133,7 +133,9 @@ def identify_recording(
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     best = estimate(data, sigma, planar, transverse)
-    std = property_std(data, sigma, best, draws=draws)
+    shift = truncation_std(data, fit.truncation, sigma, best)
+    statistical = property_std(data, sigma, best, draws=draws)
+    std = with_truncation(statistical, shift, planar)
     body = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)
     channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
@@ -141,5 +143,6 @@ def identify_recording(
         fit_warnings(best.chi2, best.dof)
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(recording.coherence, in_band, channels)
+        + truncation_warnings(shift, statistical, best.body)
     )
     return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes, tuple(warnings))

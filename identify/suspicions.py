@@ -9,6 +9,8 @@ A result that may be off by more than its ± carries a warning (DESIGN.md, ident
   modes, move the FRFs off their massline:
   the fitted tails carry tens of per cent of the masslines there, and what their truncation leaves
   can exceed the ± (per-FRF tails are the fallback of a structured support model);
+* the tails the band fits remove are truncated: their next term would move the properties by more than
+  twice their statistical ± (the reported ± includes it, but the result rests on the tail model);
 * the record is coarse for the band: fewer lines than the tails need;
 * the coherence of the band's lines is poor.
 """
@@ -73,4 +75,29 @@ def coherence_warnings(coherence: np.ndarray | None, in_band: np.ndarray, channe
     return [
         f"{len(poor)} FRF(s) have a median coherence below {POOR_COHERENCE} in the band ({named}): check the "
         "hits (double hits, overloads) and the sensors' cables"
+    ]
+
+
+TRUNCATION = 2.0  # a truncation shift beyond this many statistical 1-σ is flagged
+
+
+def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[str]:
+    """The tails' truncation (``shift``: 25 property entries, uncertainty.truncation_std) against the
+    statistical 1-σ: flagged where it exceeds TRUNCATION of them for the mass or a principal moment."""
+    mass = (shift[0], statistical["mass"], body.mass)
+    moments = [(shift[13 + k], statistical["principal_moments"][k], body.principal_moments[k]) for k in range(3)]
+    worst = max(
+        [
+            (d / s, name, d / v)
+            for (d, s, v), name in zip([mass, *moments], ["mass", "J1", "J2", "J3"])
+            if s > 0 and np.isfinite(d / s)
+        ],
+        default=(0.0, "", 0.0),
+    )
+    if worst[0] <= TRUNCATION:
+        return []
+    return [
+        f"the band is too close to the resonances for its tails: fitting their next term moves the {worst[1]} by "
+        f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
+        "stiffer fixture opens a band clear of both"
     ]

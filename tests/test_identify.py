@@ -273,11 +273,6 @@ def test_minimal_layout_says_it_cannot_be_checked(structure):
     assert any("no redundancy" in w for w in found.warnings)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known gap (issue 13 open): a rigid plate on a 25 Hz cord comes out 0.7 % heavy at 2.4σ with no "
-    "warning; per-FRF tails cannot remove a support that close, the structured support K − ω²M is the fix",
-)
 def test_a_stiff_support_is_never_silently_wrong(plate):
     """A cord whose bounce sits at a tenth of the record: the result is within its 2σ, or a warning names the
     support, or identify refuses with a reason (MasslineError, exit 2) — never a quiet wrong number."""

@@ -68,8 +68,13 @@ class AnalyserSetup:
 
 def band_top(band: Band) -> float:
     """The top of the band the test is for, Hz: its upper edge; for a rigid model (no top) a decade above its
-    lower edge, and at least RIGID_TOP (a free body's band starts anywhere)."""
-    return float(band.high) if np.isfinite(band.high) else max(10.0 * float(band.low), RIGID_TOP)
+    lower edge, and at least RIGID_TOP (a free body's band starts anywhere); where no line is predicted flat
+    (a stiff support), half the first elastic mode: the engineer still records across the gap below it."""
+    if np.isfinite(band.high):
+        return float(band.high)
+    if np.isnan(band.low) and np.isfinite(band.first_elastic):
+        return 0.5 * float(band.first_elastic)
+    return max(10.0 * float(np.nan_to_num(band.low)), RIGID_TOP)
 
 
 def lowest_support_mode(support_hz: np.ndarray) -> float:

@@ -295,6 +295,15 @@ def point_above(mesh, point: np.ndarray, up=UP) -> tuple[np.ndarray, bool]:
 
 
 def lowest_points(mesh, up=UP, depth: float = 1e-3) -> np.ndarray:
-    """Vertices within ``depth`` (m) of the body's lowest level along ``up``: where it rests on a pad."""
+    """Vertices within ``depth`` (m) of the body's lowest level along ``up``: where it rests on a pad.
+
+    A body that meets the pad at a corner or an edge sinks into it until it bears on an area: the depth
+    doubles until the contact points span one (at least 3, not on a line), up to a tenth of the body's height.
+    """
     heights = mesh.vertices @ np.asarray(up, dtype=float)
-    return mesh.vertices[heights <= heights.min() + depth]
+    while True:
+        points = mesh.vertices[heights <= heights.min() + depth]
+        spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False) if len(points) >= 3 else [0.0, 0.0]
+        if spread[1] > 1e-3 * np.ptp(heights) or depth >= 0.1 * np.ptp(heights):
+            return points
+        depth *= 2
