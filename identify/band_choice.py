@@ -29,8 +29,10 @@ from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines
 from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
+from massline.placement.plate import plate_coordinates
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
+RIGID_SHAPE = 0.2  # a mode shape at the sensors this close to a rigid motion is a support mode
 GAPS = 3  # flat gaps tried, from the widest up the axis, before the fallback
 MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
 
@@ -87,12 +89,30 @@ def choose_band(
                 f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
                 "lines, or give --band LO HI"
             )
-        chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
+        below_support = np.isfinite(free.high) and closed_by_support(frequencies, frf, free.high, sensors, planar)
+        chosen = None if below_support else best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
         if chosen is not None or not np.isfinite(free.high):
             break
-        above = frequencies > free.high  # a gap whose masslines hold no body: a spring's, below a stiff bounce
+        above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
     low, high = chosen or conservative(pairs)
     return Band(low, high, free.suspension_top, free.first_elastic, "chosen")
+
+
+def closed_by_support(frequencies, frf, top: float, sensors: Lines, planar: bool) -> bool:
+    """Whether the resonance closing a gap at ``top`` (Hz) is a support mode: the body moving rigidly.
+
+    At the strongest line of Im H within 1.5 × ``top``, the sensor side of the FRF matrix's leading singular
+    pair is a mode shape at the sensors; a rigid motion lies in the span of the sensor lines' coordinates
+    (n_s × q), an elastic mode mostly outside it. It can only tell with more sensor lines than q.
+    """
+    S = plate_coordinates(sensors) if planar else sensors.coordinates
+    near = np.flatnonzero((frequencies >= top) & (frequencies <= 1.5 * top))
+    if len(sensors) <= S.shape[1] or not len(near):
+        return False
+    peak = near[np.argmax(np.linalg.norm(frf[:, :, near].imag, axis=(0, 1)))]
+    shape = np.linalg.svd(frf[:, :, peak].imag)[0][:, 0]
+    Q, _ = np.linalg.qr(S)
+    return bool(np.linalg.norm(shape - Q @ (Q.T @ shape)) < RIGID_SHAPE)
 
 
 def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import eigh
+from scipy.spatial import Delaunay
 
 from massline.placement.errors import MasslineError
 from massline.placement.lines import skew
@@ -157,7 +158,7 @@ class Suspension:
             elif kind == "foam":
                 k = float(options.pop("k", body.mass * (2 * np.pi * FOAM_BOUNCE) ** 2))
                 shear = float(options.pop("shear", 0.5))
-                suspension = cls(foam=Foam(lowest_points(mesh), k, shear), loss_factor=loss)
+                suspension = cls(foam=Foam(lowest_points(mesh, body.cog), k, shear), loss_factor=loss)
             else:
                 raise MasslineError(f"unknown suspension '{kind}': use cord, foam or none")
         except MasslineError:
@@ -294,16 +295,31 @@ def point_above(mesh, point: np.ndarray, up=UP) -> tuple[np.ndarray, bool]:
     return point + (np.max(mesh.vertices @ up) - point @ up) * up, False
 
 
-def lowest_points(mesh, up=UP, depth: float = 1e-3) -> np.ndarray:
+def lowest_points(mesh, cog=None, up=UP, depth: float = 1e-3) -> np.ndarray:
     """Vertices within ``depth`` (m) of the body's lowest level along ``up``: where it rests on a pad.
 
     A body that meets the pad at a corner or an edge sinks into it until it bears on an area: the depth
-    doubles until the contact points span one (at least 3, not on a line), up to a tenth of the body's height.
+    doubles until the contact points span one (at least 3, not on a line) and, given the ``cog`` (m), until
+    that area holds the CoG above it (the body rests without tipping), up to a tenth of the body's height.
     """
-    heights = mesh.vertices @ np.asarray(up, dtype=float)
+    up = np.asarray(up, dtype=float)
+    heights = mesh.vertices @ up
     while True:
         points = mesh.vertices[heights <= heights.min() + depth]
-        spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False) if len(points) >= 3 else [0.0, 0.0]
-        if spread[1] > 1e-3 * np.ptp(heights) or depth >= 0.1 * np.ptp(heights):
+        if bears(points, cog, up, 1e-3 * np.ptp(heights)) or depth >= 0.1 * np.ptp(heights):
             return points
         depth *= 2
+
+
+def bears(points: np.ndarray, cog, up: np.ndarray, tolerance: float) -> bool:
+    """Whether contact ``points`` span an area (wider than ``tolerance``, m) holding ``cog`` (if given) above it."""
+    if len(points) < 3:
+        return False
+    flat = points - np.outer(points @ up, up)
+    if np.linalg.svd(flat - flat.mean(axis=0), compute_uv=False)[1] <= tolerance:
+        return False
+    if cog is None:
+        return True
+    axes = np.linalg.svd(flat - flat.mean(axis=0))[2][:2]
+    centre = np.asarray(cog, dtype=float) - (np.asarray(cog) @ up) * up
+    return bool(Delaunay((flat - flat.mean(axis=0)) @ axes.T).find_simplex((centre - flat.mean(axis=0)) @ axes.T) >= 0)
