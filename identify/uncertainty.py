@@ -8,6 +8,9 @@ Two estimates, and the larger is reported for each property:
   and the estimate is repeated; its spread (robust: the scaled median absolute
   deviation) carries what differs from sensor to sensor (transverse
   sensitivity, mounting) that no per-FRF scatter shows.
+
+``combined_std`` takes the draws' bodies, so the bare body's 1-σ (accelerometer housings taken off,
+:mod:`.sensor_mass`) comes from the same draws, each with the housings subtracted.
 """
 
 from __future__ import annotations
@@ -18,7 +21,8 @@ from massline.identify.estimator import Estimate, estimate
 from massline.placement.accuracy import predicted_std
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
-from massline.placement.properties import VECTOR_SIZE, property_vector, std_of
+from massline.placement.properties import property_vector, std_of
+from massline.placement.rigid_body import RigidBody
 
 
 def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
@@ -31,11 +35,10 @@ def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
     return v
 
 
-def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, seed: int = 0) -> np.ndarray:
-    """Property vectors of ``draws`` re-estimates on sensors drawn with replacement."""
+def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, seed: int = 0) -> list[RigidBody]:
+    """The bodies of ``draws`` re-estimates on sensors drawn with replacement (the scale's reading kept)."""
     rng = np.random.default_rng(seed)
-    reference = property_vector(result.body, result.model.planar)
-    samples = []
+    bodies = []
     for _ in range(draws):
         pick = rng.integers(len(data.sensors), size=len(data.sensors))
         try:
@@ -46,11 +49,12 @@ def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, 
                     result.model.planar,
                     result.prior,
                     iterations=8,
+                    weighed=result.weighed,
                 )
         except (MasslineError, np.linalg.LinAlgError):
             continue  # a draw whose sensors cannot see every motion
-        samples.append(aligned(property_vector(again.body, result.model.planar), reference))
-    return np.array(samples)
+        bodies.append(again.body)
+    return bodies
 
 
 def robust_std(samples: np.ndarray) -> np.ndarray:
@@ -59,15 +63,24 @@ def robust_std(samples: np.ndarray) -> np.ndarray:
     return 1.4826 * np.median(np.abs(samples - np.median(samples, axis=0)), axis=0)
 
 
-def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
-    """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys), the larger of the two."""
+def combined_std(result: Estimate, bodies: list[RigidBody], draws: int) -> dict:
+    """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys) of ``result``'s body: the larger
+    of the information's and the spread of the bootstrap ``bodies`` (the information's alone when fewer than
+    half the ``draws`` gave a body)."""
+    planar = result.model.planar
     informed = predicted_std(result.model, np.linalg.inv(result.covariance))
-    samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, VECTOR_SIZE))
-    if len(samples) < max(draws // 2, 2):
+    if len(bodies) < max(draws // 2, 2):
         return informed
+    reference = property_vector(result.body, planar)
+    samples = np.array([aligned(property_vector(b, planar), reference) for b in bodies])
     spread = std_of(robust_std(samples))
     combined = {k: np.fmax(informed[k], spread[k]) for k in spread}
-    if result.model.planar:
+    if planar:
         for key in combined:
             combined[key] = np.where(np.isnan(informed[key]), np.nan, combined[key])
     return combined
+
+
+def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
+    """1-σ of every property of ``result``'s body, the larger of the information's and a ``draws`` bootstrap's."""
+    return combined_std(result, bootstrap(data, sigma, result, draws) if draws else [], draws)
