@@ -163,10 +163,10 @@ def identify_recording(
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     housings = Housings.on(recording.sensors, sensor_mass)
     best = estimate(data, sigma, planar, transverse, weighed=None if weighed is None else weighed.plus(housings.total))
+    bare = housings.removed(best)  # refused first when the housings leave no physical body
     draws_found = bootstrap(data, sigma, best, draws) if draws else []
     tested_std = combined_std(best, draws_found, draws)
-    bare = [housings.removed_from(b, planar) for b in draws_found] if housings.count else draws_found
-    std = combined_std(housings.removed(best), bare, draws)
+    std = combined_std(bare, [housings.removed_from(b, planar) for b in draws_found], draws)
     tested = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)
     channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]

@@ -343,3 +343,13 @@ def test_bad_masses_are_refused_in_one_line(loaded_uff, option, value, words):
 def test_a_paper_method_takes_no_scale(loaded_uff):
     result = massline("identify", loaded_uff[0], "--band", 5, 95, "--method", "method2+method3", "--weighed-mass", "4")
     assert result.returncode == 2 and "--weighed-mass needs --method best" in result.stderr
+
+
+def test_the_report_says_what_was_taken_off_and_weighed(structure):
+    from massline.reports.identification_report import masses_note
+
+    rec, _ = run(structure, with_triaxials(), structure_exciters(), setup=replace(EXACT, sensor_mass=0.025))
+    reading = WeighedMass(4.0, 0.002)
+    note = masses_note(identify_recording(rec, (5, 95), draws=0, sensor_mass=0.025, weighed=reading))
+    assert "8 accelerometer housings (25 g each, 200 g) are subtracted" in note and "4 ± 0.002 kg" in note
+    assert masses_note(identify_recording(rec, (5, 95), draws=0)) == ""
