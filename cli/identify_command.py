@@ -9,7 +9,9 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import PAPER_METHODS, identify_recording
+from massline.identify.pipeline import PAPER_METHODS, Identification, identify_recording
+from massline.identify.sensor_mass import parse_sensor_mass
+from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.output import write_report
 from massline.placement.files import claim_output, to_json, write_atomic
@@ -36,6 +38,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"prior 1-σ of each accelerometer's transverse sensitivity (default {TRANSVERSE}; 0: exact axes)",
     )
     parser.add_argument("--bootstrap", type=int, default=100, metavar="N", help="bootstrap draws over the sensors")
+    parser.add_argument(
+        "--sensor-mass",
+        default="0",
+        metavar="KG",
+        help="mass of each accelerometer housing (a triaxial counts once): the FRFs weigh the body with them on; "
+        "the properties reported are the bare body's (default 0)",
+    )
+    parser.add_argument(
+        "--weighed-mass",
+        metavar="KG[±SD]",
+        help=f"the bare body's mass read on a scale, a prior on the mass (SD in kg or P%%; default {RELATIVE_SD:.2%} "
+        "of KG, a trade-class bench scale near its capacity)",
+    )
     add_nominal_arguments(parser)
     parser.add_argument("--json", metavar="OUT", help="write the properties as JSON (DESIGN.md keys)")
     parser.add_argument("--report", metavar="OUT.html", help="write the identification report (one HTML page)")
@@ -60,9 +75,11 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for path in (args.json, args.report):
         if path:
             claim_output(path, args.force)
+    sensor_mass = parse_sensor_mass(args.sensor_mass)
+    weighed = None if args.weighed_mass is None else WeighedMass.parse(args.weighed_mass)
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
-    found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method)
+    found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method, sensor_mass, weighed)
     band, fit = found.band, found.fit
     for note in found.notes:
         console.print(f"note: {note}")
@@ -71,7 +88,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{np.median(fit.quality):.2%} of the massline, worst {fit.quality.max():.2%}; suspension and "
         f"residual-flexibility tails removed (a plain average would be off by up to {fit.bias.max():.1%})"
     )
-    title = f"{args.uff}: identified properties ({args.method}; frame of the file; ± from the data)"
+    for line in mass_lines(found):
+        console.print(line)
+    body = "bare body, accelerometers off" if found.housings.count else "frame of the file"
+    title = f"{args.uff}: identified properties ({args.method}; {body}; ± from the data)"
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
     console.print(
@@ -87,3 +107,23 @@ def run(args: argparse.Namespace, console: Console) -> None:
         from massline.reports.identification_report import identify_report
 
         write_report(console, args.report, lambda: identify_report(found, args.uff, mesh), args.force)
+
+
+def mass_lines(found: Identification) -> list[str]:
+    """What was taken off the body as tested and what the scale said, one sentence each (none without)."""
+    lines = []
+    housings = found.housings
+    if housings.count:
+        lines.append(
+            f"sensor mass: {housings.count} accelerometer housings × {number(1e3 * housings.mass, 4)} g = "
+            f"{number(1e3 * housings.total, 4)} g subtracted; as tested (accelerometers on) the body weighed "
+            f"{' ± '.join(value_with_sigma(found.tested.mass, found.tested_std['mass']))} kg"
+        )
+    if found.weighed is not None:
+        z = found.best.weighed_z
+        agreement = f"; the masslines and the scale differ by {number(abs(z), 2)}σ" if np.isfinite(z) else ""
+        lines.append(
+            f"weighed mass {number(found.weighed.mass, 6)} ± {number(found.weighed.sd, 2)} kg (bare body) used as "
+            f"a prior on the mass{agreement}"
+        )
+    return lines

@@ -16,9 +16,13 @@ transverse components are estimated with θ under a Gaussian prior of the
 datasheet's size; with several exciters per sensor they are well determined,
 and leaving them out biases the properties by several per cent.
 
-The covariance is the inverse information at the solution (data and prior),
+A scale's reading of the body (``weighed``, :mod:`.weighing`) is one more
+measured row (m_W − m)/σ_W beside the masslines: it adds (∂m/∂θ)(∂m/∂θ)ᵀ/σ_W²
+to the information, so a known mass sharpens the CoG and the inertia too.
+
+The covariance is the inverse information at the solution (data and priors),
 scaled up by the reduced χ² when the residuals are larger than the band fits
-said.
+and the scale said.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.identify.weighing import WeighedMass
 from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
 from massline.placement.masslines import Masslines
@@ -62,6 +67,11 @@ class Estimate:
         Each channel's estimated transverse reading (the part of its reading vector ⊥ its axis).
     prior : float
         The transverse-sensitivity prior used (0: axes taken as exact).
+    weighed : WeighedMass or None
+        The scale's reading of the body as tested (kg), used as a measured row; None without one.
+    weighed_z : float
+        That row's studentised residual (m_W − m)/(σ_W √(1 − h)), h its leverage: how many σ the scale and the
+        masslines disagree by (nan without a reading, or when the masslines do not see the mass at all).
     """
 
     body: RigidBody
@@ -73,6 +83,8 @@ class Estimate:
     constrained: bool
     transverse: np.ndarray
     prior: float
+    weighed: WeighedMass | None = None
+    weighed_z: float = np.nan
 
 
 def pseudo_inertia(theta: np.ndarray) -> np.ndarray:
@@ -119,7 +131,8 @@ class WeightedSystem:
     """The weighted Gauss–Newton system at one iterate, kept in its block form.
 
     ``A`` (n_s, n_e, p): ∂H_ij/∂θ̃ / σ_ij; ``D`` (n_s, n_e, 2) or None: ∂H_ij/∂τ_i / σ_ij;
-    ``r`` (n_s, n_e): (H_ij − model) / σ_ij; ``prior`` (n_s, 2): the prior rows' residual −τ_i/t.
+    ``r`` (n_s, n_e): (H_ij − model) / σ_ij; ``prior`` (n_s, 2): the prior rows' residual −τ_i/t;
+    ``scale_row`` (p,) or None: the scale's row ∂m/∂θ̃ / σ_W, and ``scale_r`` its residual (m_W − m)/σ_W.
     """
 
     A: np.ndarray
@@ -127,10 +140,25 @@ class WeightedSystem:
     r: np.ndarray
     prior: np.ndarray
     transverse: float
+    scale_row: np.ndarray | None = None
+    scale_r: float = 0.0
+
+    @property
+    def measured(self) -> np.ndarray:
+        """The measured rows' residuals: every massline's, then the scale's (when weighed)."""
+        return np.append(self.r.ravel(), [] if self.scale_row is None else [self.scale_r])
 
     @property
     def chi2_sum(self) -> float:
-        return float(np.sum(self.r**2) + np.sum(self.prior**2))
+        return float(np.sum(self.measured**2) + np.sum(self.prior**2))
+
+    def normal_equations(self) -> tuple[np.ndarray, np.ndarray]:
+        """Σ AᵀA and Σ Aᵀr over the masslines, plus the scale's row aaᵀ and a r_W (θ̃ only)."""
+        S = np.einsum("ijp,ijq->pq", self.A, self.A)
+        b = np.einsum("ijp,ij->p", self.A, self.r)
+        if self.scale_row is None:
+            return S, b
+        return S + np.outer(self.scale_row, self.scale_row), b + self.scale_row * self.scale_r
 
     def step(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Gauss–Newton step (θ̃, τ) and the information of θ̃, the τ_i eliminated sensor by sensor.
@@ -138,8 +166,7 @@ class WeightedSystem:
         Normal equations [[Σ AᵢᵀAᵢ, AᵢᵀDᵢ], [DᵢᵀAᵢ, Cᵢ]] with Cᵢ = DᵢᵀDᵢ + I/t²: the Schur
         complement S = Σ AᵢᵀAᵢ − AᵢᵀDᵢ Cᵢ⁻¹ DᵢᵀAᵢ is θ̃'s information, in O(n_s) work.
         """
-        S = np.einsum("ijp,ijq->pq", self.A, self.A)
-        b = np.einsum("ijp,ij->p", self.A, self.r)
+        S, b = self.normal_equations()
         if self.D is None:
             return np.linalg.solve(S, b), np.zeros((len(self.r), 0)), S
         C_inv = np.linalg.inv(np.einsum("ijk,ijl->ikl", self.D, self.D) + np.eye(2) / self.transverse**2)
@@ -151,24 +178,32 @@ class WeightedSystem:
         return x, tau, S
 
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
-        """The whole Jacobian and residual, prior rows included (for the constrained step)."""
+        """The whole Jacobian and residual: the measured rows first (masslines, then the scale), then the priors."""
         n_s, n_e, p = self.A.shape
-        rows, residual = [self.A.reshape(-1, p)], [self.r.ravel()]
+        width = p + (0 if self.D is None else 2 * n_s)
+        rows = [self.A.reshape(-1, p)]
         if self.D is not None:
             block = np.zeros((n_s, n_e, n_s, 2))
             block[np.arange(n_s), :, np.arange(n_s)] = self.D
             rows = [np.hstack([rows[0], block.reshape(n_s * n_e, 2 * n_s)])]
+        if self.scale_row is not None:
+            rows.append(np.pad(self.scale_row, (0, width - p))[None, :])
+        residual = [self.measured]
+        if self.D is not None:
             rows.append(np.hstack([np.zeros((2 * n_s, p)), np.eye(2 * n_s) / self.transverse]))
             residual.append(self.prior.ravel())
         return np.vstack(rows), np.concatenate(residual)
 
 
-def weighted_system(model, s, e, data, sigma, T, points, tilt, transverse) -> tuple[WeightedSystem, np.ndarray]:
+def weighted_system(
+    model, s, e, data, sigma, T, points, tilt, transverse, weighed=None
+) -> tuple[WeightedSystem, np.ndarray]:
     """The weighted system and the model's masslines H.
 
     A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d'), linear in
     τ_i, so ∂H_ij/∂τ_ik = (t_k, r_i × t_k)ᵀ M⁻¹ w_j; the prior τ_ik ~ N(0, transverse²)
-    adds the rows τ_ik / transverse.
+    adds the rows τ_ik / transverse. A scale reading adds the row (m_W − θ_0)/σ_W, with
+    ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative.
     """
     G, H = sensitivities(model, s, e)
     D = None
@@ -176,12 +211,21 @@ def weighted_system(model, s, e, data, sigma, T, points, tilt, transverse) -> tu
         lines = np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)  # (n_s, 6, 2)
         V = np.linalg.solve(model.mass_matrix(model.theta), e.T)
         D = np.einsum("nak,aj->njk", lines, V) / sigma[:, :, None]
-    system = WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, -tilt / max(transverse, 1e-300), transverse)
-    return system, H
+    scale = {}
+    if weighed is not None:
+        row = np.eye(model.p)[0] * model.scale[0] / weighed.sd
+        scale = {"scale_row": row, "scale_r": (weighed.mass - model.theta[0]) / weighed.sd}
+    prior = -tilt / max(transverse, 1e-300)
+    return WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, **scale), H
 
 
 def estimate(
-    data: Masslines, sigma: np.ndarray, planar: bool = False, transverse: float = TRANSVERSE, iterations: int = 40
+    data: Masslines,
+    sigma: np.ndarray,
+    planar: bool = False,
+    transverse: float = TRANSVERSE,
+    iterations: int = 40,
+    weighed: WeighedMass | None = None,
 ) -> Estimate:
     """Weighted, consistent least squares of all masslines; σ (n_s, n_e) in (m/s²)/N.
 
@@ -189,6 +233,7 @@ def estimate(
     misalignment reads the same way). The two transverse components τ_i of every channel
     are estimated with the properties, under that prior; 0 takes the axes as exact.
     Plate data (§2.3) use exact axes: a plate's z-lines have no in-plane reading to model.
+    ``weighed``: a scale's reading of the body as tested (with whatever the masslines weigh on it).
     """
     model = RigidModel(starting_body(data, planar), planar)
     s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
@@ -198,7 +243,7 @@ def estimate(
     theta, constrained = model.theta, False
     for _ in range(iterations):
         s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-        system, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
+        system, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse, weighed)
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
         if not np.all(np.isfinite(candidate)):
@@ -215,30 +260,40 @@ def estimate(
         if max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
             break
     s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-    system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
-    chi2, dof = reduced_chi2(system)
+    system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse, weighed)
+    chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
     prior = 0.0 if T is None else transverse
-    return Estimate(model.nominal, model, covariance, chi2, dof, data.values - H, constrained, readings, prior)
+    z = studentised(system.scale_r, leverage[-1]) if weighed is not None else np.nan
+    residual = data.values - H
+    return Estimate(model.nominal, model, covariance, chi2, dof, residual, constrained, readings, prior, weighed, z)
 
 
-def reduced_chi2(system: WeightedSystem) -> tuple[float, float]:
-    """Σ r_ij² / (n − p_eff) over the masslines, and n − p_eff: ≈ 1 when the band fits' σ explain the residuals.
+def reduced_chi2(system: WeightedSystem) -> tuple[float, float, np.ndarray]:
+    """Σ r² / (n − p_eff) over the measured rows, n − p_eff, and each measured row's leverage h.
 
-    p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ) counts the parameters the data pay for: the properties and as much of
-    each channel's transverse reading as the data, not the prior, determine. Counting the two transverse
-    components of every channel in full (or not at all) makes χ² too small on a layout with few hits per
-    channel. χ² is nan when nothing is left over to judge the fit by (no redundancy).
+    The measured rows are the masslines and, when weighed, the scale's reading: a datum like any
+    massline, whose disagreement with them must raise χ². p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ) over those rows
+    counts the parameters the data pay for: the properties and as much of each channel's transverse
+    reading as the data, not the prior, determine (E Σ r² = n − p_eff for a linear model). Counting the
+    two transverse components of every channel in full (or not at all) makes χ² too small on a layout
+    with few hits per channel. χ² is nan when nothing is left over to judge the fit by (no redundancy).
     """
     J, _ = system.dense()
-    n = system.r.size
+    measured = system.measured
+    n = measured.size
     try:
-        hat = J[:n] @ np.linalg.solve(J.T @ J, J[:n].T)
+        leverage = np.einsum("ij,ji->i", J[:n], np.linalg.solve(J.T @ J, J[:n].T))
     except np.linalg.LinAlgError:
-        return np.nan, 0.0
-    left = n - float(np.trace(hat))
-    return (float(np.sum(system.r**2) / left) if left > 0.5 else np.nan), max(left, 0.0)
+        return np.nan, 0.0, np.full(n, np.nan)
+    left = n - float(np.sum(leverage))
+    return (float(np.sum(measured**2) / left) if left > 0.5 else np.nan), max(left, 0.0), leverage
+
+
+def studentised(residual: float, leverage: float) -> float:
+    """r / √(1 − h): a measured row's residual in σ of its own prediction error (nan when h ≈ 1)."""
+    return residual / np.sqrt(1 - leverage) if leverage < 1 - 1e-9 else np.nan
 
 
 def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:

@@ -14,8 +14,16 @@ from massline.identify.band import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
-from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings, truncation_warnings
-from massline.identify.uncertainty import property_std, truncation_std, with_truncation
+from massline.identify.sensor_mass import Housings
+from massline.identify.suspicions import (
+    band_warnings,
+    coherence_warnings,
+    fit_warnings,
+    truncation_warnings,
+    weighing_warnings,
+)
+from massline.identify.uncertainty import bootstrap, combined_std, truncation_std, with_truncation
+from massline.identify.weighing import WeighedMass
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
@@ -42,8 +50,13 @@ def properties_payload(body: RigidBody, std: dict, band: tuple, planar: bool) ->
     return {**values, "std": std, "band_hz": list(band), "planar": planar}
 
 
-def check_method(method: str, planar: bool) -> None:
-    """Refuse a paper method the data's lines cannot serve: the 3-D methods on plate data, the plate's on 3-D."""
+def check_method(method: str, planar: bool, weighed: WeighedMass | None = None) -> None:
+    """Refuse a paper method the data's lines cannot serve (the 3-D methods on plate data, the plate's on 3-D),
+    or a scale's reading with a paper method (they take no prior)."""
+    if weighed is not None and method != "best":
+        raise MasslineError(
+            f"--weighed-mass needs --method best: method {method} (the paper's) takes no prior on the mass"
+        )
     if planar and method not in ("best", "plate"):
         raise MasslineError(
             f"method {method} needs 3-D lines, but every line in this recording is along z (plate data): "
@@ -91,8 +104,12 @@ def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
 class Identification:
     """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
 
-    ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``). ``recording`` is
-    the one identified: the file's without its lines at or below 0 Hz; ``notes`` say what was set aside.
+    ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``), with the
+    accelerometer ``housings`` taken off; ``best`` is the weighted estimate of the body as tested (what the
+    masslines weigh) and ``tested`` / ``tested_std`` the reported body and 1-σ before the housings are taken off
+    (the same as ``body`` / ``std`` without housings). ``weighed`` is the scale's reading of the bare body, when
+    given. ``recording`` is the one identified: the file's without its lines at or below 0 Hz; ``notes`` say
+    what was set aside.
     """
 
     recording: Recording
@@ -107,22 +124,40 @@ class Identification:
     method: str = "best"
     notes: tuple = ()
     warnings: tuple = ()
+    housings: Housings = Housings()
+    tested: RigidBody | None = None
+    tested_std: dict | None = None
+    weighed: WeighedMass | None = None
 
     @property
     def payload(self) -> dict:
-        """DESIGN.md's identify JSON."""
-        found = properties_payload(self.body, self.std, (self.band.low, self.band.high), self.planar)
+        """DESIGN.md's identify JSON: the bare body, and ``as_tested`` when housings were taken off."""
+        band = (self.band.low, self.band.high)
+        found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
-        return {**found, "chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": 0.0}
+        found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.mass}
+        if self.housings.count:
+            found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
+        return found
 
 
 def identify_recording(
-    recording: Recording, band=None, transverse: float = TRANSVERSE, draws: int = 100, method: str = "best"
+    recording: Recording,
+    band=None,
+    transverse: float = TRANSVERSE,
+    draws: int = 100,
+    method: str = "best",
+    sensor_mass: float = 0.0,
+    weighed: WeighedMass | None = None,
 ) -> Identification:
-    """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap)."""
+    """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
+
+    ``sensor_mass``: each accelerometer housing's mass (kg), taken off the body as tested (:mod:`.sensor_mass`);
+    ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
+    """
     recording, notes = usable_lines(recording)
     planar = is_planar(recording.sensors, recording.exciters)
-    check_method(method, planar)
+    check_method(method, planar, weighed)
     f = recording.frequencies
     weights = coherence_weights(recording.coherence)
     if band:
@@ -132,17 +167,24 @@ def identify_recording(
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
-    best = estimate(data, sigma, planar, transverse)
-    shift = truncation_std(data, fit.truncation, sigma, best)
-    statistical = property_std(data, sigma, best, draws=draws)
+    housings = Housings.on(recording.sensors, sensor_mass)
+    prior = None if weighed is None else weighed.plus(housings.total)
+    best = estimate(data, sigma, planar, transverse, weighed=prior)
+    bare = housings.removed(best)  # refused first when the housings leave no physical body
+    shift = truncation_std(data, fit.truncation, sigma, best, prior)
+    draws_found = bootstrap(data, sigma, best, draws) if draws else []
+    tested_std = with_truncation(combined_std(best, draws_found, draws), shift, planar)
+    statistical = combined_std(bare, [housings.removed_from(b, planar) for b in draws_found], draws)
     std = with_truncation(statistical, shift, planar)
-    body = best.body if method == "best" else paper_body(data, method, best)
+    tested = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)
     channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
     warnings = (
         fit_warnings(best.chi2, best.dof)
+        + weighing_warnings(best.weighed_z, weighed, housings.total)
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(recording.coherence, in_band, channels)
-        + truncation_warnings(shift, statistical, best.body)
+        + truncation_warnings(shift, statistical, bare.body)
     )
-    return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes, tuple(warnings))
+    found = (recording, used, fit, data, sigma, planar, best, std, housings.removed_from(tested, planar), method)
+    return Identification(*found, notes, tuple(warnings), housings, tested, tested_std, weighed)

@@ -12,7 +12,8 @@ A result that may be off by more than its ± carries a warning (DESIGN.md, ident
 * the tails the band fits remove are truncated: their next term would move the properties by more than
   twice their statistical ± (the reported ± includes it, but the result rests on the tail model);
 * the record is coarse for the band: fewer lines than the tails need;
-* the coherence of the band's lines is poor.
+* the coherence of the band's lines is poor;
+* the scale's reading and the masslines disagree on the mass beyond chance.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ NEAR = 1.5  # band edges closer than this factor to where the FRFs leave their m
 CHANCE = 1e-3  # χ² beyond this tail probability of its distribution is flagged
 POOR_COHERENCE = 0.9  # median γ² of an FRF's band lines below which it is flagged
 FEW_LINES = 40
+DISAGREE = 3.0  # |studentised residual| of the scale's reading beyond which it is flagged
 
 
 def fit_warnings(chi2: float, dof: float) -> list[str]:
@@ -41,6 +43,18 @@ def fit_warnings(chi2: float, dof: float) -> list[str]:
             "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose"
         ]
     return []
+
+
+def weighing_warnings(z: float, weighed, housings: float) -> list[str]:
+    """The scale's reading (``weighed``, bare body) against the masslines: its studentised residual ``z``
+    beyond DISAGREE (``housings``: the accelerometers' mass added to the reading, kg)."""
+    if weighed is None or not abs(z) > DISAGREE:
+        return []
+    added = f" plus {housings:.4g} kg of accelerometers" if housings else ""
+    return [
+        f"the weighed mass ({weighed.mass:.6g} ± {weighed.sd:.2g} kg{added}) and the masslines disagree by "
+        f"{abs(z):.1f}σ: check the scale, --sensor-mass, and that the body was weighed without its accelerometers"
+    ]
 
 
 def band_warnings(band: Band, lines: int) -> list[str]:

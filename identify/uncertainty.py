@@ -13,6 +13,9 @@ To the larger the truncation of the band fits' tails is added in quadrature (``w
 the properties move when the masslines are shifted by each tail's next term. It is a systematic error
 (the same in every draw), negligible where the band keeps clear of the resonances and dominant where a
 stiff support or a flexible body leaves no such band.
+
+``combined_std`` takes the draws' bodies, so the bare body's 1-σ (accelerometer housings taken off,
+:mod:`.sensor_mass`) comes from the same draws, each with the housings subtracted.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from massline.placement.accuracy import predicted_std
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.properties import VECTOR_SIZE, property_vector, std_of
+from massline.placement.rigid_body import RigidBody
 
 
 def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
@@ -36,11 +40,10 @@ def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:
     return v
 
 
-def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, seed: int = 0) -> np.ndarray:
-    """Property vectors of ``draws`` re-estimates on sensors drawn with replacement."""
+def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, seed: int = 0) -> list[RigidBody]:
+    """The bodies of ``draws`` re-estimates on sensors drawn with replacement (the scale's reading kept)."""
     rng = np.random.default_rng(seed)
-    reference = property_vector(result.body, result.model.planar)
-    samples = []
+    bodies = []
     for _ in range(draws):
         pick = rng.integers(len(data.sensors), size=len(data.sensors))
         try:
@@ -51,11 +54,12 @@ def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, 
                     result.model.planar,
                     result.prior,
                     iterations=8,
+                    weighed=result.weighed,
                 )
         except (MasslineError, np.linalg.LinAlgError):
             continue  # a draw whose sensors cannot see every motion
-        samples.append(aligned(property_vector(again.body, result.model.planar), reference))
-    return np.array(samples)
+        bodies.append(again.body)
+    return bodies
 
 
 def robust_std(samples: np.ndarray) -> np.ndarray:
@@ -64,18 +68,18 @@ def robust_std(samples: np.ndarray) -> np.ndarray:
     return 1.4826 * np.median(np.abs(samples - np.median(samples, axis=0)), axis=0)
 
 
-def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result: Estimate) -> np.ndarray:
+def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result: Estimate, weighed=None) -> np.ndarray:
     """How far the 25 property entries move when the masslines move by ``shift`` (n_s, n_e).
 
     A shift so large that the moved masslines fit no body is taken in halves (up to 1/8) and the move scaled
-    back up, as its first order; inf when even that fails.
+    back up, as its first order; inf when even that fails. ``weighed``: the scale's reading, as in ``result``.
     """
     planar = result.model.planar
     reference = property_vector(result.body, planar)
     for fraction in (1.0, 0.5, 0.25, 0.125):
         moved = Masslines(data.values - fraction * shift, data.sensors, data.exciters)
         try:
-            again = estimate(moved, sigma, planar, result.prior)
+            again = estimate(moved, sigma, planar, result.prior, weighed=weighed)
         except (MasslineError, np.linalg.LinAlgError):
             continue
         return np.abs(aligned(property_vector(again.body, planar), reference) - reference) / fraction
@@ -88,15 +92,24 @@ def with_truncation(std: dict, shift: np.ndarray, planar: bool) -> dict:
     return {k: np.hypot(std[k], extra[k]) for k in std}
 
 
-def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
-    """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys), the larger of the two."""
+def combined_std(result: Estimate, bodies: list[RigidBody], draws: int) -> dict:
+    """1-σ of mass, CoG, J_G, principal moments and axes (identify's std keys) of ``result``'s body: the larger
+    of the information's and the spread of the bootstrap ``bodies`` (the information's alone when fewer than
+    half the ``draws`` gave a body)."""
+    planar = result.model.planar
     informed = predicted_std(result.model, np.linalg.inv(result.covariance))
-    samples = bootstrap(data, sigma, result, draws) if draws else np.zeros((0, VECTOR_SIZE))
-    if len(samples) < max(draws // 2, 2):
+    if len(bodies) < max(draws // 2, 2):
         return informed
+    reference = property_vector(result.body, planar)
+    samples = np.array([aligned(property_vector(b, planar), reference) for b in bodies])
     spread = std_of(robust_std(samples))
     combined = {k: np.fmax(informed[k], spread[k]) for k in spread}
-    if result.model.planar:
+    if planar:
         for key in combined:
             combined[key] = np.where(np.isnan(informed[key]), np.nan, combined[key])
     return combined
+
+
+def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:
+    """1-σ of every property of ``result``'s body, the larger of the information's and a ``draws`` bootstrap's."""
+    return combined_std(result, bootstrap(data, sigma, result, draws) if draws else [], draws)

@@ -210,7 +210,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         f"Reduced χ² {number(found.best.chi2, 3)} over {found.data.values.size} masslines"
         + ("; the physical-consistency constraint is active" if found.best.constrained else "")
         + ". The ± is the larger of the information-based 1-σ (scaled by the reduced χ²) and a bootstrap over the "
-        "sensors."
+        "sensors." + masses_note(found)
     )
     summary = _summary(found.body, found.std, nominal, found.planar)
     parts = [
@@ -236,6 +236,24 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + "</section>",
     ]
     return Report(page(f"Identification: {Path(uff_path).name}", parts), renderings)
+
+
+def masses_note(found: Identification) -> str:
+    """What was taken off the body as tested and what the scale said, as sentences (empty without either)."""
+    text = ""
+    housings = found.housings
+    if housings.count:
+        text += (
+            f" The {housings.count} accelerometer housings ({num(1e3 * housings.mass, 'g')} g each, "
+            f"{num(1e3 * housings.total, 'g')} g) are subtracted: the properties are the bare body's; as tested it "
+            f"weighed {with_sigma(found.tested.mass, found.tested_std['mass'], 1.0)} kg."
+        )
+    if found.weighed is not None:
+        text += (
+            f" The scale's reading of the bare body, {num(found.weighed.mass, 'g')} ± {num(found.weighed.sd, '.2g')} "
+            "kg, is a prior on the mass."
+        )
+    return text
 
 
 def _summary(body: RigidBody, std: dict, nominal: RigidBody | None, planar: bool) -> str:
