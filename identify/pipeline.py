@@ -6,7 +6,7 @@ serialises itself as DESIGN.md's identify JSON (``payload``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -14,7 +14,8 @@ from massline.identify.band import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
-from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings
+from massline.identify.plausibility import nominal_warnings, units_warnings
+from massline.identify.suspicions import band_warnings, coherence_warnings, fit_warnings, recording_warnings
 from massline.identify.uncertainty import property_std
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
@@ -141,5 +142,14 @@ def identify_recording(
         fit_warnings(best.chi2, best.dof)
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(recording.coherence, in_band, channels)
+        + recording_warnings(f, recording.frf, recording.coherence, used)
+        + units_warnings(body, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
     )
     return Identification(recording, used, fit, data, sigma, planar, best, std, body, method, notes, tuple(warnings))
+
+
+def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:
+    """``found`` with a warning when its mass is far from the ``nominal`` body's (a mesh given to identify)."""
+    if nominal is None:
+        return found
+    return replace(found, warnings=found.warnings + tuple(nominal_warnings(found.body, nominal)))
