@@ -9,7 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import PAPER_METHODS, Identification, identify_recording
+from massline.identify.pipeline import PAPER_METHODS, Identification, against_nominal, identify_recording
 from massline.identify.sensor_mass import parse_sensor_mass
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
@@ -80,6 +80,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
     found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method, sensor_mass, weighed)
+    found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
     for note in found.notes:
         console.print(f"note: {note}")

@@ -6,7 +6,7 @@ serialises itself as DESIGN.md's identify JSON (``payload``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -14,11 +14,13 @@ from massline.identify.band import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings
 from massline.identify.suspicions import (
     band_warnings,
     coherence_warnings,
     fit_warnings,
+    recording_warnings,
     truncation_warnings,
     weighing_warnings,
 )
@@ -185,6 +187,15 @@ def identify_recording(
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(recording.coherence, in_band, channels)
         + truncation_warnings(shift, statistical, bare.body)
+        + recording_warnings(f, recording.frf, recording.coherence, used)
+        + units_warnings(tested, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
     )
     found = (recording, used, fit, data, sigma, planar, best, std, housings.removed_from(tested, planar), method)
     return Identification(*found, notes, tuple(warnings), housings, tested, tested_std, weighed)
+
+
+def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:
+    """``found`` with a warning when its mass is far from the ``nominal`` body's (a mesh given to identify)."""
+    if nominal is None:
+        return found
+    return replace(found, warnings=found.warnings + tuple(nominal_warnings(found.body, nominal)))

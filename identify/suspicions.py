@@ -14,6 +14,15 @@ A result that may be off by more than its ± carries a warning (DESIGN.md, ident
 * the record is coarse for the band: fewer lines than the tails need;
 * the coherence of the band's lines is poor;
 * the scale's reading and the masslines disagree on the mass beyond chance.
+* a band given by hand (``--band``) holds or nears a resonance that the recording shows;
+* the record is too short for its lowest resonance: a resonance k lines up the axis (f = kΔf) is not
+  resolved, and the exponential window an impact test needs (to 1 % at the record's end, σ_w = ln(100)·Δf)
+  adds ln(100)/(2πk) ≈ 0.73/k of critical damping to it, so its tail reaches into the band with an imaginary
+  part the band fit does not model; with k < RESOLVED the window alone adds over 15 %;
+* the force spectrum rolls off (a soft hammer tip): a UFF holds the FRFs and their coherence, not the force's
+  autospectrum, but an H1 estimate's incoherence 1 − γ² = G_nn/(|H|² G_ff) rises as G_ff falls. Where the
+  FRFs leave their massline above the band with the incoherence tens of times the band's, or where it rises
+  that much across the band, the edge is the pulse's spectrum, not a resonance.
 """
 
 from __future__ import annotations
@@ -21,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
+from massline.identify.band import RESONANT, imaginary_fraction, stretch
 from massline.placement.band import Band
 
 NEAR = 1.5  # band edges closer than this factor to where the FRFs leave their massline are flagged
@@ -28,6 +38,11 @@ CHANCE = 1e-3  # χ² beyond this tail probability of its distribution is flagge
 POOR_COHERENCE = 0.9  # median γ² of an FRF's band lines below which it is flagged
 FEW_LINES = 40
 DISAGREE = 3.0  # |studentised residual| of the scale's reading beyond which it is flagged
+RESOLVED = 5  # lines up the axis below which the lowest resonance is not resolved
+WINDOW_DECAY = np.log(100.0)  # σ_w T of an exponential window to 1 % at the record's end
+WINDOW_DAMPING = 0.05  # critical damping the window may add to the lowest resonance (virtual.analyser's rule)
+ROLL_OFF = 10.0  # incoherence this many times the band's marks a falling force spectrum
+INCOHERENT = 0.01  # ... when it also exceeds this (1 − γ²)
 
 
 def fit_warnings(chi2: float, dof: float) -> list[str]:
@@ -115,3 +130,81 @@ def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[str]
         f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
         "stiffer fixture opens a band clear of both"
     ]
+
+
+def given_band_warnings(band: Band, free: Band) -> list[str]:
+    """A band given by hand (``band``, Hz) reaching within NEAR of the resonances bounding the recording's
+    resonance-free stretch (``free``, :func:`.band.stretch`), or across them."""
+    found = []
+    if np.isfinite(free.suspension_top) and band.low < NEAR * free.suspension_top:
+        found.append(
+            f"the given band starts at {band.low:.3g} Hz, {band.low / free.suspension_top:.2g}× the {free.suspension_top:.3g} "
+            "Hz where the support's resonances stop moving the FRFs off their massline: their peaks or tails are "
+            f"fitted as massline; start it at {3 * free.suspension_top:.3g} Hz or more, or leave --band out"
+        )
+    if np.isfinite(free.first_elastic) and band.high > free.first_elastic / NEAR:
+        found.append(
+            f"the given band ends at {band.high:.3g} Hz, {band.high / free.first_elastic:.2g}× the {free.first_elastic:.3g} "
+            "Hz where the elastic modes start moving the FRFs off their massline: their peaks or tails are fitted as "
+            f"massline; end it at {free.first_elastic / 3:.3g} Hz or less, or leave --band out"
+        )
+    return found
+
+
+def lowest_resonance(frequencies: np.ndarray, frf: np.ndarray, below: float) -> float:
+    """The lowest frequency (Hz) below ``below`` whose FRFs are imaginary-dominated (a resonance); nan if none."""
+    inside = np.flatnonzero((imaginary_fraction(frf) > RESONANT) & (frequencies < below))
+    return float(frequencies[inside[0]]) if len(inside) else np.nan
+
+
+def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> list[str]:
+    """The lowest resonance below the band fewer than RESOLVED lines up the axis (``frequencies`` Hz from Δf)."""
+    step = frequencies[1] - frequencies[0]
+    lowest = lowest_resonance(frequencies, frf, band.low)
+    lines = int(round(lowest / step)) if np.isfinite(lowest) else RESOLVED
+    if lines >= RESOLVED:
+        return []
+    needed = WINDOW_DECAY / (WINDOW_DAMPING * 2 * np.pi * lowest)
+    return [
+        f"the lowest resonance, at {lowest:.3g} Hz, is {lines} line(s) up the axis (Δf {step:.3g} Hz, a {1 / step:.3g} s "
+        f"record): too short a record to resolve it, and an impact test's exponential window adds about "
+        f"{WINDOW_DECAY / (2 * np.pi * lines):.0%} of critical damping to it, so its tail reaches into the band; "
+        f"record at least {needed:.3g} s (more lines, or a lower fmax)"
+    ]
+
+
+def incoherence(coherence: np.ndarray, where: np.ndarray) -> float:
+    """Median over the FRFs and the lines ``where`` of 1 − γ²."""
+    return float(np.median(1 - coherence[:, :, where])) if where.any() else np.nan
+
+
+def rolloff_warnings(frequencies: np.ndarray, coherence: np.ndarray | None, band: Band) -> list[str]:
+    """The incoherence where the FRFs leave their massline above the band (±10 % of ``band.first_elastic``), or
+    over the band's top quarter (in log f), ROLL_OFF times the band's and above INCOHERENT."""
+    if coherence is None:
+        return []
+    f = frequencies
+    in_band = (f >= band.low) & (f <= band.high)
+    reference = incoherence(coherence, in_band)
+    places = [(f"at the band's top ({band.high:.3g} Hz)", in_band & (f >= band.high * (band.low / band.high) ** 0.25))]
+    if np.isfinite(band.first_elastic):
+        edge = np.abs(np.log(f / band.first_elastic)) < np.log(1.1)
+        places.insert(0, (f"at {band.first_elastic:.3g} Hz, where the FRFs leave their massline above the band", edge))
+    for place, where in places:
+        seen = incoherence(coherence, where)
+        if seen > INCOHERENT and seen > ROLL_OFF * reference:
+            return [
+                f"the coherence falls {place}: 1 − γ² is {seen:.2g}, {seen / max(reference, 1e-12):.3g}× the band's: "
+                "the force spectrum rolls off there (a soft hammer tip), and what looks like a resonance may be its "
+                "notch; hit with a harder tip (force spectrum within 10 dB up to fmax) and record again"
+            ]
+    return []
+
+
+def recording_warnings(frequencies: np.ndarray, frf: np.ndarray, coherence, band: Band) -> list[str]:
+    """What the recording itself says against its ``band``: a given band near resonances, a record too short for
+    its lowest resonance, a force spectrum rolling off (``frequencies`` Hz above 0, ``frf`` (n_s, n_e, n_f))."""
+    free = stretch(frequencies, frf) if band.rule == "given" else band
+    found = given_band_warnings(band, free) if band.rule == "given" else []
+    bounds = Band(band.low, band.high, free.suspension_top, free.first_elastic, band.rule)
+    return found + short_record_warnings(frequencies, frf, band) + rolloff_warnings(frequencies, coherence, bounds)
