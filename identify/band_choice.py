@@ -79,37 +79,45 @@ def choose_band(
     ``frequencies`` (Hz), ``frf`` (n_s, n_e, n_f) accelerance, ``weights`` the lines' coherence weights or
     None. Raises MasslineError when the stretch holds no candidate of MIN_LINES lines.
     """
-    above = np.ones(len(frequencies), dtype=bool)
+    above, fallback = np.ones(len(frequencies), dtype=bool), None
     for _ in range(GAPS):
         free = stretch(frequencies[above], frf[:, :, above])
         pairs = candidates(frequencies, free)
         if not pairs:
-            raise MasslineError(
-                f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
-                f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
-                "lines, or give --band LO HI"
-            )
-        below_support = np.isfinite(free.high) and closed_by_support(frequencies, frf, free.high, sensors, planar)
-        chosen = None if below_support else best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
-        if chosen is not None or not np.isfinite(free.high):
+            break
+        chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
+        if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, planar):
+            return Band(*chosen, free.suspension_top, free.first_elastic, "chosen")
+        fallback = fallback or Band(*(chosen or conservative(pairs)), free.suspension_top, free.first_elastic, "chosen")
+        if not np.isfinite(free.high):
             break
         above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
-    low, high = chosen or conservative(pairs)
-    return Band(low, high, free.suspension_top, free.first_elastic, "chosen")
+    if fallback is None:
+        raise MasslineError(
+            f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
+            f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
+            "lines, or give --band LO HI"
+        )
+    return fallback
 
 
-def closed_by_support(frequencies, frf, top: float, sensors: Lines, planar: bool) -> bool:
-    """Whether the resonance closing a gap at ``top`` (Hz) is a support mode: the body moving rigidly.
+def closed_by_support(frequencies, frf, free: Band, sensors: Lines, planar: bool) -> bool:
+    """Whether the resonance closing the gap ``free`` at its top is a support mode: the body moving rigidly.
 
-    At the strongest line of Im H within 1.5 × ``top``, the sensor side of the FRF matrix's leading singular
-    pair is a mode shape at the sensors; a rigid motion lies in the span of the sensor lines' coordinates
-    (n_s × q), an elastic mode mostly outside it. It can only tell with more sensor lines than q.
+    At the strongest line of Im H within 1.5 × the top, a resonance stands out of the gap's massline level
+    (‖Im H‖ above ‖Re H‖ at the gap's middle; a notch in the force spectrum does not), and the sensor side of
+    the FRF matrix's leading singular pair is its mode shape at the sensors: a rigid motion lies in the span
+    of the sensor lines' coordinates (n_s × q), an elastic mode mostly outside it. It can only tell with
+    more sensor lines than q.
     """
     S = plate_coordinates(sensors) if planar else sensors.coordinates
-    near = np.flatnonzero((frequencies >= top) & (frequencies <= 1.5 * top))
-    if len(sensors) <= S.shape[1] or not len(near):
+    near = np.flatnonzero((frequencies >= free.high) & (frequencies <= 1.5 * free.high))
+    if not np.isfinite(free.high) or len(sensors) <= S.shape[1] or not len(near):
         return False
     peak = near[np.argmax(np.linalg.norm(frf[:, :, near].imag, axis=(0, 1)))]
+    middle = np.argmin(np.abs(frequencies - np.sqrt(free.low * free.high)))
+    if np.linalg.norm(frf[:, :, peak].imag) < np.linalg.norm(frf[:, :, middle].real):
+        return False
     shape = np.linalg.svd(frf[:, :, peak].imag)[0][:, 0]
     Q, _ = np.linalg.qr(S)
     return bool(np.linalg.norm(shape - Q @ (Q.T @ shape)) < RIGID_SHAPE)

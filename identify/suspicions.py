@@ -13,7 +13,7 @@ A result that may be off by more than its ± carries a warning (DESIGN.md, ident
   twice their statistical ± (the reported ± includes it, but the result rests on the tail model);
 * the record is coarse for the band: fewer lines than the tails need;
 * the coherence of the band's lines is poor;
-* the scale's reading and the masslines disagree on the mass beyond chance.
+* the scale's reading and the masslines disagree on the mass beyond chance;
 * a band given by hand (``--band``) holds or nears a resonance that the recording shows;
 * the record is too short for its lowest resonance: a resonance k lines up the axis (f = kΔf) is not
   resolved, and the exponential window an impact test needs (to 1 % at the record's end, σ_w = ln(100)·Δf)
