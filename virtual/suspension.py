@@ -306,9 +306,39 @@ def lowest_points(mesh, cog=None, up=UP, depth: float = 1e-3) -> np.ndarray:
     heights = mesh.vertices @ up
     while True:
         points = mesh.vertices[heights <= heights.min() + depth]
-        if bears(points, cog, up, 1e-3 * np.ptp(heights)) or depth >= 0.1 * np.ptp(heights):
+        if cog is not None and len(points) >= 3:
+            points = lifted_off(points, np.asarray(cog, dtype=float), up)
+        if bears(points, cog, up, 1e-3 * np.ptp(heights)):
             return points
+        if depth >= 0.1 * np.ptp(heights):
+            return points if cog is None else shimmed_pads(mesh.vertices, np.asarray(cog, dtype=float), up)
         depth *= 2
+
+
+def shimmed_pads(vertices: np.ndarray, cog: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """Four pads around the CoG, each under the lowest vertex of its quadrant (as seen from above): how a
+    body that would tip over on one pad is set on several, each shimmed to its height."""
+    flat = vertices - cog - np.outer((vertices - cog) @ up, up)
+    helper = np.eye(3)[np.argmin(np.abs(up))]
+    e1 = np.cross(up, helper)
+    e1 /= np.linalg.norm(e1)
+    angle = np.arctan2(flat @ np.cross(up, e1), flat @ e1)
+    quadrant = np.floor((angle + np.pi) / (np.pi / 2)).astype(int) % 4
+    heights = vertices @ up
+    pads = [vertices[quadrant == q][np.argmin(heights[quadrant == q])] for q in range(4) if np.any(quadrant == q)]
+    return np.array(pads)
+
+
+def lifted_off(points: np.ndarray, cog: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """The contact points that stay pressed when equal pad springs carry the weight: the least-norm
+    reactions (those of equal springs) are found, points pulled (negative) lift off, and again until none."""
+    while len(points) >= 3:
+        wrenches = np.vstack([np.tile(up[:, None], len(points)), np.cross(points - cog, up).T])
+        reactions = np.linalg.lstsq(wrenches, np.concatenate([up, np.zeros(3)]), rcond=None)[0]
+        if reactions.min() >= -1e-9:
+            break
+        points = points[reactions > reactions.min()]
+    return points
 
 
 def bears(points: np.ndarray, cog, up: np.ndarray, tolerance: float) -> bool:
