@@ -21,6 +21,7 @@ stiff support or a flexible body leaves no such band.
 from __future__ import annotations
 
 import numpy as np
+from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
 from massline.placement.accuracy import predicted_std
@@ -80,7 +81,7 @@ def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result
         moved = Masslines(data.values - fraction * shift, data.sensors, data.exciters)
         try:
             again = estimate(moved, sigma, planar, result.prior, weighed=weighed)
-        except (MasslineError, np.linalg.LinAlgError):
+        except (MasslineError, np.linalg.LinAlgError, SolverError):
             continue
         return np.abs(aligned(property_vector(again.body, planar), reference) - reference) / fraction
     return np.full(VECTOR_SIZE, np.inf)
