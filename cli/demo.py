@@ -18,7 +18,6 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from massline.identify.diagnose.diagnosis import fit_std
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
@@ -210,8 +209,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         step("6/8 identification report")
         report = identify_report(identified, paths["uff"], mesh)
         write_atomic(paths["identification"], report.html, args.force)
-        step("7/8 diagnose: planned band and the mesh")
-        diagnosis = diagnose_recording(read, (low, high), nominal)
+        step("7/8 diagnose: identify's band and the mesh")
+        diagnosis = diagnose_recording(read, None, nominal)  # identify's band, so "before" is identify's result
         step("8/8 diagnosis report")
         report = diagnose_report(diagnosis, paths["uff"], mesh)
         write_atomic(paths["diagnosis"], report.html, args.force)
@@ -230,11 +229,11 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
         f"[bold]identify[/] (band {zones.low:.1f}–{zones.high:.1f} Hz, found): {_errors(identified.body, nominal)} "
         "against the mesh."
     )
-    if not result.findings:
+    if not diagnosis.findings:
         console.print("[bold]diagnose[/]: no findings: the rigid body fits every line within the noise.")
-    for k, finding in enumerate(result.findings, 1):
+    for k, finding in enumerate(diagnosis.findings, 1):
         console.print(f"[bold]diagnose[/] {k}. {finding_note(finding, sensors, hits)}")
-    ranks = [k for k, finding in enumerate(result.findings, 1) if _named(finding, args.fault, channels, hit)]
+    ranks = [k for k, finding in enumerate(diagnosis.findings, 1) if _named(finding, args.fault, channels, hit)]
     verdict = (
         "[red]not named[/]"
         if not ranks
@@ -245,10 +244,10 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
     before, after = result.relative_rms("before"), result.relative_rms("after")
     console.print(
         f"the concealed fault is {verdict}; fit {before:.2%} → {after:.2%} RMS (noise {diagnosis.noise:.2%})"
-        + (f"; after: {_errors(result.corrected, nominal)}" if result.corrected is not None else "")
+        + (f"; after: {_errors(diagnosis.after_body, nominal)}" if diagnosis.after_body is not None else "")
     )
     columns = [("identify", identified.body, identified.std)]
-    columns.append(("diagnose, after", result.corrected, fit_std(result.estimates[1])))
+    columns.append(("diagnose, after", diagnosis.after_body, None if diagnosis.after is None else diagnosis.after.std))
     console.print(properties_table(nominal, columns))
     console.print("[bold]Reports[/] (open in a browser; they print on A4):")
     for key, what in (

@@ -8,9 +8,9 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from massline.identify.diagnose.diagnosis import Diagnosis, fit_std, roomy
+from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note
-from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.output import write_report
@@ -34,16 +34,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
 
 
-def properties_table(result: Diagnosis, nominal, planar: bool = False) -> Table:
+def properties_table(found: DiagnosisRun, nominal, planar: bool = False) -> Table:
     """Mass, CoG and principal moments before and after, both to the digits the 1-σ (after) supports."""
-    table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ of the fit)")
-    table.caption = "estimated over the found band with the suspension and residual-flexibility tails, as identify does"
+    table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ as identify gives it)")
+    table.caption = "identify's estimate on the file as it came, and on the recording with the faults undone"
     for col in ("quantity", "before", "after", "± 1-σ", "nominal (mesh)", "unit"):
         table.add_column(col, justify="right")
-    before, after, std = result.estimates[0].body, result.corrected, fit_std(result.estimates[1])
+    before = None if found.before is None else found.before.body
+    after, std = found.after_body, None if found.after is None else found.after.std
     for q in SUMMARY:
         sigma = None if std is None else q.sigma(std) * q.scale
-        old = "no body" if before is None else value_with_sigma(q.value(before, planar) * q.scale, sigma)[0]
+        old = "refused" if before is None else value_with_sigma(q.value(before, planar) * q.scale, sigma)[0]
         new, spread = ("no body", "") if after is None else value_with_sigma(q.value(after, planar) * q.scale, sigma)
         shown = "" if nominal is None else number(q.value(nominal) * q.scale)
         table.add_row(q.name, old, new, spread, shown, q.unit)
@@ -84,15 +85,17 @@ def run(args: argparse.Namespace, console: Console) -> None:
         )
     print_screens(console, found.screens, sensors)
     before, after = result.relative_rms("before"), result.relative_rms("after")
-    if not result.findings:
-        console.print(f"no findings: the rigid body fits every line within the noise ({before / noise:.2f}× it)")
-    for k, finding in enumerate(result.findings, 1):
+    if not any(f.kind == "fault" for f in found.findings):
+        console.print(f"no fault: the model fits every line to {before / noise:.2f}× the noise")
+    for k, finding in enumerate(found.findings, 1):
         console.print(f"{k}. {finding_note(finding, sensors, found.hits)}")
+    for warning in () if found.before is None else found.before.warnings:
+        console.print(f"[bold]identify's warning:[/bold] {warning}")
     console.print(
         f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
         f"({before / noise:.2f}× → {after / noise:.2f}× the noise)"
     )
-    console.print(properties_table(result, nominal, found.planar))
+    console.print(properties_table(found, nominal, found.planar))
     if args.plot:
         write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")

@@ -136,12 +136,3 @@ def given_band(frequencies: np.ndarray, low: float, high: float) -> Band:
             f"({f[0]:g}–{f[-1]:g} Hz): widen it"
         )
     return Band(float(low), float(high), np.nan, np.nan, "given")
-
-
-def estimation_band(frequencies: np.ndarray, frf: np.ndarray, given: Band) -> Band:
-    """The band identify would find for the properties; the diagnosis band when none is found (a support so
-    stiff that no resonance-free stretch is clear of it)."""
-    try:
-        return find_band(frequencies, frf)
-    except MasslineError:
-        return given

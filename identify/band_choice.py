@@ -89,9 +89,9 @@ def choose_band(
         if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, planar):
             return Band(*chosen, free.suspension_top, free.first_elastic, "chosen")
         fallback = fallback or Band(*(chosen or conservative(pairs)), free.suspension_top, free.first_elastic, "chosen")
-        if not np.isfinite(free.high):
-            break
         above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
+        if not np.isfinite(free.high) or np.count_nonzero(above) < MIN_LINES:
+            break
     if fallback is None:
         raise MasslineError(
             f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "

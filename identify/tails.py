@@ -226,13 +226,15 @@ class BandData:
         return self.at_poles(poles)
 
     def tail_size(self, reduced: Reduced, law: str) -> np.ndarray:
-        """Each FRF's fitted ``law`` tail at the band edge where it is largest, relative to its massline."""
+        """Each FRF's fitted ``law`` tail at the band edge where it is largest, relative to the RMS of every
+        massline (the FRF matrix's scale: a small cross massline is none)."""
         n = len(self.omega)
         line = 0 if law == "suspension" else n - 1
         X = tail_columns(self.omega, reduced.poles)[[line, n + line]]  # Re and Im rows of the edge line
         k = sorted(reduced.laws, key=TAIL_LAWS.index).index(law)
         value = np.einsum("rk,ijk->ijr", X[:, 2 * k : 2 * k + 2], reduced.tails[..., 2 * k : 2 * k + 2])
-        return np.hypot(value[..., 0], value[..., 1]) / np.maximum(np.abs(reduced.massline), 1e-300)
+        scale = np.sqrt(np.mean(reduced.massline**2))
+        return np.hypot(value[..., 0], value[..., 1]) / max(scale, 1e-300)
 
     def pole_hz(self, reduced: Reduced, law: str) -> float:
         """The law's mode frequency, Hz."""

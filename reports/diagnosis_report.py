@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.identify.diagnose.diagnosis import fit_std
+from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun
 from massline.placement.mesh import BodyMesh
@@ -38,7 +38,7 @@ def channel_table(run: DiagnosisRun) -> str:
     """Per channel: relative RMS residual before and after, also in units of the noise; the ones a finding names."""
     result, noise = run.result, run.noise
     before, after = result.relative_rms("before", axis=1), result.relative_rms("after", axis=1)
-    named, _ = _flagged(result.findings)
+    named, _ = _flagged(run.findings)
     rows = [
         [
             escape(name),
@@ -56,16 +56,14 @@ def channel_table(run: DiagnosisRun) -> str:
 
 def before_after_table(run: DiagnosisRun, nominal: RigidBody | None) -> str:
     """Mass, CoG, principal moments before and after the diagnosis with their 1-σ, and the mesh's."""
-    result = run.result
-    before, after = result.estimates[0].body, result.corrected
-    s0, s1 = fit_std(result.estimates[0]), fit_std(result.estimates[1])
-    columns = [(before, s0), (after, s1), (nominal, None)]
+    before = (None, None) if run.before is None else (run.before.body, run.before.std)
+    columns = [before, (run.after_body, None if run.after is None else run.after.std), (nominal, None)]
     rows = []
     for q in SUMMARY:
         cells = []
         for k, (body, std) in enumerate(columns):
             if body is None:
-                cells.append("no body" if k < 2 else "—")
+                cells.append(("refused", "no body")[k] if k < 2 else "—")
                 continue
             if std is None:  # the mesh's
                 cells.append(number(q.value(body) * q.scale))
@@ -77,30 +75,46 @@ def before_after_table(run: DiagnosisRun, nominal: RigidBody | None) -> str:
     )
 
 
+def caveats(run: DiagnosisRun) -> str:
+    """What limits the diagnosis: no redundancy, identify's refusal or warnings (a warnings block, or '')."""
+    lines = list(run.notes) + ([] if run.before is None else [f"identify: {w}" for w in run.before.warnings])
+    if not roomy(run.layout):
+        lines.insert(
+            0,
+            f"{len(run.layout.sensors)} sensor channels leave no redundancy: a faulty channel cannot be told from "
+            "the body's properties (diagnosis needs at least 8 channels, 5 for a plate)",
+        )
+    if not lines:
+        return ""
+    return '<div class="warnings"><ul>' + "".join(f"<li>{escape(x)}</li>" for x in lines) + "</ul></div>"
+
+
 def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -> Report:
     """The diagnosis report of ``run`` (``massline diagnose --report``), against ``mesh`` when given."""
     result, recording, noise = run.result, run.recording, run.noise
     nominal = None if mesh is None else mesh.nominal
     sensors, hits = run.sensors, run.hits
     before, after = result.relative_rms("before"), result.relative_rms("after")
-    if result.findings:
+    if run.findings:
         findings = (
-            "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in result.findings) + "</ol>"
+            "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in run.findings) + "</ol>"
         )
     else:
         findings = f"<p>No findings: the rigid body fits every line within the noise ({before / noise:.2f}× it).</p>"
+    findings = caveats(run) + findings
     fit_line = (
         f"<p>Fit: relative RMS residual <b>{100 * before:.2f} % before, {100 * after:.2f} % after</b> "
         f"({before / noise:.2f}× → {after / noise:.2f}× the noise of {100 * noise:.2f} %).</p>"
     )
-    flagged_sensors, flagged_hits = _flagged(result.findings)
-    body = result.corrected if result.corrected is not None else result.estimates[0].body
+    flagged_sensors, flagged_hits = _flagged(run.findings)
+    body = run.after_body
+    std = None if run.after is None else run.after.std
     scene = None
     renderings, views = [], '<p class="note">No body fits the recording: nothing to draw.</p>'
     if body is not None:
         flagged = (flagged_sensors, flagged_hits)
         scene, renderings, views = body_views(mesh, recording, sensors, hits, body, run.planar, flagged)
-        views = legend(scene, "corrected") + views + axes_table(body, fit_std(result.estimates[1]), nominal, run.planar)
+        views = legend(scene, "corrected") + views + axes_table(body, std, nominal, run.planar)
     off_rigid = run.off_rigid()
     maps = diagnosis_figure(result, run.data, sensors, hits, off_rigid, grid=True)
     maps_caption = (
@@ -119,7 +133,7 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
         f"Recorded FRFs (the channels the findings name first) with the diagnosis band {num(f_band[0], '.1f')}–"
         f"{num(f_band[1], '.1f')} Hz ({escape(run.band.rule)}) and each model's massline for that FRF"
         + ("; after the diagnosis, flipped or swapped channels are modelled as corrected" if swapped else "")
-        + ". The properties are estimated over the band identify would use, "
+        + ". The properties are identify's, on its band "
         f"{num(run.estimation_band.low, '.1f')}–{num(run.estimation_band.high, '.1f')} Hz, with every FRF's tails."
     )
     parts = [
@@ -129,7 +143,8 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
         "<section><h2>Findings</h2>" + findings + fit_line + "</section>",
         "<section><h2>Properties before and after</h2>"
         + before_after_table(run, nominal)
-        + '<p class="note">After: with every finding modelled (and loading masses taken away).</p></section>',
+        + '<p class="note">Before: identify on the file as it came. After: identify on the recording with every '
+        "fault undone (and loading masses taken away); with no fault, the same.</p></section>",
         "<section><h2>Residual maps and overlays</h2>"
         + plot_figure(maps, "residual maps", maps_caption)
         + "</section>",
@@ -150,7 +165,7 @@ def _worst_of_findings(run: DiagnosisRun) -> list:
     """For each finding, the FRF of its channel (or hit) the nominal model fitted worst."""
     rss = run.result.before.rss
     picks = []
-    for finding in run.result.findings:
+    for finding in run.findings:
         if finding.channels:
             i = finding.channels[0]
             picks.append((i, int(np.argmax(rss[i]))))

@@ -8,12 +8,15 @@ from conftest import bundled
 from test_cli import massline
 from test_uff_reader import assert_command_refuses
 
-from massline.identify.diagnose.diagnosis import base_fit, diagnose
+from massline.identify.diagnose.diagnosis import base_fit
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout
 from massline.identify.diagnose.mass_loading import unit_mass
+from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
+from massline.identify.pipeline import identify_recording
 from massline.identify.tails import BandData
+from massline.placement.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
@@ -108,11 +111,16 @@ def twelve_lines():
     return Lines(rng.normal(size=(12, 3)) * 0.1, rng.normal(size=(12, 3)))
 
 
-def test_clean_noisy_free_test_has_no_findings(structure):
+def test_clean_test_has_no_fault_and_after_is_identify(structure):
+    """No fault: nothing to undo, so the properties after are identify's, the same as before, and identify's
+    result on the file is what diagnose reports before (one estimator)."""
     rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=1)
-    result = diagnose(_band(rec), Layout.of(rec.sensors, rec.exciters, False), structure)
-    assert result.findings == []
-    assert result.relative_rms("after") < 1.1 * result.noise
+    found = diagnose_recording(rec, None, structure)
+    assert [f for f in found.findings if f.kind == "fault"] == []
+    assert found.result.relative_rms("after") < 1.1 * found.result.noise
+    properties = found.document["properties"]
+    assert to_json(properties["after"]) == to_json(properties["before"])
+    assert to_json(properties["before"]) == to_json(identify_recording(rec).payload)
 
 
 def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):
@@ -161,10 +169,11 @@ def test_plate_data_are_diagnosed_with_the_planar_model(effect, channels, excite
     points = np.column_stack([rng.uniform(-0.2, 0.2, 8), rng.uniform(-0.15, 0.15, 8), np.zeros(8)])
     sensors = Lines(points + plate.cog * [1, 1, 0], np.tile([0, 0, 1.0], (8, 1)))
     rec, _ = run(plate, sensors, plate_table1()[1], effects=(Effect.parse(effect),), setup=Acquisition(100.0, 400))
-    result = diagnose(_band(rec), Layout.of(rec.sensors, rec.exciters, True), plate)
-    first = result.findings[0]
+    found = diagnose_recording(rec, None, plate)
+    first = found.findings[0]
+    assert first.kind == "fault"
     assert (first.effect, first.channels, first.exciter) == (effect.split("=")[0].split("@")[0], channels, exciter)
-    assert result.corrected.mass == pytest.approx(plate.mass, rel=0.003)
+    assert found.after_body.mass == pytest.approx(plate.mass, rel=0.003)
 
 
 def test_screens_without_a_model_locate_a_flipped_channel_and_an_extra_mode(structure):

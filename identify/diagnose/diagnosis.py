@@ -15,9 +15,10 @@ The procedure of the mismatch notes (§6), on the band's spectral lines:
    values are physically plausible. Effects at the same place whose BIC is within
    ``AMBIGUOUS`` of the best cannot be told apart by the data and are reported with it.
 4. A backward pass drops any effect that the others made redundant.
-5. With the nominal body (from the mesh), an identified body heavier than it in the
-   pattern of a point mass at an accelerometer is ``sensor_mass_loading``
-   (:mod:`.mass_loading`).
+
+Faults come first among the findings, then the test physics (DESIGN.md). The properties before and
+after, and mass loading against a mesh, are identify's on the recording as it came and as corrected
+(:mod:`.pipeline`, :mod:`.corrections`, :mod:`.mass_loading`): one estimator.
 """
 
 from __future__ import annotations
@@ -29,12 +30,10 @@ from cvxpy.error import SolverError
 
 from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
-from massline.identify.diagnose.finding import Finding, accepted_finding
-from massline.identify.diagnose.mass_loading import MassLoading, mass_loading
+from massline.identify.diagnose.finding import Finding, accepted_finding, faults_first
 from massline.identify.diagnose.screens import channel_consistency, discrete_fixes, kinematic_matrix
 from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.tails import TAIL_LAWS, BandData
-from massline.placement.accuracy import predicted_std
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.methods import starting_body
@@ -50,40 +49,27 @@ PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of 
 
 @dataclass(frozen=True, eq=False)
 class Diagnosis:
-    """Findings, most important first, with the fit and properties before and after.
+    """Findings, faults first, with the fit before and after.
 
     ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
-    shown); ``estimates`` the same two models on the estimation band with both tail laws (the
-    properties reported, as identify would give them). ``flips`` and ``swaps`` are the discrete
-    corrections applied to the recording; ``corrected`` is the body after every accepted effect
-    (and without the loading masses), None when no body fits.
+    shown); ``estimates`` the same two models on the estimation band with identify's per-FRF tails.
+    ``flips`` and ``swaps`` are the discrete corrections applied to the recording.
     """
 
     findings: list
     before: Fit
     after: Fit
     estimates: tuple
-    corrected: RigidBody | None
     band: BandData
     noise: float
     flips: tuple
     swaps: tuple
-    loading: MassLoading | None
 
     def relative_rms(self, which: str, axis=None) -> np.ndarray:
         """Relative RMS residual over every band line: overall, or per channel (``axis=1``)."""
         result = self.before if which == "before" else self.after
         energy = result.problem.energy
         return np.sqrt(np.sum(result.rss, axis=axis) / np.sum(energy, axis=axis))
-
-
-def fit_std(result: Fit) -> dict | None:
-    """1-σ of every property (identify's std keys) from the fit's covariance (None for no body)."""
-    if result.body is None:
-        return None
-    model = RigidModel(result.body, result.problem.layout.planar)
-    scaled = result.covariance / np.outer(model.scale, model.scale)
-    return predicted_std(model, np.linalg.pinv(scaled))
 
 
 def relative_noise(band: BandData) -> float:
@@ -244,8 +230,7 @@ def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, 
 
 
 def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list) -> tuple[Fit, frozenset, list]:
-    """Drop an accepted effect when the model without it is within ``EVIDENCE`` of the model with it;
-    for the others, record how far the properties move because of them."""
+    """Drop an accepted effect when the model without it is within ``EVIDENCE`` of the model with it."""
     kept = []
     for what, evidence in accepted:
         if isinstance(what, str):
@@ -256,18 +241,8 @@ def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list)
         if trial.bic - result.bic < EVIDENCE:
             result, laws = trial, trial_laws
         else:
-            moved = None if trial.body is None or result.body is None else _moved(trial.body, result.body)
-            kept.append((what, {**evidence, "moved": moved}))
+            kept.append((what, evidence))
     return result, laws, kept
-
-
-def _moved(without: RigidBody, with_: RigidBody) -> dict:
-    """How much the properties move when the effect is modelled: mass %, CoG mm, principal moments %."""
-    return {
-        "mass_percent": 100 * (with_.mass / without.mass - 1),
-        "cog_mm": (1e3 * (with_.cog - without.cog)).tolist(),
-        "principal_moments_percent": (100 * (with_.principal_moments / without.principal_moments - 1)).tolist(),
-    }
 
 
 def with_model_form(result: Fit, other: Fit) -> Fit:
@@ -292,33 +267,26 @@ def covers(wide: BandData, band: BandData) -> bool:
 def diagnose(
     band: BandData,
     layout: Layout,
-    nominal: RigidBody | None = None,
     transverse: float = TRANSVERSE,
     estimation: BandData | None = None,
+    resonances: dict | None = None,
 ) -> Diagnosis:
     """The whole procedure on the band's FRFs.
 
-    ``nominal`` (the mesh's body) enables mass loading. ``estimation``: the band identify would
-    use; when it holds the diagnosis band, the final model is refitted there with identify's
-    per-FRF tails for the properties (more lines, every small tail modelled). Otherwise (a fault that moved the
-    found band inside the planned one) the properties are the diagnosis band's final fit.
+    ``estimation``: the band identify uses; when it holds the diagnosis band, the final model is refitted
+    there with identify's per-FRF tails (more lines, every small tail modelled). ``resonances``: the support's
+    top mode and the first elastic mode where the record resolves them (law → Hz), for the test physics.
     """
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
     flips, swaps, fixed, start, findings = discrete_stage(before, band)
     result, laws, accepted = forward_stage(fixed, start, noise)
     result, laws, accepted = backward_stage(fixed, result, laws, accepted)
-    findings += [accepted_finding(result, fixed, what, evidence) for what, evidence in accepted]
+    findings += [accepted_finding(result, fixed, what, evidence, resonances) for what, evidence in accepted]
     estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)
     if estimation is not None and covers(estimation, band):
         estimates = (
             refit(before, estimation, "free", ()),
             refit(result, corrected_band(estimation, flips, swaps), "free", result.blocks),
         )
-    corrected, loading = estimates[1].body, None
-    if nominal is not None and corrected is not None:
-        loading = mass_loading(estimates[1], nominal)
-        if loading is not None:
-            corrected = loading.bare
-            findings.append(loading.finding())
-    return Diagnosis(findings, before, result, estimates, corrected, fixed, noise, flips, swaps, loading)
+    return Diagnosis(faults_first(findings), before, result, estimates, fixed, noise, flips, swaps)

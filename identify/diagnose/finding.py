@@ -9,6 +9,7 @@ import numpy as np
 
 from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.tails import BandData
+from massline.placement.effect_names import kind
 
 
 @dataclass(frozen=True)
@@ -33,17 +34,33 @@ class Finding:
     parameters: dict = field(default_factory=dict)
     evidence: dict = field(default_factory=dict)
 
+    @property
+    def kind(self) -> str:
+        """ "fault" (the engineer's to mend) or "test_physics" (the support and the elastic modes: modelled)."""
+        return kind(self.effect)
 
-def accepted_finding(result: Fit, band: BandData, what, evidence: dict) -> Finding:
-    """The accepted effect with its fitted parameters (SI, with 1-σ where the fit gives them)."""
+
+def faults_first(findings: list) -> list:
+    """The findings with the faults first, each group in its order (DESIGN.md)."""
+    return [f for f in findings if f.kind == "fault"] + [f for f in findings if f.kind != "fault"]
+
+
+def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonances: dict | None = None) -> Finding:
+    """The accepted effect with its fitted parameters (SI, with 1-σ where the fit gives them).
+
+    A tail law (test physics) carries its size at the band's edge relative to the FRF matrix's scale (the RMS
+    of every massline: a small cross massline is no scale) and the frequency of the mode behind it where the
+    record resolves its peak (``resonances``: law → Hz, nan when it does not), never a fitted pole's.
+    """
     if isinstance(what, str):
         size = band.tail_size(result.problem.data, what)
         edge = band.frequencies[0] if what == "suspension" else band.frequencies[-1]
+        mode = (resonances or {}).get(what, np.nan)
         parameters = {
             "edge_hz": float(edge),
             "tail_median": float(np.median(size)),
             "tail_max": float(size.max()),
-            "mode_hz": band.pole_hz(result.problem.data, what),
+            "mode_hz": None if not np.isfinite(mode) else float(mode),
         }
         return Finding(what, (), None, parameters, evidence)
     layout = result.problem.layout
@@ -93,7 +110,7 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict) -> Findi
 
 
 def finding_payload(finding: Finding, recording) -> dict:
-    """DESIGN.md's finding: effect, sensor / excitation as {"node", "dir"}, parameters, evidence."""
+    """DESIGN.md's finding: effect, kind, sensor / excitation as {"node", "dir"}, parameters, evidence."""
 
     def channel(labels, index):
         if labels is None:
@@ -109,6 +126,7 @@ def finding_payload(finding: Finding, recording) -> dict:
     evidence = {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in finding.evidence.items()}
     return {
         "effect": finding.effect,
+        "kind": finding.kind,
         "sensor": sensor,
         "excitation": excitation,
         "parameters": parameters,

@@ -1,16 +1,19 @@
-"""Sensor mass loading: the identified body differs from the mesh's as a mass at an accelerometer would make it.
+"""Sensor mass loading: the identified body differs from the mesh's as accelerometer masses would make it.
 
 A point mass m at p adds m φ(p) to the parameters θ = (m, m c, J_O), with
 
     φ(p) = (1, p, six(|p|² I − p pᵀ))        (a unit mass's first and second moments about O).
 
-Given the difference Δθ = θ̂ − θ_mesh and the covariance C of θ̂, the mass at
-accelerometer k is the weighted least squares m̂_k = φ_kᵀC⁻¹Δθ / φ_kᵀC⁻¹φ_k, and
-χ²_k = ‖Δθ − m̂_k φ_k‖²_C⁻¹ says how well one mass there explains the difference.
-The finding needs the difference to be real (χ²₀ beyond its 10-parameter
-chance level), one accelerometer's mass to explain it (χ²_k within chance or
-under a tenth of χ²₀: the fit's σ leaves out the band's small model biases),
-better than a mass at any other accelerometer, positive and several σ from zero.
+Given the difference Δθ = θ̂ − θ_mesh of identify's estimate and its covariance C, two kinds of loading
+are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀC⁻¹Δθ / φᵀC⁻¹φ, with
+χ² = ‖Δθ − m̂ φ‖²_C⁻¹ saying how well it explains the difference:
+
+* every housing alike (what every test has: each accelerometer's own mass), φ = Σ_k φ(p_k);
+* one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k.
+
+The finding needs the difference to be real (χ²₀ beyond its 10-parameter chance level), the best
+hypothesis to explain it (χ² within chance or under a tenth of χ²₀: C leaves out the band's small
+model biases), to beat every other by EVIDENCE, and a mass positive and SIGMAS from zero.
 """
 
 from __future__ import annotations
@@ -20,14 +23,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
-from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.diagnose.finding import Finding
+from massline.identify.estimator import Estimate
+from massline.identify.sensor_mass import Housings, housing_points
+from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody, six_from_tensor, steiner
 
 CHANCE = 1e-3  # tail probability beyond which a χ² is no longer chance
 SIGMAS = 5.0  # a loading mass must be this many σ from zero
-EXPLAINED = 0.1  # one mass must leave at most this share of χ²₀ (the fit's σ omits the band's small biases)
-EVIDENCE = 10.0  # and fit better than a mass at any other accelerometer by this much
+EXPLAINED = 0.1  # the mass must leave at most this share of χ²₀ (C omits the band's small biases)
+EVIDENCE = 10.0  # and fit better than any other hypothesis by this much
+SHARED = 1e-3  # m: channels this close share a housing
 
 
 def unit_mass(point: np.ndarray) -> np.ndarray:
@@ -37,59 +43,79 @@ def unit_mass(point: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class MassLoading:
-    """The mass found at one accelerometer.
+    """The loading found: every housing alike, or one.
 
     Attributes
     ----------
+    housings : Housings
+        The loading masses: each of ``housings.points`` weighs ``housings.mass`` kg.
+    every : bool
+        Every housing alike (True) or one housing (False).
     channels : tuple of int
-        The accelerometer's channels.
-    point : (3,) array
-        Where it sits, m.
-    mass, std : float
-        The loading mass and its 1-σ, kg.
+        The loaded accelerometer's channels (one housing), empty for every housing.
+    std : float
+        1-σ of the mass of each, kg.
     chi2_before, chi2_after : float
-        χ² of the identified body against the mesh's, without and with the mass.
-    bare : RigidBody
-        The identified body with the mass taken away.
+        χ² of the identified body against the mesh's, without and with the masses.
     """
 
+    housings: Housings
+    every: bool
     channels: tuple
-    point: np.ndarray
-    mass: float
     std: float
     chi2_before: float
     chi2_after: float
-    bare: RigidBody
+
+    def bare(self, body: RigidBody) -> RigidBody:
+        """``body`` (identified as tested) with the loading masses taken away."""
+        return self.housings.removed_from(body)
 
     def finding(self) -> Finding:
-        parameters = {"mass_kg": self.mass, "mass_std_kg": self.std, "point_m": self.point.tolist()}
+        parameters = {
+            "mass_kg": self.housings.mass,
+            "mass_std_kg": self.std,
+            "housings": self.housings.count,
+            "every_housing": self.every,
+            "points_m": self.housings.points.tolist(),
+        }
         evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 10}
         return Finding("sensor_mass_loading", self.channels, None, parameters, evidence)
 
 
-def mass_loading(result: Fit, nominal: RigidBody) -> MassLoading | None:
-    """The accelerometer whose mass best explains θ̂ − θ_mesh, when the evidence says one does."""
-    layout = result.problem.layout
-    if layout.planar:
+def si_covariance(found: Estimate) -> np.ndarray:
+    """θ's covariance in SI (the estimate keeps it in scaled parameters θ̃ = θ / s)."""
+    return found.covariance * np.outer(found.model.scale, found.model.scale)
+
+
+def hypotheses(sensors: Lines) -> list[tuple[bool, tuple, np.ndarray]]:
+    """(every, channels, housing points) of each loading weighed: every housing, then each one."""
+    points = housing_points(sensors, SHARED)
+    single = [
+        (False, tuple(np.flatnonzero(np.linalg.norm(sensors.points - p, axis=1) <= SHARED)), p[None]) for p in points
+    ]
+    return ([(True, (), points)] if len(points) > 1 else []) + single
+
+
+def mass_loading(found: Estimate, sensors: Lines, nominal: RigidBody) -> MassLoading | None:
+    """The loading that best explains identify's θ̂ − θ_mesh, when the evidence says one does (3-D only)."""
+    if found.model.planar:
         return None
-    delta = result.theta - nominal.theta
-    information = np.linalg.pinv(result.covariance)
+    delta = found.body.theta - nominal.theta
+    information = np.linalg.pinv(si_covariance(found))
     chi2_before = float(delta @ information @ delta)
     if chi2_before < chi2_distribution.isf(CHANCE, 10):
         return None
     fits = []
-    for channels in layout.groups:
-        point = layout.sensors.points[channels[0]]
-        phi = unit_mass(point)
+    for every, channels, points in hypotheses(sensors):
+        phi = sum(unit_mass(p) for p in points)
         weight = float(phi @ information @ phi)
         mass = float(phi @ information @ delta) / weight
         rest = delta - mass * phi
-        fits.append((float(rest @ information @ rest), channels, point, mass, 1 / np.sqrt(weight)))
+        fits.append((float(rest @ information @ rest), every, channels, points, mass, 1 / np.sqrt(weight)))
     fits.sort(key=lambda f: f[0])
-    chi2_after, channels, point, mass, std = fits[0]
+    chi2_after, every, channels, points, mass, std = fits[0]
     explains = chi2_after < max(chi2_distribution.isf(CHANCE, 9), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
-    if not (explains and alone) or mass < SIGMAS * std or mass > 0.5 * nominal.mass:
+    if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
         return None
-    bare = RigidBody.from_theta(result.theta - mass * unit_mass(point))
-    return MassLoading(tuple(channels), point, mass, std, chi2_before, chi2_after, bare)
+    return MassLoading(Housings(mass, points), every, channels, std, chi2_before, chi2_after)

@@ -31,7 +31,7 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
     also = e.get("alternatives") or []
     tail = f" (the data fit {' or '.join(also)} there as well)" if also else ""
     moved = e.get("moved")
-    shift = f"; modelling it moves the mass by {formatted(moved['mass_percent'], '+.3f')} %" if moved else ""
+    shift = f"; undoing it moves identify's mass by {formatted(moved['mass_percent'], '+.3f')} %" if moved else ""
     text = {
         "sensor_direction": lambda: (
             f"{who} reads {_pm(max(p['angle_deg']), max(p['angle_std_deg']))}° off its labelled axis: "
@@ -57,30 +57,29 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
             f"(offset {_mm(p['offset_m'], p['distance_std_mm'])})"
         ),
         "suspension": lambda: (
-            f"the suspension's tail reaches {p['tail_max']:.1%} of the massline at "
-            f"{p['edge_hz']:.1f} Hz (median {p['tail_median']:.1%}): a support mode near {p['mode_hz']:.1f} Hz; "
-            "modelled as that mode's tail in every FRF"
-            + (
-                " (the ± of the properties says how much that leaves open: a softer support, or a band from "
-                f"{3 * p['mode_hz']:.0f} Hz, does better)"
-                if 3 * p["mode_hz"] > p["edge_hz"]
-                else ""
-            )
+            f"test physics, the support: its tail reaches {p['tail_max']:.1%} of the FRF matrix's scale at "
+            f"{p['edge_hz']:.1f} Hz (median {p['tail_median']:.1%})"
+            + (f"; its top mode is at {p['mode_hz']:.3g} Hz" if p.get("mode_hz") else "")
+            + "; modelled in every FRF, as identify does"
         ),
         "residual_flexibility": lambda: (
-            f"elastic modes above the band pull the masslines by up to "
-            f"{p['tail_max']:.1%} at {p['edge_hz']:.0f} Hz (median {p['tail_median']:.1%}): an elastic mode near "
-            f"{p['mode_hz']:.0f} Hz; modelled as that mode's tail in every FRF"
-            + (
-                f" (the ± of the properties says how much that leaves open: a band up to {p['mode_hz'] / 3:.0f} Hz "
-                "does better)"
-                if p["mode_hz"] / 3 < p["edge_hz"]
-                else ""
-            )
+            f"test physics, the elastic modes above the band: their tail reaches {p['tail_max']:.1%} of the FRF "
+            f"matrix's scale at {p['edge_hz']:.0f} Hz (median {p['tail_median']:.1%})"
+            + (f"; the first is at {p['mode_hz']:.3g} Hz" if p.get("mode_hz") else "")
+            + "; modelled in every FRF, as identify does"
         ),
         "sensor_mass_loading": lambda: (
-            f"the body is {_pm(1e3 * p['mass_kg'], 1e3 * p['mass_std_kg'])} g "
-            f"heavier than the mesh, as a mass at {who} would make it; taken away"
+            (
+                f"every accelerometer housing ({p['housings']}) weighs "
+                f"{_pm(1e3 * p['mass_kg'], 1e3 * p['mass_std_kg'])} g: "
+                f"the body as tested is {formatted(1e3 * p['mass_kg'] * p['housings'], '.0f')} g heavier than the "
+                "mesh in their pattern; taken off (identify --sensor-mass does the same)"
+            )
+            if p.get("every_housing")
+            else (
+                f"the body is {_pm(1e3 * p['mass_kg'], 1e3 * p['mass_std_kg'])} g heavier than the mesh, as a mass "
+                f"at {who} would make it; taken off"
+            )
         ),
     }[finding.effect]()
     return text + tail + shift

@@ -1,4 +1,10 @@
-"""Diagnosis of a recording, as ``massline diagnose`` runs it: bands, layout, screens, the diagnosis.
+"""Diagnosis of a recording, as ``massline diagnose`` runs it: identify, bands, screens, the diagnosis,
+identify again on the recording with the faults undone.
+
+One estimator: the properties before are identify's on the file with the same options, those after are
+identify's on the recording with every fault the diagnosis found undone (:mod:`.corrections`) and, with a
+mesh, the accelerometers' loading masses taken off (:mod:`.mass_loading`). With no fault, after = before.
+How far a fault moved the properties is identify's result with it undone against without.
 
 ``diagnose_recording`` is the pipeline a script calls; ``DiagnosisRun`` holds what it found with what
 it ran on, and serialises itself as DESIGN.md's diagnose JSON (``document``).
@@ -6,19 +12,24 @@ it ran on, and serialises itself as DESIGN.md's diagnose JSON (``document``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.identify.band import estimation_band, find_band, given_band
-from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, fit_std, relative_noise, roomy
+from massline.identify.band import given_band
+from massline.identify.band_choice import choose_band
+from massline.identify.diagnose.corrections import corrected
+from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
-from massline.identify.diagnose.finding import finding_payload
+from massline.identify.diagnose.finding import faults_first, finding_payload
+from massline.identify.diagnose.mass_loading import MassLoading, mass_loading
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import is_planar, properties_payload, usable_lines
+from massline.identify.pipeline import Identification, identify_recording, is_planar, properties_payload, usable_lines
+from massline.identify.resonances import first_elastic, support_top
 from massline.identify.tails import BandData
 from massline.placement.band import Band
+from massline.placement.errors import MasslineError
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
@@ -45,6 +56,13 @@ class DiagnosisRun:
     screens : dict
         The model-free screens.
     result : Diagnosis
+    before, after : Identification
+        identify on the file as it came, and on the recording with the faults undone (``after.body`` is
+        the bare body when a mass loading was found; ``after`` is ``before`` when there is no fault).
+    findings : list of Finding
+        The diagnosis's findings and the mass loading, faults first, each fault's ``moved`` evidence from
+        identify.
+    loading : MassLoading or None
     notes : tuple of str
         What was set aside before the diagnosis (an exporter's 0 Hz line).
     """
@@ -60,7 +78,18 @@ class DiagnosisRun:
     noise: float
     screens: dict
     result: Diagnosis
+    before: Identification | None
+    after: Identification | None
+    findings: list
+    loading: MassLoading | None = None
     notes: tuple = ()
+
+    @property
+    def after_body(self) -> RigidBody | None:
+        """The body after: identify's on the corrected recording, less any loading masses (None: no body)."""
+        if self.after is None:
+            return None
+        return self.after.body if self.loading is None else self.loading.bare(self.after.body)
 
     def off_rigid(self) -> np.ndarray | None:
         """How far each recorded channel sits from the rigid motions at every band line (None without redundancy)."""
@@ -72,14 +101,9 @@ class DiagnosisRun:
     @property
     def document(self) -> dict:
         """DESIGN.md's diagnose JSON (and the per-channel fit and screens)."""
-        result, band = self.result, (self.estimation_band.low, self.estimation_band.high)
-        bodies = (result.estimates[0].body, result.corrected)
-
-        def properties(body: RigidBody | None, estimate) -> dict | None:
-            return None if body is None else properties_payload(body, fit_std(estimate), band, self.planar)
-
+        result = self.result
         return {
-            "findings": [finding_payload(x, self.recording) for x in result.findings],
+            "findings": [finding_payload(x, self.recording) for x in self.findings],
             "fit": {
                 "before": result.relative_rms("before"),
                 "after": result.relative_rms("after"),
@@ -90,29 +114,77 @@ class DiagnosisRun:
                 "after": result.relative_rms("after", axis=1).tolist(),
             },
             "properties": {
-                "before": properties(bodies[0], result.estimates[0]),
-                "after": properties(bodies[1], result.estimates[1]),
+                "before": None if self.before is None else self.before.payload,
+                "after": None
+                if self.after is None
+                else {**self.after.payload, **reported(self.after_body, self.after, self.planar)},
             },
             "band_hz": [self.band.low, self.band.high],
             "screens": self.screens,
+            "warnings": list(self.notes) + ([] if self.before is None else list(self.before.warnings)),
         }
 
 
+def reported(body: RigidBody, found: Identification, planar: bool) -> dict:
+    """identify's value keys of ``body`` with ``found``'s 1-σ and band."""
+    return properties_payload(body, found.std, (found.band.low, found.band.high), planar)
+
+
+def moved(without: RigidBody, with_: RigidBody) -> dict:
+    """How far undoing a fault moves identify's properties: mass %, CoG mm, principal moments %."""
+    return {
+        "mass_percent": 100 * (with_.mass / without.mass - 1),
+        "cog_mm": (1e3 * (with_.cog - without.cog)).tolist(),
+        "principal_moments_percent": (100 * (with_.principal_moments / without.principal_moments - 1)).tolist(),
+    }
+
+
+def identified_after(recording, findings: list, band, transverse: float, before: Identification):
+    """identify on the recording with every fault undone, and each fault's finding with how far undoing it
+    moved the properties (identify with all faults undone against with all but that one; no bootstrap)."""
+    faults = [f for f in findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
+    if not faults:
+        return before, findings
+    after = identify_recording(corrected(recording, faults), band, transverse)
+    marked = []
+    for finding in findings:
+        if finding in faults and before is not None:
+            rest = [f for f in faults if f is not finding]
+            without = identify_recording(corrected(recording, rest), band, transverse, draws=0).body
+            finding = replace(finding, evidence={**finding.evidence, "moved": moved(without, after.body)})
+        marked.append(finding)
+    return after, marked
+
+
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
-    """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band.
+    """identify, then the diagnosis on ``band`` (lo, hi) Hz or the found one, then identify on the recording
+    with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
 
     Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed).
     """
     recording, notes = usable_lines(recording)
+    planar = is_planar(recording.sensors, recording.exciters)
+    before, refused = identified(recording, band, transverse)
     f = recording.frequencies
-    used = given_band(f, *band) if band else find_band(f, recording.frf)
-    estimation = estimation_band(f, recording.frf, used)
+    if band:
+        used = given_band(f, *band)
+    else:
+        chosen = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
+        used = chosen if before is None else before.band
+    estimation = used if before is None else before.band
     data = BandData.from_recording(f, recording.frf, used.low, used.high)
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
-    planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     screens = screen(data, layout)
-    result = diagnose(data, layout, nominal, transverse, wide)
+    resonances = {
+        "suspension": support_top(f, recording.frf, estimation),
+        "residual_flexibility": first_elastic(f, recording.frf, estimation),
+    }
+    result = diagnose(data, layout, transverse, wide, resonances)
+    after, findings = identified_after(recording, result.findings, band, transverse, before)
+    loading = None if nominal is None or after is None else mass_loading(after.best, recording.sensors, nominal)
+    if loading is not None:
+        findings = faults_first(findings + [loading.finding()])
     return DiagnosisRun(
         recording,
         used,
@@ -125,5 +197,18 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         relative_noise(data),
         screens,
         result,
-        notes,
+        before,
+        after,
+        findings,
+        loading,
+        notes + refused,
     )
+
+
+def identified(recording, band, transverse: float) -> tuple[Identification | None, tuple]:
+    """identify's result on the file as it came, or None and a note saying why identify refuses it (a gross
+    fault can leave the masslines fitting no body: the diagnosis is what finds it)."""
+    try:
+        return identify_recording(recording, band, transverse), ()
+    except MasslineError as reason:
+        return None, (f"identify refuses the file as it came ({reason})",)
