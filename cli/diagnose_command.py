@@ -23,7 +23,13 @@ from massline.uff.reader import read_uff, to_recording
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
-    parser.add_argument("--band", type=float, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (the plan's)")
+    parser.add_argument(
+        "--band",
+        type=float,
+        nargs=2,
+        metavar=("LO", "HI"),
+        help="the band the diagnosis examines, Hz (the plan's; default identify's); the properties are identify's",
+    )
     add_nominal_arguments(parser)
     parser.add_argument(
         "--transverse", type=float, default=TRANSVERSE, metavar="FRACTION", help="accelerometers' cross-axis prior"
@@ -86,7 +92,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     print_screens(console, found.screens, sensors)
     before, after = result.relative_rms("before"), result.relative_rms("after")
     if not any(f.kind == "fault" for f in found.findings):
-        console.print(f"no fault: the model fits every line to {before / noise:.2f}× the noise")
+        console.print(f"no fault: the model with the test's physics fits every line to {after / noise:.2f}× the noise")
     for k, finding in enumerate(found.findings, 1):
         console.print(f"{k}. {finding_note(finding, sensors, found.hits)}")
     for warning in () if found.before is None else found.before.warnings:

@@ -100,7 +100,7 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
             "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in run.findings) + "</ol>"
         )
     else:
-        findings = f"<p>No findings: the rigid body fits every line within the noise ({before / noise:.2f}× it).</p>"
+        findings = f"<p>No findings: the rigid body fits every line within the noise ({after / noise:.2f}× it).</p>"
     findings = caveats(run) + findings
     fit_line = (
         f"<p>Fit: relative RMS residual <b>{100 * before:.2f} % before, {100 * after:.2f} % after</b> "

@@ -140,7 +140,7 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
 
 
 def identified_after(recording, findings: list, band, transverse: float, before: Identification):
-    """identify on the recording with every fault undone, and each fault's finding with how far undoing it
+    """identify (on ``band``: None, its own) on the recording with every fault undone, and each fault's finding with how far undoing it
     moved the properties (identify with all faults undone against with all but that one; no bootstrap)."""
     faults = [f for f in findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
     if not faults:
@@ -157,20 +157,23 @@ def identified_after(recording, findings: list, band, transverse: float, before:
 
 
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
-    """identify, then the diagnosis on ``band`` (lo, hi) Hz or the found one, then identify on the recording
+    """identify, then the diagnosis on ``band`` (lo, hi) Hz or identify's, then identify on the recording
     with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
+
+    ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
+    chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
 
     Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed).
     """
     recording, notes = usable_lines(recording)
     planar = is_planar(recording.sensors, recording.exciters)
     before, refused = identified(recording, band, transverse)
+    identify_band = band if before is not None and before.band.rule == "given" else None
     f = recording.frequencies
     if band:
         used = given_band(f, *band)
     else:
-        chosen = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
-        used = chosen if before is None else before.band
+        used = before.band if before else choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
     estimation = used if before is None else before.band
     data = BandData.from_recording(f, recording.frf, used.low, used.high)
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
@@ -181,7 +184,7 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         "residual_flexibility": first_elastic(f, recording.frf, estimation),
     }
     result = diagnose(data, layout, transverse, wide, resonances)
-    after, findings = identified_after(recording, result.findings, band, transverse, before)
+    after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
     loading = None if nominal is None or after is None else mass_loading(after.best, recording.sensors, nominal)
     if loading is not None:
         findings = faults_first(findings + [loading.finding()])
@@ -206,9 +209,17 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
 
 
 def identified(recording, band, transverse: float) -> tuple[Identification | None, tuple]:
-    """identify's result on the file as it came, or None and a note saying why identify refuses it (a gross
-    fault can leave the masslines fitting no body: the diagnosis is what finds it)."""
+    """identify's result on the file as it came (its own band; the diagnosis band ``band`` only when identify
+    finds none), or None and a note saying why identify refuses it (a gross fault can leave the masslines
+    fitting no body: the diagnosis is what finds it)."""
     try:
-        return identify_recording(recording, band, transverse), ()
+        return identify_recording(recording, None, transverse), ()
     except MasslineError as reason:
+        if band:
+            try:
+                return identify_recording(recording, band, transverse), (
+                    f"identify finds no band ({reason}): the properties are on the given band",
+                )
+            except MasslineError as again:
+                reason = again
         return None, (f"identify refuses the file as it came ({reason})",)
