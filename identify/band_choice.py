@@ -4,7 +4,8 @@ uncertainty of the properties, among those that the band fit explains.
 The resonance-free stretch (:func:`.band.stretch`) bounds the search: from ``MARGIN`` above where the
 support's resonances leave the massline to ``MARGIN`` below where the elastic modes do. Inside it, candidate bands start at 1–5 × their lower margin and
 end at 1–5 × below their upper one. For each, every FRF is fitted with its massline and tails
-(:func:`.massline_fit.fit_band`), and
+(:func:`.massline_fit.solve`, from sums over the runs of lines between candidate edges, which the
+candidates share), and
 
 * the predicted covariance of the properties is the inverse information Σ g_ij g_ijᵀ/σ_ij², with g_ij the
   sensitivity of massline ij at the start body and σ_ij its band-fit 1-σ (DESIGN.md, "Information"); the
@@ -23,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from massline.identify.band import MIN_LINES, stretch
-from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.massline_fit import LineSums, Solution, line_sums, line_weights, solve
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
@@ -52,22 +53,43 @@ def conservative(pairs: list[tuple[float, float]]) -> tuple[float, float]:
     return max(pairs, key=lambda p: (min(p[0] / low0, high0 / p[1]), np.log(p[1] / p[0])))
 
 
-def predicted_spread(fit: BandFit, model: RigidModel, s: np.ndarray, e: np.ndarray) -> float:
-    """trace F⁻¹ in scaled parameters, F = Σ g_ij g_ijᵀ / σ_ij² (inf when singular)."""
-    G, _ = sensitivities(model, s, e)
-    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.values).max())
-    F = np.einsum("ijp,ijq->pq", G / sigma[..., None], G / sigma[..., None])
+def candidate_sums(
+    frequencies: np.ndarray, frf: np.ndarray, weights, pairs: list[tuple[float, float]]
+) -> dict[tuple[float, float], LineSums]:
+    """Every candidate band's sums in its own x = ω²/ω_mid² (ω_mid² = ω_first ω_last of its lines), added up
+    from the runs of lines between consecutive candidate edges (low ≤ f ≤ high)."""
+    f = frequencies
+    cuts = sorted({lo for lo, _ in pairs} | {np.nextafter(hi, np.inf) for _, hi in pairs})
+    omega2 = (2 * np.pi * f) ** 2
+    reference = np.sqrt(omega2[f >= cuts[0]].min() * omega2[f < cuts[-1]].max())
+    runs = []
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        keep = (f >= lo) & (f < hi)
+        H = frf[:, :, keep].reshape(-1, int(keep.sum()))
+        runs.append(line_sums(omega2[keep] / reference, H, line_weights(weights, keep, H.shape)))
+    sums = {}
+    for lo, hi in pairs:
+        first, last = cuts.index(lo), cuts.index(np.nextafter(hi, np.inf))
+        kept = 2 * np.pi * f[(f >= lo) & (f <= hi)]
+        sums[lo, hi] = sum(runs[first + 1 : last], runs[first]).rescaled(reference / (kept[0] * kept[-1]))
+    return sums
+
+
+def predicted_spread(fit: Solution, G: np.ndarray) -> float:
+    """trace F⁻¹ in scaled parameters, F = Σ g_ij g_ijᵀ / σ_ij² (inf when singular); G (n_fr, p) the g_ij."""
+    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.real[:, 0]).max())
+    F = (G / sigma[:, None]).T @ (G / sigma[:, None])
     try:
         return float(np.trace(np.linalg.inv(F)))
     except np.linalg.LinAlgError:
         return np.inf
 
 
-def agreement(fit: BandFit, richer: BandFit) -> float:
+def agreement(fit: Solution, richer: Solution) -> float:
     """Mean over FRFs of (A − A⁺)²/(σ⁺² − σ²): how far each tail's next term moves the masslines, against
     what noise alone moves them by (the variance of a difference between nested least-squares fits)."""
     variance = np.maximum(richer.std**2 - fit.std**2, 0.05 * richer.std**2)
-    return float(np.mean((fit.values - richer.values) ** 2 / np.maximum(variance, 1e-300)))
+    return float(np.mean((fit.real[:, 0] - richer.real[:, 0]) ** 2 / np.maximum(variance, 1e-300)))
 
 
 def choose_band(
@@ -87,19 +109,19 @@ def choose_band(
             "or give --band LO HI"
         )
     safe = conservative(pairs)
-    reference = fit_band(frequencies, frf, *safe, weights)
+    sums = candidate_sums(frequencies, frf, weights, pairs)
+    reference = solve(sums[safe])
     try:
-        model = RigidModel(starting_body(Masslines(reference.values, sensors, exciters), planar), planar)
+        values = reference.real[:, 0].reshape(frf.shape[:2])
+        model = RigidModel(starting_body(Masslines(values, sensors, exciters), planar), planar)
     except (MasslineError, np.linalg.LinAlgError):
         return Band(*safe, free.suspension_top, free.first_elastic, "chosen")
-    s, e = model.coordinates(sensors), model.coordinates(exciters)
+    G = sensitivities(model, model.coordinates(sensors), model.coordinates(exciters))[0]
+    G = G.reshape(-1, G.shape[-1])
     best, best_spread = safe, np.inf
     for pair in pairs:
-        fit = reference if pair == safe else fit_band(frequencies, frf, *pair, weights)
-        spread = predicted_spread(fit, model, s, e)
-        if (
-            spread < best_spread
-            and agreement(fit, fit_band(frequencies, frf, *pair, weights, richer=True)) <= AGREEMENT
-        ):
+        fit = reference if pair == safe else solve(sums[pair])
+        spread = predicted_spread(fit, G)
+        if spread < best_spread and agreement(fit, solve(sums[pair], richer=True)) <= AGREEMENT:
             best, best_spread = pair, spread
     return Band(*best, free.suspension_top, free.first_elastic, "chosen")

@@ -24,6 +24,7 @@ said.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -132,23 +133,46 @@ class WeightedSystem:
     def chi2_sum(self) -> float:
         return float(np.sum(self.r**2) + np.sum(self.prior**2))
 
-    def step(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Gauss–Newton step (θ̃, τ) and the information of θ̃, the τ_i eliminated sensor by sensor.
+    @cached_property
+    def eliminated(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """θ̃'s information S with the τ_i eliminated, each Cᵢ⁻¹ (n_s, 2, 2) and Eᵢ = AᵢᵀDᵢ (n_s, p, 2).
 
-        Normal equations [[Σ AᵢᵀAᵢ, AᵢᵀDᵢ], [DᵢᵀAᵢ, Cᵢ]] with Cᵢ = DᵢᵀDᵢ + I/t²: the Schur
-        complement S = Σ AᵢᵀAᵢ − AᵢᵀDᵢ Cᵢ⁻¹ DᵢᵀAᵢ is θ̃'s information, in O(n_s) work.
+        Normal equations [[Σ AᵢᵀAᵢ, Eᵢ], [Eᵢᵀ, Cᵢ]] with Cᵢ = DᵢᵀDᵢ + I/t²: the Schur complement
+        S = Σ AᵢᵀAᵢ − Eᵢ Cᵢ⁻¹ Eᵢᵀ, in O(n_s) work (Cᵢ⁻¹ and Eᵢ empty without transverse readings).
         """
-        S = np.einsum("ijp,ijq->pq", self.A, self.A)
-        b = np.einsum("ijp,ij->p", self.A, self.r)
+        S = np.tensordot(self.A, self.A, axes=([0, 1], [0, 1]))
+        if self.D is None:
+            return S, np.zeros((len(self.r), 0, 0)), np.zeros((len(self.r), S.shape[0], 0))
+        C_inv = np.linalg.inv(np.swapaxes(self.D, 1, 2) @ self.D + np.eye(2) / self.transverse**2)
+        E = np.swapaxes(self.A, 1, 2) @ self.D
+        return S - np.tensordot(E @ C_inv, E, axes=([0, 2], [0, 2])), C_inv, E
+
+    def step(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Gauss–Newton step (θ̃, τ) and the information S of θ̃ (:attr:`eliminated`)."""
+        S, C_inv, E = self.eliminated
+        b = np.tensordot(self.A, self.r, axes=([0, 1], [0, 1]))
         if self.D is None:
             return np.linalg.solve(S, b), np.zeros((len(self.r), 0)), S
-        C_inv = np.linalg.inv(np.einsum("ijk,ijl->ikl", self.D, self.D) + np.eye(2) / self.transverse**2)
         g = np.einsum("ijk,ij->ik", self.D, self.r) + self.prior / self.transverse
-        E = np.einsum("ijp,ijk->ipk", self.A, self.D)
-        S = S - np.einsum("ipk,ikl,iql->pq", E, C_inv, E)
-        x = np.linalg.solve(S, b - np.einsum("ipk,ikl,il->p", E, C_inv, g))
-        tau = np.einsum("ikl,il->ik", C_inv, g - np.einsum("ipk,p->ik", E, x))
+        x = np.linalg.solve(S, b - np.tensordot(E @ C_inv, g, axes=([0, 2], [0, 1])))
+        tau = (C_inv @ (g - np.einsum("ipk,p->ik", E, x))[..., None])[..., 0]
         return x, tau, S
+
+    def paid_parameters(self) -> float:
+        """p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ), J_d the masslines' rows of the Jacobian J: the parameters the data pay for.
+
+        From the blocks, with N = JᵀJ = J_dᵀJ_d + diag(0, I/t²): p_eff = p + 2n_s − tr(N⁻¹_ττ)/t², and
+        N⁻¹'s τ_i block is Cᵢ⁻¹ + Cᵢ⁻¹EᵢᵀS⁻¹EᵢCᵢ⁻¹, so p_eff = p + Σ tr(Cᵢ⁻¹DᵢᵀDᵢ) − tr(S⁻¹ Σ EᵢCᵢ⁻²Eᵢᵀ)/t².
+        Raises LinAlgError when S is singular.
+        """
+        S, C_inv, E = self.eliminated
+        S_inv = np.linalg.inv(S)
+        if self.D is None:
+            return float(len(S))
+        seen = np.sum((self.D @ C_inv) * self.D)
+        F = E @ C_inv
+        shared = np.tensordot(F, F, axes=([0, 2], [0, 2]))
+        return len(S) + float(seen) - float(np.trace(S_inv @ shared)) / self.transverse**2
 
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
         """The whole Jacobian and residual, prior rows included (for the constrained step)."""
@@ -231,13 +255,12 @@ def reduced_chi2(system: WeightedSystem) -> tuple[float, float]:
     components of every channel in full (or not at all) makes χ² too small on a layout with few hits per
     channel. χ² is nan when nothing is left over to judge the fit by (no redundancy).
     """
-    J, _ = system.dense()
     n = system.r.size
     try:
-        hat = J[:n] @ np.linalg.solve(J.T @ J, J[:n].T)
+        paid = system.paid_parameters()
     except np.linalg.LinAlgError:
         return np.nan, 0.0
-    left = n - float(np.trace(hat))
+    left = n - paid
     return (float(np.sum(system.r**2) / left) if left > 0.5 else np.nan), max(left, 0.0)
 
 

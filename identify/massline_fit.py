@@ -12,16 +12,27 @@ modes above (−ω² Σ φφᵀ/ω_r², complex with their damping) and D its ne
 in the CoG and products of inertia. The fit is linear in (A, Re B, Im B,
 Re C, Im C, D); the scatter of its residual gives each massline's standard
 deviation, from the data and not from an assumed noise.
+
+In x = ω²/ω_mid² every column is a power of x, and the real and imaginary parts have
+their own coefficients: Re H = A + B_r x⁻¹ + C_r x + D x², Im H = B_i x⁻¹ + C_i x. The
+weighted least squares of every FRF thus needs only its sums over the band's lines
+(:class:`LineSums`): Σ w² xᵐ, Σ w² Re H xᵐ, Σ w² Im H xᵐ and Σ w² |H|². Sums over
+adjacent runs of lines add, so the candidate bands of :mod:`.band_choice` share them.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.identify.tails import scaled_frequency
 from massline.placement.errors import MasslineError
+
+REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
+RICHER = (-2, 3)  # each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): the model a band is checked against
+IMAG = (-1, 1)  # powers of x in Im H: Im B, Im C
+WEIGHT_POWERS = np.arange(-4, 7)  # every product of two columns' powers
+REAL_POWERS = np.arange(-2, 4)  # every real column's power
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,16 +61,111 @@ class BandFit:
     bias: np.ndarray
 
 
-def design_matrix(omega: np.ndarray, richer: bool = False) -> np.ndarray:
-    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1).
+@dataclass(frozen=True, eq=False)
+class LineSums:
+    """Each FRF's weighted sums over a run of lines, in x = ω²/ω_ref².
 
-    ``richer`` adds each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): the model a band is checked against.
+    Attributes
+    ----------
+    weight : (n_fr, 11) array
+        Σ w² xᵐ, m = −4 … 6 (w² the line's weight, dimensionless).
+    real : (n_fr, 6) array
+        Σ w² Re H xᵐ, m = −2 … 3, (m/s²)/N.
+    imag : (n_fr, 2) array
+        Σ w² Im H xᵐ, m = ±1, (m/s²)/N.
+    square : (n_fr,) array
+        Σ w² |H|², ((m/s²)/N)².
+    lines : int
+        How many lines were summed.
     """
-    x = scaled_frequency(omega)  # ω²/ω_mid²: keeps the columns comparable
-    zero = np.zeros_like(x)
-    real = [np.ones_like(x), 1 / x, zero, x, zero, x**2] + ([1 / x**2, x**3] if richer else [])
-    imag = [zero, zero, 1 / x, zero, x, zero] + ([zero, zero] if richer else [])
-    return np.vstack([np.column_stack(real), np.column_stack(imag)])
+
+    weight: np.ndarray
+    real: np.ndarray
+    imag: np.ndarray
+    square: np.ndarray
+    lines: int
+
+    def __add__(self, other: LineSums) -> LineSums:
+        return LineSums(
+            self.weight + other.weight,
+            self.real + other.real,
+            self.imag + other.imag,
+            self.square + other.square,
+            self.lines + other.lines,
+        )
+
+    def rescaled(self, s: float) -> LineSums:
+        """The same sums in x' = s x."""
+        s = float(s)
+        return LineSums(
+            self.weight * s**WEIGHT_POWERS,
+            self.real * s**REAL_POWERS,
+            self.imag * s ** np.array(IMAG),
+            self.square,
+            self.lines,
+        )
+
+
+def line_sums(x: np.ndarray, H: np.ndarray, w2: np.ndarray) -> LineSums:
+    """The sums of FRFs H (n_fr, n) at x (n,) with line weights w2 (n_fr, n) or (1, n)."""
+    powers = x[:, None] ** WEIGHT_POWERS
+    weight = np.broadcast_to(w2 @ powers, (len(H), len(WEIGHT_POWERS)))
+    real = (w2 * H.real) @ powers[:, 2:8]
+    imag = (w2 * H.imag) @ powers[:, [3, 5]]
+    square = np.sum(w2 * (H.real**2 + H.imag**2), axis=1)
+    return LineSums(weight, real, imag, square, len(x))
+
+
+@dataclass(frozen=True, eq=False)
+class Solution:
+    """Every FRF's weighted least-squares fit from its sums (x = ω²/ω_mid²).
+
+    Attributes
+    ----------
+    real : (n_fr, 4 or 6) array
+        A, Re B, Re C, D (and B₂, D₂): the coefficients of Re H on the powers REAL (+ RICHER) of x, (m/s²)/N.
+    imag : (n_fr, 2) array
+        Im B, Im C: the coefficients of Im H on x⁻¹ and x, (m/s²)/N.
+    variance : (n_fr,) array
+        [(XᵀW²X)⁻¹]₀₀: A's variance per unit variance of a weighted line, dimensionless.
+    rss : (n_fr,) array
+        Weighted residual sum of squares Σ w² |H − fit|², ((m/s²)/N)².
+    dof : int
+        Lines' real and imaginary parts less the coefficients.
+    """
+
+    real: np.ndarray
+    imag: np.ndarray
+    variance: np.ndarray
+    rss: np.ndarray
+    dof: int
+
+    @property
+    def std(self) -> np.ndarray:
+        """1-σ of each A from the residual scatter, (m/s²)/N."""
+        return np.sqrt(np.maximum(self.rss, 0.0) / self.dof * self.variance)
+
+
+def gram(weight: np.ndarray, powers: tuple) -> np.ndarray:
+    """Σ w² x^(a+b) over the columns' powers a, b: (n_fr, k, k)."""
+    return weight[:, np.add.outer(powers, powers) + 4]
+
+
+def solve(sums: LineSums, richer: bool = False) -> Solution:
+    """Every FRF's fit from its sums; the weighted RSS as Σ w²|H|² − cᵀXᵀW²y (exact to ~1e-10, cancellation)."""
+    powers = REAL + (RICHER if richer else ())
+    G = gram(sums.weight, powers)
+    g = sums.real[:, np.array(powers) + 2]
+    real = np.linalg.solve(G, g[..., None])[..., 0]
+    imag = np.linalg.solve(gram(sums.weight, IMAG), sums.imag[..., None])[..., 0]
+    rss = sums.square - np.einsum("fk,fk->f", real, g) - np.einsum("fk,fk->f", imag, sums.imag)
+    dof = max(2 * sums.lines - len(powers) - len(IMAG), 1)
+    return Solution(real, imag, np.linalg.inv(G)[:, 0, 0], rss, dof)
+
+
+def columns(x: np.ndarray, powers) -> np.ndarray:
+    """xᵐ (k, n) for each power m."""
+    return x[None, :] ** np.array(powers, dtype=float)[:, None]
 
 
 def fit_band(
@@ -68,34 +174,33 @@ def fit_band(
     """Least-squares fit of A + B/ω² + Cω² + Dω⁴ to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
 
     ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF;
-    ``richer`` fits each tail's next term too (:func:`design_matrix`).
+    ``richer`` fits each tail's next term too, B₂/ω⁴ and D₂ω⁶.
     """
     keep = (frequencies >= low) & (frequencies <= high)
     n = int(keep.sum())
     if n < 8:
         raise MasslineError(f"the band {low:g}–{high:g} Hz holds {n} spectral lines; at least 8 are needed")
     omega = 2 * np.pi * frequencies[keep]
-    X = design_matrix(omega, richer)
     mid2 = omega[0] * omega[-1]
-    H = frf[:, :, keep]
-    Y = np.concatenate([H.real, H.imag], axis=2)  # (n_s, n_e, 2n)
-    w = np.ones_like(Y) if weights is None else np.sqrt(np.concatenate([weights[:, :, keep]] * 2, axis=2))
-    coef = np.empty(Y.shape[:2] + (X.shape[1],))
-    std = np.empty(Y.shape[:2])
-    rms = np.empty(Y.shape[:2])
-    for i, j in np.ndindex(*Y.shape[:2]):
-        Xw, yw = X * w[i, j, :, None], Y[i, j] * w[i, j]
-        c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
-        r = yw - Xw @ c
-        sigma2 = r @ r / max(len(yw) - X.shape[1], 1)
-        cov = sigma2 * np.linalg.pinv(Xw.T @ Xw)
-        coef[i, j], std[i, j] = c, np.sqrt(cov[0, 0])
-        rms[i, j] = np.sqrt(np.mean((Y[i, j] - X @ c) ** 2))
-    A = coef[..., 0]
+    x = omega**2 / mid2
+    H = frf[:, :, keep].reshape(-1, n)
+    w2 = line_weights(weights, keep, H.shape)
+    fit = solve(line_sums(x, H, w2), richer)
+    shape = frf.shape[:2]
+    A = fit.real[:, 0].reshape(shape)
     if not np.isfinite(A).all():
         raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
-    B = (coef[..., 1] + 1j * coef[..., 2]) * mid2
-    C = (coef[..., 3] + 1j * coef[..., 4]) / mid2
+    real = H.real - fit.real @ columns(x, REAL + (RICHER if richer else ()))
+    imag = H.imag - fit.imag @ columns(x, IMAG)
+    fit = replace(fit, rss=np.sum(w2 * (real**2 + imag**2), axis=1))  # the RSS without the sums' cancellation
+    rms = np.sqrt((np.mean(real**2, axis=1) + np.mean(imag**2, axis=1)) / 2).reshape(shape)
+    B = ((fit.real[:, 1] + 1j * fit.imag[:, 0]) * mid2).reshape(shape)
+    C = ((fit.real[:, 2] + 1j * fit.imag[:, 1]) / mid2).reshape(shape)
     scale = np.maximum(np.abs(A), 1e-300)
-    plain = H.real.mean(axis=2)
-    return BandFit(A, std, B, C, rms / scale, np.abs(plain - A) / scale)
+    plain = H.real.mean(axis=1).reshape(shape)
+    return BandFit(A, fit.std.reshape(shape), B, C, rms / scale, np.abs(plain - A) / scale)
+
+
+def line_weights(weights, keep: np.ndarray, shape: tuple) -> np.ndarray:
+    """The lines' weights w² (n_fr, n) over the kept lines, or ones (1, n) without weights."""
+    return np.ones((1, shape[1])) if weights is None else weights[:, :, keep].reshape(shape)
