@@ -187,19 +187,22 @@ class WeightedSystem:
         return np.vstack(rows), np.concatenate(residual)
 
 
-def weighted_system(model, s, e, data, sigma, T, points, tilt, transverse) -> tuple[WeightedSystem, np.ndarray]:
+def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """(t_k, r_i × t_k) (n_s, 6, 2): the line coordinates of each channel's transverse axes T_i at its point r_i."""
+    return np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)
+
+
+def weighted_system(model, s, e, data, sigma, lines, tilt, transverse) -> tuple[WeightedSystem, np.ndarray]:
     """The weighted system and the model's masslines H.
 
-    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d'), linear in
-    τ_i, so ∂H_ij/∂τ_ik = (t_k, r_i × t_k)ᵀ M⁻¹ w_j; the prior τ_ik ~ N(0, transverse²)
-    adds the rows τ_ik / transverse.
+    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d') = s_i + L_i τ_i, with
+    L_i = ``lines`` (:func:`transverse_lines`), so ∂H_ij/∂τ_i = L_iᵀ M⁻¹ w_j; the prior
+    τ_ik ~ N(0, transverse²) adds the rows τ_ik / transverse.
     """
     G, H = sensitivities(model, s, e)
     D = None
-    if T is not None:
-        lines = np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)  # (n_s, 6, 2)
-        V = np.linalg.solve(model.mass_matrix(model.theta), e.T)
-        D = np.einsum("nak,aj->njk", lines, V) / sigma[:, :, None]
+    if lines is not None:
+        D = (e @ model.mass_matrix_inverse) @ lines / sigma[:, :, None]
     system = WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, -tilt / max(transverse, 1e-300), transverse)
     return system, H
 
@@ -218,11 +221,12 @@ def estimate(
     s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
     points, directions = data.sensors.points, data.sensors.directions
     T = None if planar or transverse <= 0 else perpendicular_bases(directions)
+    lines = None if T is None else transverse_lines(points, T)
     tilt = np.zeros((len(directions), 0 if T is None else 2))
     theta, constrained = model.theta, False
     for _ in range(iterations):
-        s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-        system, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
+        s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
+        system, _ = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse)
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
         if not np.all(np.isfinite(candidate)):
@@ -238,8 +242,8 @@ def estimate(
         model = RigidModel(model.body(theta), planar)
         if max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
             break
-    s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-    system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse)
+    s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
+    system, H = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse)
     chi2, dof = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
@@ -262,8 +266,3 @@ def reduced_chi2(system: WeightedSystem) -> tuple[float, float]:
         return np.nan, 0.0
     left = n - paid
     return (float(np.sum(system.r**2) / left) if left > 0.5 else np.nan), max(left, 0.0)
-
-
-def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:
-    """Line coordinates (d, r × d) of unnormalised reading vectors d (a gain stays a gain)."""
-    return np.hstack([readings, np.cross(points, readings)])
