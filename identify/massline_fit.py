@@ -110,8 +110,8 @@ def line_sums(x: np.ndarray, H: np.ndarray, w2: np.ndarray) -> LineSums:
     """The sums of FRFs H (n_fr, n) at x (n,) with line weights w2 (n_fr, n) or (1, n)."""
     powers = x[:, None] ** WEIGHT_POWERS
     weight = np.broadcast_to(w2 @ powers, (len(H), len(WEIGHT_POWERS)))
-    real = (w2 * H.real) @ powers[:, 2:8]
-    imag = (w2 * H.imag) @ powers[:, [3, 5]]
+    real = (w2 * H.real) @ powers[:, 2:8]  # x⁻² … x³
+    imag = (w2 * H.imag) @ powers[:, [3, 5]]  # x⁻¹, x
     square = np.sum(w2 * (H.real**2 + H.imag**2), axis=1)
     return LineSums(weight, real, imag, square, len(x))
 
