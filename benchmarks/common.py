@@ -10,15 +10,18 @@ import numpy as np
 from massline.placement.lines import Lines
 
 
-def measured(label: str, work):
-    """Run ``work()``; print its time and peak Python memory (tracemalloc); return (result, seconds)."""
-    tracemalloc.start()
+def measured(label: str, work, traced: bool = True):
+    """Run ``work()``; print its time and, when ``traced``, its peak Python memory (tracemalloc, which slows
+    code making many small Python objects); return (result, seconds)."""
+    if traced:
+        tracemalloc.start()
     start = time.perf_counter()
     result = work()
     seconds = time.perf_counter() - start
-    peak = tracemalloc.get_traced_memory()[1] / 2**20
-    tracemalloc.stop()
-    print(f"{label:<44} {seconds:8.2f} s   peak {peak:8.1f} MiB")
+    peak = f"   peak {tracemalloc.get_traced_memory()[1] / 2**20:8.1f} MiB" if traced else ""
+    if traced:
+        tracemalloc.stop()
+    print(f"{label:<52} {seconds:8.2f} s{peak}")
     return result, seconds
 
 

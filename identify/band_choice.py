@@ -4,8 +4,9 @@ error of the properties, their scatter and the bias their truncated tails may ca
 The resonance-free stretch (:func:`.band.stretch`) bounds the search: from ``MARGIN`` above where the
 support's resonances leave the massline to ``MARGIN`` below where the elastic modes do. Inside it, candidate
 bands start at 1–5 × their lower margin and end at 1–5 × below their upper one. For each, every FRF is fitted
-with its massline and tails (:func:`.massline_fit.fit_band`), and the predicted mean squared error of the
-scaled parameters is
+with its massline and tails (:func:`.massline_fit.solve`, the fit :func:`.massline_fit.fit_band` makes, from
+sums over the runs of lines between candidate edges, which the candidates share), and the predicted mean
+squared error of the scaled parameters is
 
     trace F⁻¹ + ‖F⁻¹ Σ g_ij δA_ij/σ_ij²‖²,     F = Σ g_ij g_ijᵀ/σ_ij²,
 
@@ -21,7 +22,15 @@ from __future__ import annotations
 import numpy as np
 
 from massline.identify.band import MIN_LINES, stretch
-from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.massline_fit import (
+    LineSums,
+    Solution,
+    band_lines,
+    line_sums,
+    line_weights,
+    solve,
+    truncation_shift,
+)
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
@@ -52,22 +61,44 @@ def conservative(pairs: list[tuple[float, float]]) -> tuple[float, float]:
     return max(pairs, key=lambda p: (min(p[0] / low0, high0 / p[1]), np.log(p[1] / p[0])))
 
 
-def predicted_spread(fit: BandFit, model: RigidModel, s: np.ndarray, e: np.ndarray) -> float:
+def candidate_sums(
+    frequencies: np.ndarray, frf: np.ndarray, weights, pairs: list[tuple[float, float]]
+) -> dict[tuple[float, float], LineSums]:
+    """Every candidate band's sums in its own x = ω²/ω_mid² (ω_mid² = ω_first ω_last of its lines), added up
+    from the runs of lines between consecutive candidate edges (low ≤ f ≤ high)."""
+    f = frequencies
+    cuts = sorted({lo for lo, _ in pairs} | {np.nextafter(hi, np.inf) for _, hi in pairs})
+    omega2 = (2 * np.pi * f) ** 2
+    reference = np.sqrt(omega2[f >= cuts[0]].min() * omega2[f < cuts[-1]].max())
+    runs = []
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        keep = (f >= lo) & (f < hi)
+        real, imag = band_lines(frf, keep)
+        runs.append(line_sums(omega2[keep] / reference, real, imag, line_weights(weights, keep, real.shape)))
+    sums = {}
+    for lo, hi in pairs:
+        first, last = cuts.index(lo), cuts.index(np.nextafter(hi, np.inf))
+        kept = 2 * np.pi * f[(f >= lo) & (f <= hi)]
+        sums[lo, hi] = sum(runs[first + 1 : last], runs[first]).rescaled(reference / (kept[0] * kept[-1]))
+    return sums
+
+
+def predicted_spread(fit: Solution, truncation: np.ndarray, G: np.ndarray) -> float:
     """Predicted mean squared error of the scaled parameters: trace F⁻¹ + ‖F⁻¹ Σ g_ij δA_ij/σ_ij²‖².
 
     F = Σ g_ij g_ijᵀ / σ_ij² is the information of the band's masslines (their variance, trace F⁻¹), and
-    δA_ij the shift the truncation of their tails may carry (``fit.truncation``): the bias it moves the
-    properties by. inf when F is singular.
+    δA_ij the shift the truncation of their tails may carry (``truncation``, :func:`.truncation_shift`): the
+    bias it moves the properties by. ``fit`` the band's fits of the n_fr FRFs, ``G`` (n_fr, p) the g_ij.
+    inf when F is singular.
     """
-    G, _ = sensitivities(model, s, e)
-    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.values).max())
-    weighted = G / sigma[..., None]
-    F = np.einsum("ijp,ijq->pq", weighted, weighted)
+    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.real[:, 0]).max())
+    weighted = G / sigma[:, None]
+    F = weighted.T @ weighted
     try:
         covariance = np.linalg.inv(F)
     except np.linalg.LinAlgError:
         return np.inf
-    bias = covariance @ np.einsum("ijp,ij->p", weighted, fit.truncation / sigma)
+    bias = covariance @ (weighted.T @ (truncation / sigma))
     return float(np.trace(covariance) + bias @ bias)
 
 
@@ -126,14 +157,19 @@ def closed_by_support(frequencies, frf, free: Band, sensors: Lines, planar: bool
 def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:
     """The candidate of least predicted error, scored at the widest candidate's body; None when that body
     is none (no positive mass: the FRFs of the gap follow a spring, not a mass)."""
-    widest = pairs[0]
-    reference = fit_band(frequencies, frf, *widest, weights)
+    widest = pairs[0]  # every other candidate lies inside it
+    sums = candidate_sums(frequencies, frf, weights, pairs)
+    reference = solve(sums[widest])
+    values = reference.real[:, 0].reshape(frf.shape[:2])
+    if not np.isfinite(values).all():
+        raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
     try:
-        model = RigidModel(starting_body(Masslines(reference.values, sensors, exciters), planar), planar)
+        model = RigidModel(starting_body(Masslines(values, sensors, exciters), planar), planar)
     except (MasslineError, np.linalg.LinAlgError):
         return None
     if not model.nominal.mass > 0:
         return None
-    s, e = model.coordinates(sensors), model.coordinates(exciters)
-    fits = {pair: reference if pair == widest else fit_band(frequencies, frf, *pair, weights) for pair in pairs}
-    return min(pairs, key=lambda pair: predicted_spread(fits[pair], model, s, e))
+    G = sensitivities(model, model.coordinates(sensors), model.coordinates(exciters))[0]
+    G = G.reshape(-1, G.shape[-1])
+    fits = {pair: reference if pair == widest else solve(sums[pair]) for pair in pairs}
+    return min(pairs, key=lambda pair: predicted_spread(fits[pair], truncation_shift(sums[pair], fits[pair]), G))

@@ -28,6 +28,7 @@ and the scale said.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -152,30 +153,68 @@ class WeightedSystem:
     def chi2_sum(self) -> float:
         return float(np.sum(self.measured**2) + np.sum(self.prior**2))
 
-    def normal_equations(self) -> tuple[np.ndarray, np.ndarray]:
-        """Σ AᵀA and Σ Aᵀr over the masslines, plus the scale's row aaᵀ and a r_W (θ̃ only)."""
-        S = np.einsum("ijp,ijq->pq", self.A, self.A)
-        b = np.einsum("ijp,ij->p", self.A, self.r)
-        if self.scale_row is None:
-            return S, b
-        return S + np.outer(self.scale_row, self.scale_row), b + self.scale_row * self.scale_r
+    @cached_property
+    def eliminated(self) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
+        """θ̃'s information S with the τ_i eliminated; each sensor's orthogonal Qᵢ, triangular Rᵢ and rows Ãᵢ.
+
+        Sensor i's rows [[Aᵢ, Dᵢ], [0, I/t]] (its masslines, then its prior rows) are turned by the Qᵢ of a QR
+        [Dᵢ; I/t] = Qᵢ [Rᵢ; 0] ((n_e + 2) × 2): the first two rows then hold τ_i, which they fit exactly, and
+        the other n_e rows Ãᵢ = Qᵢ[:, 2:]ᵀ [Aᵢ; 0] θ̃ alone, so S = Σ ÃᵢᵀÃᵢ + aaᵀ (a the scale's row, θ̃
+        only; none without a reading), in O(n_s) work. S equals Σ AᵢᵀAᵢ + aaᵀ − AᵢᵀDᵢCᵢ⁻¹DᵢᵀAᵢ with
+        Cᵢ = DᵢᵀDᵢ + I/t², without that difference's cancellation (S is a hundredth of Σ AᵢᵀAᵢ on a layout
+        whose masslines the transverse readings nearly absorb). Qᵢ, Rᵢ, Ãᵢ are None without transverse readings.
+        """
+        if self.D is None:
+            S, Q, R, A = np.tensordot(self.A, self.A, axes=([0, 1], [0, 1])), None, None, None
+        else:
+            n_s, n_e, _ = self.A.shape
+            prior = np.broadcast_to(np.eye(2) / self.transverse, (n_s, 2, 2))
+            Q, R = np.linalg.qr(np.concatenate([self.D, prior], axis=1), mode="complete")
+            A = np.swapaxes(Q[:, :n_e, 2:], 1, 2) @ self.A  # (n_s, n_e, p)
+            S, R = np.tensordot(A, A, axes=([0, 1], [0, 1])), R[:, :2]
+        if self.scale_row is not None:
+            S = S + np.outer(self.scale_row, self.scale_row)
+        return S, Q, R, A
 
     def step(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Gauss–Newton step (θ̃, τ) and the information of θ̃, the τ_i eliminated sensor by sensor.
-
-        Normal equations [[Σ AᵢᵀAᵢ, AᵢᵀDᵢ], [DᵢᵀAᵢ, Cᵢ]] with Cᵢ = DᵢᵀDᵢ + I/t²: the Schur
-        complement S = Σ AᵢᵀAᵢ − AᵢᵀDᵢ Cᵢ⁻¹ DᵢᵀAᵢ is θ̃'s information, in O(n_s) work.
-        """
-        S, b = self.normal_equations()
+        """Gauss–Newton step (θ̃, τ) and the information S of θ̃ (:attr:`eliminated`)."""
+        S, Q, R, A = self.eliminated
+        b = 0.0 if self.scale_row is None else self.scale_row * self.scale_r
         if self.D is None:
+            b = b + np.tensordot(self.A, self.r, axes=([0, 1], [0, 1]))
             return np.linalg.solve(S, b), np.zeros((len(self.r), 0)), S
-        C_inv = np.linalg.inv(np.einsum("ijk,ijl->ikl", self.D, self.D) + np.eye(2) / self.transverse**2)
-        g = np.einsum("ijk,ij->ik", self.D, self.r) + self.prior / self.transverse
-        E = np.einsum("ijp,ijk->ipk", self.A, self.D)
-        S = S - np.einsum("ipk,ikl,iql->pq", E, C_inv, E)
-        x = np.linalg.solve(S, b - np.einsum("ipk,ikl,il->p", E, C_inv, g))
-        tau = np.einsum("ikl,il->ik", C_inv, g - np.einsum("ipk,p->ik", E, x))
+        n_e = self.A.shape[1]
+        turned = (np.swapaxes(Q, 1, 2) @ np.concatenate([self.r, self.prior], axis=1)[..., None])[..., 0]
+        x = np.linalg.solve(S, np.tensordot(A, turned[:, 2:], axes=([0, 1], [0, 1])) + b)
+        fitted = (np.swapaxes(Q[:, :n_e, :2], 1, 2) @ (self.A @ x)[..., None])[..., 0]
+        tau = np.linalg.solve(R, (turned[:, :2] - fitted)[..., None])[..., 0]
         return x, tau, S
+
+    def paid_parameters(self) -> float:
+        """p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ), J_d the measured rows of the Jacobian J (the masslines and the scale's):
+        the parameters the data pay for, the sum of the measured rows' leverages.
+
+        In the rows turned by the Qᵢ (:attr:`eliminated`) the hat matrix is I on each sensor's two τ rows plus
+        [Ã; a] S⁻¹ [Ã; a]ᵀ, so sensor i's masslines (the first n_e rows of Qᵢ) pay ‖Qᵢ[:n_e, :2]‖² +
+        tr(S⁻¹ MᵢᵀMᵢ) with Mᵢ = Qᵢ[:n_e, 2:] Ãᵢ, and the scale's row aᵀS⁻¹a. Raises LinAlgError when S is
+        singular.
+        """
+        S, Q, _, A = self.eliminated
+        if self.D is None:
+            np.linalg.inv(S)  # raises when S is singular
+            return float(len(S))
+        n_e = self.A.shape[1]
+        M = Q[:, :n_e, 2:] @ A
+        W = np.tensordot(M, M, axes=([0, 1], [0, 1]))
+        if self.scale_row is not None:
+            W = W + np.outer(self.scale_row, self.scale_row)
+        return float(np.sum(Q[:, :n_e, :2] ** 2)) + float(np.trace(np.linalg.solve(S, W)))
+
+    def scale_leverage(self) -> float:
+        """The scale row's leverage h = aᵀ(N⁻¹)_θθ a = aᵀS⁻¹a (nan without a reading); LinAlgError when S is singular."""
+        if self.scale_row is None:
+            return np.nan
+        return float(self.scale_row @ np.linalg.solve(self.eliminated[0], self.scale_row))
 
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
         """The whole Jacobian and residual: the measured rows first (masslines, then the scale), then the priors."""
@@ -195,22 +234,25 @@ class WeightedSystem:
         return np.vstack(rows), np.concatenate(residual)
 
 
+def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """(t_k, r_i × t_k) (n_s, 6, 2): the line coordinates of each channel's transverse axes T_i at its point r_i."""
+    return np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)
+
+
 def weighted_system(
-    model, s, e, data, sigma, T, points, tilt, transverse, weighed=None
+    model, s, e, data, sigma, lines, tilt, transverse, weighed=None
 ) -> tuple[WeightedSystem, np.ndarray]:
     """The weighted system and the model's masslines H.
 
-    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d'), linear in
-    τ_i, so ∂H_ij/∂τ_ik = (t_k, r_i × t_k)ᵀ M⁻¹ w_j; the prior τ_ik ~ N(0, transverse²)
-    adds the rows τ_ik / transverse. A scale reading adds the row (m_W − θ_0)/σ_W, with
-    ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative.
+    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d') = s_i + L_i τ_i, with
+    L_i = ``lines`` (:func:`transverse_lines`), so ∂H_ij/∂τ_i = L_iᵀ M⁻¹ w_j; the prior
+    τ_ik ~ N(0, transverse²) adds the rows τ_ik / transverse. A scale reading adds the row
+    (m_W − θ_0)/σ_W, with ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative.
     """
     G, H = sensitivities(model, s, e)
     D = None
-    if T is not None:
-        lines = np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)  # (n_s, 6, 2)
-        V = np.linalg.solve(model.mass_matrix(model.theta), e.T)
-        D = np.einsum("nak,aj->njk", lines, V) / sigma[:, :, None]
+    if lines is not None:
+        D = (e @ model.mass_matrix_inverse) @ lines / sigma[:, :, None]
     scale = {}
     if weighed is not None:
         row = np.eye(model.p)[0] * model.scale[0] / weighed.sd
@@ -239,11 +281,12 @@ def estimate(
     s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
     points, directions = data.sensors.points, data.sensors.directions
     T = None if planar or transverse <= 0 else perpendicular_bases(directions)
+    lines = None if T is None else transverse_lines(points, T)
     tilt = np.zeros((len(directions), 0 if T is None else 2))
     theta, constrained = model.theta, False
     for _ in range(iterations):
-        s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-        system, _ = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse, weighed)
+        s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
+        system, _ = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse, weighed)
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
         if not np.all(np.isfinite(candidate)):
@@ -259,43 +302,38 @@ def estimate(
         model = RigidModel(model.body(theta), planar)
         if max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
             break
-    s = s0 if T is None else _coordinates(points, directions + np.einsum("nak,nk->na", T, tilt))
-    system, H = weighted_system(model, s, e, data.values, sigma, T, points, tilt, transverse, weighed)
+    s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
+    system, H = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse, weighed)
     chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
     prior = 0.0 if T is None else transverse
-    z = studentised(system.scale_r, leverage[-1]) if weighed is not None else np.nan
+    z = studentised(system.scale_r, leverage) if weighed is not None else np.nan
     residual = data.values - H
     return Estimate(model.nominal, model, covariance, chi2, dof, residual, constrained, readings, prior, weighed, z)
 
 
-def reduced_chi2(system: WeightedSystem) -> tuple[float, float, np.ndarray]:
-    """Σ r² / (n − p_eff) over the measured rows, n − p_eff, and each measured row's leverage h.
+def reduced_chi2(system: WeightedSystem) -> tuple[float, float, float]:
+    """Σ r² / (n − p_eff) over the measured rows, n − p_eff, and the scale row's leverage h (nan without one).
 
     The measured rows are the masslines and, when weighed, the scale's reading: a datum like any
     massline, whose disagreement with them must raise χ². p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ) over those rows
-    counts the parameters the data pay for: the properties and as much of each channel's transverse
-    reading as the data, not the prior, determine (E Σ r² = n − p_eff for a linear model). Counting the
-    two transverse components of every channel in full (or not at all) makes χ² too small on a layout
-    with few hits per channel. χ² is nan when nothing is left over to judge the fit by (no redundancy).
+    (:meth:`WeightedSystem.paid_parameters`) counts the parameters the data pay for: the properties and as
+    much of each channel's transverse reading as the data, not the prior, determine (E Σ r² = n − p_eff for
+    a linear model). Counting the two transverse components of every channel in full (or not at all) makes
+    χ² too small on a layout with few hits per channel. χ² is nan when nothing is left over to judge the
+    fit by (no redundancy).
     """
-    J, _ = system.dense()
     measured = system.measured
     n = measured.size
     try:
-        leverage = np.einsum("ij,ji->i", J[:n], np.linalg.solve(J.T @ J, J[:n].T))
+        paid, leverage = system.paid_parameters(), system.scale_leverage()
     except np.linalg.LinAlgError:
-        return np.nan, 0.0, np.full(n, np.nan)
-    left = n - float(np.sum(leverage))
+        return np.nan, 0.0, np.nan
+    left = n - paid
     return (float(np.sum(measured**2) / left) if left > 0.5 else np.nan), max(left, 0.0), leverage
 
 
 def studentised(residual: float, leverage: float) -> float:
     """r / √(1 − h): a measured row's residual in σ of its own prediction error (nan when h ≈ 1)."""
     return residual / np.sqrt(1 - leverage) if leverage < 1 - 1e-9 else np.nan
-
-
-def _coordinates(points: np.ndarray, readings: np.ndarray) -> np.ndarray:
-    """Line coordinates (d, r × d) of unnormalised reading vectors d (a gain stays a gain)."""
-    return np.hstack([readings, np.cross(points, readings)])

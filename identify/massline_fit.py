@@ -12,16 +12,30 @@ modes above (−ω² Σ φφᵀ/ω_r², complex with their damping) and D its ne
 in the CoG and products of inertia. The fit is linear in (A, Re B, Im B,
 Re C, Im C, D); the scatter of its residual gives each massline's standard
 deviation, from the data and not from an assumed noise.
+
+In x = ω²/ω_mid² every column is a power of x, and the real and imaginary parts have
+their own coefficients: Re H = A + B_r x⁻¹ + C_r x + D x², Im H = B_i x⁻¹ + C_i x. The
+weighted least squares of every FRF thus needs only its sums over the band's lines
+(:class:`LineSums`): Σ w² xᵐ, Σ w² Re H xᵐ, Σ w² Im H xᵐ and Σ w² |H|², and the
+unweighted Σ xᵐ give the truncation shift of each massline (:func:`truncation_shift`). Sums
+over adjacent runs of lines add, so the candidate bands of :mod:`.band_choice` share them;
+:func:`fit_band` refines its fits once from their residuals, to a QR fit's accuracy.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.identify.tails import scaled_frequency
 from massline.placement.errors import MasslineError
+
+REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
+RICHER = (-2, 3)  # each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): what the truncation shift carries into A
+IMAG = (-1, 1)  # powers of x in Im H: Im B, Im C
+WEIGHT_POWERS = np.arange(-4, 7)  # every product of two columns' powers
+REAL_POWERS = np.arange(-2, 4)  # every real column's power
+WEIGHT_FLOOR = 1e-12  # a line's least weight γ²/(1 − γ²): a coherence of 0 weighs as 1e-12
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,35 +67,144 @@ class BandFit:
     truncation: np.ndarray
 
 
-def design_matrix(omega: np.ndarray, richer: bool = False) -> np.ndarray:
-    """Rows of Re and Im parts of H(ω) = A + B/ω² + Cω² + Dω⁴ in (A, Re B, Im B, Re C, Im C, D), scaled to O(1).
+@dataclass(frozen=True, eq=False)
+class LineSums:
+    """Each FRF's weighted sums over a run of lines, in x = ω²/ω_ref².
 
-    ``richer`` adds each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): the model a band is checked against.
+    Attributes
+    ----------
+    weight : (n_fr, 11) array
+        Σ w² xᵐ, m = −4 … 6 (w² the line's weight, dimensionless).
+    real : (n_fr, 6) array
+        Σ w² Re H xᵐ, m = −2 … 3, (m/s²)/N.
+    imag : (n_fr, 2) array
+        Σ w² Im H xᵐ, m = ±1, (m/s²)/N.
+    square : (n_fr,) array
+        Σ w² |H|², ((m/s²)/N)².
+    lines : int
+        How many lines were summed.
+    plain : (11,) array
+        Σ xᵐ, m = −4 … 6, unweighted: the gram of the band's own design (:func:`truncation_shift`).
     """
-    x = scaled_frequency(omega)  # ω²/ω_mid²: keeps the columns comparable
-    zero = np.zeros_like(x)
-    real = [np.ones_like(x), 1 / x, zero, x, zero, x**2] + ([1 / x**2, x**3] if richer else [])
-    imag = [zero, zero, 1 / x, zero, x, zero] + ([zero, zero] if richer else [])
-    return np.vstack([np.column_stack(real), np.column_stack(imag)])
+
+    weight: np.ndarray
+    real: np.ndarray
+    imag: np.ndarray
+    square: np.ndarray
+    lines: int
+    plain: np.ndarray
+
+    def __add__(self, other: LineSums) -> LineSums:
+        return LineSums(
+            self.weight + other.weight,
+            self.real + other.real,
+            self.imag + other.imag,
+            self.square + other.square,
+            self.lines + other.lines,
+            self.plain + other.plain,
+        )
+
+    def rescaled(self, s: float) -> LineSums:
+        """The same sums in x' = s x."""
+        s = float(s)
+        return LineSums(
+            self.weight * s**WEIGHT_POWERS,
+            self.real * s**REAL_POWERS,
+            self.imag * s ** np.array(IMAG),
+            self.square,
+            self.lines,
+            self.plain * s**WEIGHT_POWERS,
+        )
 
 
-def truncation_shift(X: np.ndarray, coef: np.ndarray) -> np.ndarray:
-    """The change of each massline when each tail's next term is removed from the data, (n_s, n_e).
+def line_sums(x: np.ndarray, real: np.ndarray, imag: np.ndarray, w2: np.ndarray) -> LineSums:
+    """The sums of FRFs Re H, Im H (n_fr, n) at x (n,) with line weights w2 (n_fr, n) or (1, n)."""
+    powers = x[:, None] ** WEIGHT_POWERS
+    weight = np.broadcast_to(w2 @ powers, (len(real), len(WEIGHT_POWERS)))
+    weighted_real, weighted_imag = w2 * real, w2 * imag
+    square = np.einsum("fn,fn->f", weighted_real, real) + np.einsum("fn,fn->f", weighted_imag, imag)
+    sums_real = weighted_real @ powers[:, 2:8]  # x⁻² … x³
+    sums_imag = weighted_imag @ powers[:, [3, 5]]  # x⁻¹, x
+    return LineSums(weight, sums_real, sums_imag, square, len(x), powers.sum(axis=0))
+
+
+def band_lines(frf: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Re H and Im H (n_fr, n) of the kept lines, each contiguous."""
+    shape = (frf.shape[0] * frf.shape[1], int(np.count_nonzero(keep)))  # a run may hold no line
+    return frf.real[:, :, keep].reshape(shape), frf.imag[:, :, keep].reshape(shape)
+
+
+@dataclass(frozen=True, eq=False)
+class Solution:
+    """Every FRF's weighted least-squares fit from its sums (x = ω²/ω_mid²).
+
+    Attributes
+    ----------
+    real : (n_fr, 4 or 6) array
+        A, Re B, Re C, D (and B₂, D₂): the coefficients of Re H on the powers REAL (+ RICHER) of x, (m/s²)/N.
+    imag : (n_fr, 2) array
+        Im B, Im C: the coefficients of Im H on x⁻¹ and x, (m/s²)/N.
+    variance : (n_fr,) array
+        [(XᵀW²X)⁻¹]₀₀: A's variance per unit variance of a weighted line, dimensionless.
+    rss : (n_fr,) array
+        Weighted residual sum of squares Σ w² |H − fit|², ((m/s²)/N)².
+    dof : int
+        Lines' real and imaginary parts less the coefficients.
+    """
+
+    real: np.ndarray
+    imag: np.ndarray
+    variance: np.ndarray
+    rss: np.ndarray
+    dof: int
+
+    @property
+    def std(self) -> np.ndarray:
+        """1-σ of each A from the residual scatter, (m/s²)/N."""
+        return np.sqrt(np.maximum(self.rss, 0.0) / self.dof * self.variance)
+
+
+def gram(weight: np.ndarray, powers: tuple) -> np.ndarray:
+    """Σ w² x^(a+b) over the columns' powers a, b: (n_fr, k, k)."""
+    return weight[:, np.add.outer(powers, powers) + 4]
+
+
+def solve(sums: LineSums, richer: bool = False) -> Solution:
+    """Every FRF's fit from its sums; the weighted RSS as Σ w²|H|² − cᵀXᵀW²y (exact to ~1e-10, cancellation)."""
+    powers = REAL + (RICHER if richer else ())
+    G = gram(sums.weight, powers)
+    g = sums.real[:, np.array(powers) + 2]
+    real = np.linalg.solve(G, g[..., None])[..., 0]
+    imag = np.linalg.solve(gram(sums.weight, IMAG), sums.imag[..., None])[..., 0]
+    rss = sums.square - np.einsum("fk,fk->f", real, g) - np.einsum("fk,fk->f", imag, sums.imag)
+    dof = max(2 * sums.lines - len(powers) - len(IMAG), 1)
+    return Solution(real, imag, np.linalg.inv(G)[:, 0, 0], rss, dof)
+
+
+def columns(x: np.ndarray, powers) -> np.ndarray:
+    """xᵐ (k, n) for each power m."""
+    return x[None, :] ** np.array(powers, dtype=float)[:, None]
+
+
+def truncation_shift(sums: LineSums, fit: Solution, richer: bool = False) -> np.ndarray:
+    """The change of each massline when each tail's next term is removed from the data, (n_fr,).
 
     A single mode below the band gives the real tail A (x_s/x + x_s²/x² + …) and one above it
     R (x/x_r + x²/x_r² + x³/x_r³ + …), so the first terms the fit leaves out are B₂/x² with B₂ = B²/A and
-    D₂x³ with D₂ = D²/C (scaled coefficients ``coef`` of :func:`design_matrix`'s columns). The band's
-    design ``X`` carries a part of each into A: that part, the row of X⁺ that gives A applied to them,
-    is what the truncation of the tails may bias the massline by. Several modes make the next terms larger
-    than a single one does when they are far apart, so this is a size, not a correction.
+    D₂x³ with D₂ = D²/C (the scaled coefficients of ``fit``). The band's design X, unweighted, carries a part
+    of each into A: that part, the row of X⁺ that gives A applied to them, is what the truncation of the
+    tails may bias the massline by. Several modes make the next terms larger than a single one does when
+    they are far apart, so this is a size, not a correction.
+
+    X is block-diagonal in (Re H: the powers REAL of x) and (Im H: IMAG), and the next terms are real, so
+    the row of X⁺ = (XᵀX)⁻¹Xᵀ applied to a column xᵏ is [G⁻¹ h]₀ with G = Σ x^(a+b) over the real
+    columns' powers a, b and h_a = Σ x^(a+k): the unweighted sums ``sums.plain`` give both.
     """
-    n = X.shape[0] // 2
-    x = X[:n, 3]  # the Cω² column: x = ω²/ω_mid²
-    zero = np.zeros(n)
-    row = np.linalg.pinv(X)[0]
-    into_suspension = row @ np.concatenate([1 / x**2, zero])
-    into_flexibility = row @ np.concatenate([x**3, zero])
-    A, B, C, D = coef[..., 0], coef[..., 1], coef[..., 3], coef[..., 5]
+    powers = REAL + (RICHER if richer else ())
+    G = sums.plain[np.add.outer(powers, powers) + 4]
+    h = sums.plain[np.add.outer(powers, RICHER) + 4]  # (k, 2): Σ x^(a−2), Σ x^(a+3)
+    into_suspension, into_flexibility = np.linalg.solve(G, h)[0]
+    A, B, C, D = (fit.real[:, k] for k in range(4))
     with np.errstate(divide="ignore", invalid="ignore"):
         B2 = np.where(A != 0, B**2 / A, 0.0)
         D2 = np.where(C != 0, D**2 / C, 0.0)
@@ -93,35 +216,61 @@ def fit_band(
 ) -> BandFit:
     """Least-squares fit of A + B/ω² + Cω² + Dω⁴ to every FRF (n_s, n_e, n_f) over low ≤ f ≤ high (Hz).
 
-    ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF;
-    ``richer`` fits each tail's next term too (:func:`design_matrix`).
+    ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF (floored at
+    WEIGHT_FLOOR: an FRF with coherence 0 on every line of the band is fitted unweighted, not left singular);
+    ``richer`` fits each tail's next term too, B₂/ω⁴ and D₂ω⁶.
     """
     keep = (frequencies >= low) & (frequencies <= high)
     n = int(keep.sum())
     if n < 8:
         raise MasslineError(f"the band {low:g}–{high:g} Hz holds {n} spectral lines; at least 8 are needed")
     omega = 2 * np.pi * frequencies[keep]
-    X = design_matrix(omega, richer)
     mid2 = omega[0] * omega[-1]
-    H = frf[:, :, keep]
-    Y = np.concatenate([H.real, H.imag], axis=2)  # (n_s, n_e, 2n)
-    w = np.ones_like(Y) if weights is None else np.sqrt(np.concatenate([weights[:, :, keep]] * 2, axis=2))
-    coef = np.empty(Y.shape[:2] + (X.shape[1],))
-    std = np.empty(Y.shape[:2])
-    rms = np.empty(Y.shape[:2])
-    for i, j in np.ndindex(*Y.shape[:2]):
-        Xw, yw = X * w[i, j, :, None], Y[i, j] * w[i, j]
-        c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
-        r = yw - Xw @ c
-        sigma2 = r @ r / max(len(yw) - X.shape[1], 1)
-        cov = sigma2 * np.linalg.pinv(Xw.T @ Xw)
-        coef[i, j], std[i, j] = c, np.sqrt(cov[0, 0])
-        rms[i, j] = np.sqrt(np.mean((Y[i, j] - X @ c) ** 2))
-    A = coef[..., 0]
+    x = omega**2 / mid2
+    real, imag = band_lines(frf, keep)
+    w2 = line_weights(weights, keep, real.shape)
+    sums = line_sums(x, real, imag, w2)
+    fit = solve(sums, richer)
+    powers = REAL + (RICHER if richer else ())
+    real_columns, imag_columns = columns(x, powers), columns(x, IMAG)
+    plain = real.mean(axis=1)
+    model_real, model_imag = fit.real @ real_columns, fit.imag @ imag_columns
+    real = np.subtract(real, model_real, out=model_real)  # the residuals, in the model's arrays
+    imag = np.subtract(imag, model_imag, out=model_imag)
+    # one step of iterative refinement from the residuals: the tails' coefficients to a QR fit's accuracy
+    # (the normal equations alone leave C and D ~1e-9 off, and the truncation shift with them)
+    weighted = (real, imag) if weights is None else (w2 * real, w2 * imag)
+    g_real, g_imag = weighted[0] @ real_columns.T, weighted[1] @ imag_columns.T
+    step_real = np.linalg.solve(gram(sums.weight, powers), g_real[..., None])[..., 0]
+    step_imag = np.linalg.solve(gram(sums.weight, IMAG), g_imag[..., None])[..., 0]
+    # the weighted RSS from the residuals (no cancellation), less the step's δᵀg = δᵀGδ (≥ 0, tiny)
+    rss = np.einsum("fn,fn->f", weighted[0], real) + np.einsum("fn,fn->f", weighted[1], imag)
+    rss -= np.einsum("fk,fk->f", step_real, g_real) + np.einsum("fk,fk->f", step_imag, g_imag)
+    real -= step_real @ real_columns
+    imag -= step_imag @ imag_columns
+    squares = np.einsum("fn,fn->f", real, real) + np.einsum("fn,fn->f", imag, imag)
+    fit = replace(fit, real=fit.real + step_real, imag=fit.imag + step_imag, rss=rss)
+    shape = frf.shape[:2]
+    A = fit.real[:, 0].reshape(shape)
     if not np.isfinite(A).all():
         raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
-    B = (coef[..., 1] + 1j * coef[..., 2]) * mid2
-    C = (coef[..., 3] + 1j * coef[..., 4]) / mid2
+    rms = np.sqrt(squares / (2 * n)).reshape(shape)
+    B = ((fit.real[:, 1] + 1j * fit.imag[:, 0]) * mid2).reshape(shape)
+    C = ((fit.real[:, 2] + 1j * fit.imag[:, 1]) / mid2).reshape(shape)
     scale = np.maximum(np.abs(A), 1e-300)
-    plain = H.real.mean(axis=2)
-    return BandFit(A, std, B, C, rms / scale, np.abs(plain - A) / scale, truncation_shift(X, coef))
+    plain = plain.reshape(shape)
+    truncation = truncation_shift(sums, fit, richer).reshape(shape)
+    return BandFit(A, fit.std.reshape(shape), B, C, rms / scale, np.abs(plain - A) / scale, truncation)
+
+
+def line_weights(weights, keep: np.ndarray, shape: tuple) -> np.ndarray:
+    """The lines' weights w² (n_fr, n) over the kept lines, or ones (1, n) without weights.
+
+    Weights below WEIGHT_FLOOR count as it: an FRF whose coherence is 0 on every line of the band is fitted
+    with equal weights, as it would be without coherence, its 1-σ from its own scatter (and the pipeline's
+    coherence warning names it), where zero weights would leave its fit undetermined.
+    """
+    if weights is None:
+        return np.ones((1, shape[1]))
+    w2 = weights[:, :, keep].reshape(shape)  # a copy: floored in place
+    return np.maximum(w2, WEIGHT_FLOOR, out=w2)

@@ -14,13 +14,28 @@ by a constant only and keeps the numerics well scaled.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
 
 import numpy as np
 
 from massline.placement.lines import Lines
 from massline.placement.plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
-from massline.placement.rigid_body import PARAMETER_NAMES, RigidBody, mass_matrix, steiner, tensor_from_six
+from massline.placement.rigid_body import (
+    PARAMETER_NAMES,
+    RigidBody,
+    mass_matrix,
+    mass_matrix_basis,
+    steiner,
+    tensor_from_six,
+)
+
+
+@cache
+def unit_basis(planar: bool) -> np.ndarray:
+    """∂M/∂θ_k (p, q, q) in SI parameters: M(θ) = Σ θ_k B_k is linear, so one basis serves every model."""
+    basis = np.array([plate_mass_matrix(e) for e in np.eye(6)]) if planar else mass_matrix_basis()
+    basis.flags.writeable = False
+    return basis
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,7 +72,7 @@ class RigidModel:
     @cached_property
     def basis(self) -> np.ndarray:
         """∂M/∂θ̃_k, shape (p, q, q), in the scaled parameters."""
-        return np.array([self.mass_matrix(e) for e in np.eye(self.p)]) * self.scale[:, None, None]
+        return unit_basis(self.planar) * self.scale[:, None, None]
 
     @cached_property
     def mass_matrix_inverse(self) -> np.ndarray:

@@ -290,3 +290,16 @@ def test_a_stiff_support_is_never_silently_wrong(plate):
         error = abs(found.body.mass / plate.mass - 1)
         assert error < 2 * found.std["mass"] / plate.mass or found.warnings
         assert {"chi2_reduced", "warnings", "sensor_mass"} <= set(found.payload)
+
+
+def test_an_frf_with_no_coherence_in_the_band_is_named_not_a_traceback(structure):
+    """Coherence 0 on every line of one FRF (a dead channel, or an exporter's zeros): identify fits that FRF
+    unweighted and names it in the coherence warning, where zero weights left its band fit singular."""
+    cord = Suspension(cords=(Cord(structure.cog + [0, 0, 0.02], structure.mass * 9.81 / 0.25, 1.0),))
+    setup = Acquisition(200.0, 400, Noise(0.01, 0.0))
+    rec, _ = run(structure, structure_sensors(), structure_exciters(), None, cord, (), setup, seed=1)
+    coherence = rec.coherence.copy()
+    coherence[2, 1] = 0.0
+    found = identify_recording(type(rec)(rec.frequencies, rec.frf, rec.sensors, rec.exciters, coherence), None, draws=0)
+    assert abs(found.body.mass / structure.mass - 1) < 0.01
+    assert any("coherence" in w and "sensor 3 / hit 2" in w for w in found.warnings), found.warnings
