@@ -1,38 +1,57 @@
 """Blind diagnosis: every effect of the library concealed in realistic virtual tests, seen only through the UFF.
 
-Two bodies and layouts (the bracket: 12 uniaxial + 2 triaxial accelerometers, 4 hits; the 3-D
-structure: 14 uniaxial, 4 hits), each with its FE modes, the planned soft cord, 1 % noise and up to
-2 % transverse sensitivity on every channel (:mod:`massline.virtual.scenarios`). Each case
-draws one fault of random size and place; the tool gets the UFF file, the planned band and the mesh.
+Three bodies and layouts (the bracket: 12 uniaxial + 2 triaxial accelerometers, 4 hits; the 3-D structure: 14
+uniaxial, 4 hits; the plate: 8 out-of-plane accelerometers, 4 hits), each with its FE modes, on a soft cord,
+a stiff cord or foam, 1 % noise (or hammer hits with H1 averaging) and up to 2 % transverse sensitivity on
+every channel, written as SI files or as exporters write them (0 Hz line, g/N, mm, coherence)
+(:mod:`massline.virtual.scenarios`). Each case draws one fault or a pair of random size and place, or none;
+the tool gets the UFF file, the planned band and the mesh's bare body. Measures (:mod:`blind_measures`):
+the injected faults named first among faults at their places, no fault on clean tests, the properties after
+within identify's bounds against the bare body and never worse than identify's by more than 1σ, every
+printed support / elastic frequency within 10 %.
 
-Run as a script (``python tests/test_diagnose_blind.py SEEDS``) it prints the confusion matrix
-(effect injected × effect named first) and the property errors, for more seeds than the test uses.
+The test runs a fixed representative subset (``ci_cases``); ``python tests/test_diagnose_blind.py SEEDS``
+runs the full suite (``full_cases``) and prints the confusion matrix, property errors and frequency checks.
 """
 
 from __future__ import annotations
 
 import sys
-from collections import Counter
+import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from blind_measures import TAILS, outcome, report
 
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.placement.mesh import load_body
 from massline.placement.planner import Budget, plan
 from massline.uff.reader import read_uff, to_recording
-from massline.uff.writer import write_uff
 from massline.virtual.elastic import ElasticBody, Material
-from massline.virtual.scenarios import FAULTS, Bench, scenario
+from massline.virtual.scenarios import (
+    FAULTS,
+    PAIRS,
+    PLANAR_FAULTS,
+    Bench,
+    Conditions,
+    scenario,
+    write_case,
+)
 
 BENCHES = {
     "bracket": (Budget(sensors=12, exciters=4, triaxial=2), (70e9, 0.33)),  # aluminium
     "structure": (Budget(sensors=14, exciters=4), (210e9, 0.3)),  # steel
+    "plate": (Budget(sensors=8, exciters=4), (70e9, 0.33)),  # aluminium, out-of-plane lines
 }
-TAILS = ("suspension", "residual_flexibility")
-BOUNDS = {"mass": 0.003, "cog_m": 1e-3, "moments": 0.01}  # the identify issue's accuracy
+CYCLE = (  # the conditions faulty cases run under, by seed
+    Conditions("soft", "exporter"),
+    Conditions("foam", "exporter"),
+    Conditions("soft", "direct"),
+)
+STIFF = Conditions("stiff", "exporter")  # support top at f1/10: a narrow band; faults on it are reported apart
+CLEAN = tuple(Conditions(s, y) for s in ("soft", "stiff", "foam") for y in ("exporter", "direct"))
 
 
 def bench(name: str) -> Bench:
@@ -41,136 +60,100 @@ def bench(name: str) -> Bench:
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
     planned = plan(mesh, budget)
     modes = ElasticBody.from_mesh(mesh.mesh, Material(youngs, poisson, mesh.density)).modes(12)
-    return Bench(mesh.nominal, planned.sensors, planned.exciters, modes, modes.frequencies_hz[0] / 2.5)
+    fmax = modes.frequencies_hz[0] / 2.5
+    return Bench(mesh.nominal, planned.sensors, planned.exciters, modes, fmax, 2000, mesh.mesh, name == "plate")
 
 
-def blind_case(bench: Bench, fault: str | None, seed: int, folder: Path) -> dict:
-    """Simulate, write the UFF, read it back, diagnose with the planned band and the mesh's body.
-
-    ``named``: the first fault named, or for a concealed test-physics scenario (a support or an elastic mode
-    reaching into the band) that law when it is reported and no fault is named.
-    """
-    recording, truth = scenario(bench, fault, seed)
-    path = folder / f"{fault}-{seed}.uff"
-    write_uff(path, recording, force=True)
-    found = diagnose_recording(to_recording(read_uff(path)), tuple(truth["planned_band_hz"]), bench.body)
-    faults = [x for x in found.findings if x.kind == "fault"]
-    physics = [x.effect for x in found.findings if x.kind == "test_physics"]
-    first = faults[0] if faults else None
-    named = first.effect if first else (fault if fault in TAILS and fault in physics else None)
-    body, before, after = bench.body, found.before.body, found.after_body
-    lines = truth["fault"]["lines"]
-    return {
-        "mass_before": before.mass / body.mass - 1,
-        "cog_before_m": float(np.abs(before.cog - body.cog).max()),
-        "moments_before": float(np.abs(before.principal_moments / body.principal_moments - 1).max()),
-        "fault": fault,
-        "seed": seed,
-        "named": named,
-        "placed": first is None or _placed(fault, lines, first),
-        "findings": len(faults),
-        "fit_ratio": found.result.relative_rms("after") / found.result.noise,
-        "mass": after.mass / body.mass - 1,
-        "mass_sigma": abs(after.mass - body.mass) / found.after.std["mass"],
-        "cog_m": float(np.abs(after.cog - body.cog).max()),
-        "moments": float(np.abs(after.principal_moments / body.principal_moments - 1).max()),
-    }
+def blind_case(b: Bench, faults, seed: int, conditions: Conditions, folder: Path) -> dict:
+    """Simulate, write the UFF in the conditions' style, read it back, diagnose with the planned band and the
+    mesh's bare body; the measures of :func:`blind_measures.outcome`."""
+    recording, truth = scenario(b, faults, seed, conditions)
+    path = folder / f"case-{seed}.uff"
+    write_case(path, recording, conditions)
+    start = time.perf_counter()
+    band = truth["planned_band_hz"]
+    found = diagnose_recording(to_recording(read_uff(path)), band and tuple(band), b.body)
+    return {**outcome(found, truth, b.body, b.planar), "seconds": time.perf_counter() - start}
 
 
-def _placed(fault: str | None, lines, finding) -> bool:
-    """The first finding sits where the fault was put (an accelerometer's group counts for its channels)."""
-    if fault in TAILS or fault is None:
-        return True
-    where = [line - 1 for line in lines]
-    if fault == "channel_swap":
-        return set(finding.channels) == set(where)
-    if fault.startswith("excitation"):
-        return finding.exciter == where[0]
-    return where[0] in finding.channels
+def full_cases(name: str, seeds: int) -> list:
+    """Every fault of the bench under cycling conditions, the pairs, clean tests on every support and file,
+    a few hammer tests (slow: clean, a polarity flip, a swap), and every fault once on the stiff cord."""
+    faults = PLANAR_FAULTS if name == "plate" else FAULTS
+    cases = [(None, s, c) for s in range(seeds) for c in CLEAN]
+    cases += [(f, s, CYCLE[s % len(CYCLE)]) for f in faults for s in range(seeds)]
+    if name != "plate":
+        cases += [(p, s, CYCLE[s % len(CYCLE)]) for p in PAIRS for s in range(seeds)]
+        cases += [(f, 0, Conditions("soft", "impact")) for f in (None, "sensor_polarity", "channel_swap")]
+    return cases + [(f, seeds, STIFF) for f in faults]
 
 
-def run_suite(seeds: int, clean: int, folder: Path) -> list[dict]:
+def ci_cases(name: str) -> list:
+    """The fixed subset CI runs: per 3-D bench every fault once or twice, the pairs once, clean on every
+    support; on the plate its faults once; one hammer test."""
+    if name == "plate":
+        return [(None, 0, CLEAN[0]), (None, 1, CLEAN[4])] + [(f, 0, CYCLE[0]) for f in PLANAR_FAULTS]
+    clean = [(None, 0, CLEAN[0]), (None, 1, CLEAN[1]), (None, 2, CLEAN[2]), (None, 3, CLEAN[4])]
+    single = [(f, s, CYCLE[(s + k) % len(CYCLE)]) for k, f in enumerate(FAULTS) for s in range(2 if k % 2 else 1)]
+    pairs = [(p, 0, CYCLE[k]) for k, p in enumerate(PAIRS)]
+    return clean + single + pairs + ([(None, 0, Conditions("soft", "impact"))] if name == "bracket" else [])
+
+
+def run_suite(which, folder: Path) -> list[dict]:
     rows = []
     for name in BENCHES:
         b = bench(name)
-        rows += [{**blind_case(b, None, s, folder), "bench": name} for s in range(clean)]
-        rows += [{**blind_case(b, f, s, folder), "bench": name} for f in FAULTS for s in range(seeds)]
+        for faults, seed, conditions in which(name):
+            row = blind_case(b, faults, seed, conditions, folder)
+            rows.append({**row, "bench": name, "support": conditions.support, "style": conditions.style})
     return rows
 
 
 @pytest.fixture(scope="module")
 def outcomes(tmp_path_factory):
-    return run_suite(seeds=2, clean=6, folder=tmp_path_factory.mktemp("blind"))
+    return run_suite(ci_cases, tmp_path_factory.mktemp("blind"))
 
 
 @pytest.mark.slow
-def test_the_right_effect_is_named_first_at_the_right_place(outcomes):
-    faulty = [r for r in outcomes if r["fault"] is not None]
-    right = [r["named"] == r["fault"] and r["placed"] for r in faulty]
-    assert np.mean(right) >= 0.95, confusion(outcomes)
+def test_the_right_faults_are_named_first_at_their_places(outcomes):
+    faulty = [r["right"] for r in outcomes if r["injected"] != "none"]
+    assert np.mean(faulty) >= 0.95, report(outcomes)
 
 
 @pytest.mark.slow
 def test_clean_tests_have_no_faults(outcomes):
-    clean = [r["findings"] == 0 for r in outcomes if r["fault"] is None]
+    clean = [r["faults_named"] == 0 for r in outcomes if r["injected"] == "none"]
     assert np.mean(clean) >= 0.95
 
 
 @pytest.mark.slow
-def test_the_fit_after_is_within_one_and_a_half_times_the_noise(outcomes):
-    assert max(r["fit_ratio"] for r in outcomes) < 1.5
-
-
-@pytest.mark.slow
 def test_properties_after_meet_the_identify_bounds(outcomes):
-    """In ≥ 95 % of cases: the bounds; for tails inside the planned band, the bounds or the error within 3σ
-    (a support or elastic mode that reaches into the band leaves the massline less determined, and says so)."""
+    """In ≥ 95 % of cases: the bounds, or within 2σ with identify's warning (as identify promises on a stiff
+    support); for tails inside the planned band, or the mass within 3σ (a support or elastic mode that reaches
+    into the band leaves the massline less determined, and says so)."""
 
     def within(r):
-        inside = abs(r["mass"]) < BOUNDS["mass"] and r["cog_m"] < BOUNDS["cog_m"] and r["moments"] < BOUNDS["moments"]
-        return inside or (r["fault"] in TAILS and r["mass_sigma"] < 3)
+        tails = set(r["injected"].split("+")) & set(TAILS)
+        return r["within"] or r["covered"] or (tails and r["mass_sigma"] < 3)
 
     assert np.mean([within(r) for r in outcomes]) >= 0.95, [r for r in outcomes if not within(r)]
 
 
-def confusion(rows: list[dict]) -> str:
-    """The confusion matrix (injected × named first) as text."""
-    names = ["none", *FAULTS]
-    counts = Counter((r["fault"] or "none", r["named"] or "none") for r in rows)
-    width = max(len(n) for n in names)
-    head = " " * width + " | " + " ".join(f"{k:>3}" for k in range(len(names)))
-    lines = [head] + [f"{a:>{width}} | " + " ".join(f"{counts[a, b]:>3}" for b in names) for a in names]
-    return "\n".join(lines + [f"columns: {', '.join(f'{k}={n}' for k, n in enumerate(names))}"])
+@pytest.mark.slow
+def test_properties_after_are_never_worse_than_identify_by_more_than_one_sigma(outcomes):
+    assert max(r["worse_sigma"] for r in outcomes) <= 1.0, [r for r in outcomes if r["worse_sigma"] > 1]
+
+
+@pytest.mark.slow
+def test_printed_support_and_elastic_frequencies_are_within_ten_percent(outcomes):
+    errors = [e for r in outcomes for e in r["frequency_errors"]]
+    assert max(errors, default=0.0) <= 0.10, [r for r in outcomes if max(r["frequency_errors"], default=0) > 0.1]
 
 
 if __name__ == "__main__":
     import tempfile
 
+    seeds = int(sys.argv[1]) if len(sys.argv) > 1 else 4
     with tempfile.TemporaryDirectory() as folder:
-        results = run_suite(int(sys.argv[1]) if len(sys.argv) > 1 else 5, 10, Path(folder))
-    print(confusion(results))
-    print("property errors before → after (median | worst over the seeds; no body: a fault no body explains)")
-    for fault in (None, *FAULTS):
-        rows = [r for r in results if r["fault"] == fault]
-        cells = []
-        for key, before, unit, scale in (
-            ("mass", "mass_before", "%", 100),
-            ("cog_m", "cog_before_m", "mm", 1e3),
-            ("moments", "moments_before", "%", 100),
-        ):
-            b = np.abs([r[before] for r in rows]) * scale
-            a = np.abs([r[key] for r in rows]) * scale
-            nobody = f" ({np.isnan(b).sum()} no body)" if np.isnan(b).any() else ""
-            cells.append(
-                f"{key} {np.nanmedian(b):.3g}|{np.nanmax(b):.3g} → {np.median(a):.3g}|{a.max():.3g} {unit}{nobody}"
-            )
-        print(f"{fault or 'none':>20}: " + "; ".join(cells))
-    fits = [r["fit_ratio"] for r in results]
-    print(f"fit after / noise: median {np.median(fits):.3f}, worst {np.max(fits):.3f}")
-    tails = [r["mass_sigma"] for r in results if r["fault"] in TAILS]
-    print(f"tails: mass error / reported σ: median {np.median(tails):.2f}, worst {np.max(tails):.2f}")
-    placed = [r["placed"] for r in results if r["fault"] is not None and r["named"] == r["fault"]]
-    print(
-        f"named right {sum(r['named'] == (r['fault']) for r in results if r['fault'])} of "
-        f"{sum(1 for r in results if r['fault'])}; placed right {sum(placed)} of {len(placed)}"
-    )
+        results = run_suite(lambda name: full_cases(name, seeds), Path(folder))
+    print(report(results))

@@ -1,39 +1,49 @@
-"""Blind scenarios: a realistic virtual test with one fault concealed, of random size and place.
+"""Blind scenarios: a realistic virtual test with its faults concealed, of random size and place.
 
-The clean test is what a careful lab produces: the planned layout hung on a
-soft cord (bounce 1 Hz, 1 m, 2 cm above the CoG), the body's elastic modes, 1 %
-noise, and every accelerometer reading a few per cent across its axis, as
-datasheets allow. A fault is one effect of the diagnosis library drawn from a
-realistic range (``RANGES``) at a random place:
+The clean test is what a careful lab produces: the planned layout on a support (``SUPPORTS``: the
+planned soft cord, bounce 1 Hz, 1 m, 2 cm above the CoG; a stiff cord whose top support mode is a
+tenth of the first elastic mode; foam pads under the lowest points), the body's elastic modes,
+1 % noise, and every accelerometer reading a few per cent across its axis, as datasheets allow.
+The file is written as a test system exports it (``STYLES``). A fault is one effect of the
+diagnosis library drawn from a realistic range (``RANGES``) at a random place:
 
 * the instrumentation effects of :mod:`.effects` on one line;
+* ``every_sensor_mass``: every accelerometer housing weighs 5–30 g (capped at ``LOADING_CAP`` of
+  the body's mass in all), the tool being given the bare mesh body;
 * ``suspension``: the body rests on a support much stiffer than planned (its bounce
   at 0.2–0.4 of the planned band's lower edge), attached at a random point;
 * ``residual_flexibility``: the body is softer than its mesh says (a joint, a
   different alloy): its elastic modes at 2–4 × the planned band's upper edge.
 
-The planned band is where the ideal massline holds to ``BAND_TOLERANCE`` on the
-nominal test, which the engineer passes to the diagnosis (``--band``).
+A scenario may carry two faults at once (``PAIRS``), at different accelerometers.
+The planned band is where the ideal massline holds to ``BAND_TOLERANCES`` on the
+nominal test on the clean support, which the engineer passes to the diagnosis (``--band``); where none
+holds (a plate on foam), none is passed.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
+from scipy.optimize import brentq
 
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
+from massline.uff.writer import write_uff
 from massline.virtual.band import predict_band
 from massline.virtual.effects import Effect
+from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension, point_above
+from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
 
-BAND_TOLERANCE = 0.0025  # the planned band: FRFs within 0.25 % of the massline
+BAND_TOLERANCES = (0.0025, 0.01, 0.04)  # the planned band: FRFs within 0.25 % of the massline, or 1 %, or 4 %
 TRANSVERSE = (0.0, 0.02)  # every channel's transverse sensitivity, drawn uniformly (fraction)
+LOADING_CAP = 0.2  # every housing's mass together: at most this share of the body's mass
 RANGES = {
     "sensor_direction": (8.0, 20.0),  # degrees
     "sensor_gain": (0.05, 0.3),  # fraction, either sign
@@ -41,17 +51,30 @@ RANGES = {
     "excitation_direction": (8.0, 20.0),  # degrees
     "excitation_location": (0.005, 0.02),  # m
     "sensor_mass_loading": (0.02, 0.05),  # fraction of the body's mass
+    "every_sensor_mass": (0.005, 0.030),  # kg per housing
     "suspension": (0.2, 0.4),  # bounce / planned band's lower edge
     "residual_flexibility": (2.0, 4.0),  # first elastic mode / planned band's upper edge
     "sensor_polarity": None,
     "channel_swap": None,
 }
 FAULTS = tuple(RANGES)
+PLANAR_FAULTS = ("sensor_polarity", "channel_swap", "sensor_gain", "sensor_location")
+PAIRS = (
+    ("channel_swap", "every_sensor_mass"),
+    ("sensor_polarity", "sensor_direction"),
+    ("excitation_direction", "suspension"),
+)
+TEST_PHYSICS = ("suspension", "residual_flexibility")
+SUPPORTS = ("soft", "stiff", "foam")
+STYLES = ("direct", "exporter", "impact")  # SI file; g/N and mm; hammer hits with H1 over 5 averages
 
 
 @dataclass(frozen=True, eq=False)
 class Bench:
-    """A body on the bench with its planned layout: what stays fixed across scenarios."""
+    """A body on the bench with its planned layout: what stays fixed across scenarios.
+
+    ``surface`` is the body's mesh (the foam's pads and the stiff cord's point); ``planar``: a plate.
+    """
 
     body: RigidBody
     sensors: Lines
@@ -59,58 +82,166 @@ class Bench:
     modes: object
     fmax: float
     lines: int = 2000
+    surface: object = None
+    planar: bool = False
 
     @property
     def cord(self) -> Suspension:
         """The planned support: bounce 1 Hz on a 1 m cord, 2 cm above the CoG."""
-        return Suspension(cords=(Cord(self.body.cog + 0.02 * UP, self.body.mass * GRAVITY / 0.25, 1.0),))
+        return soft_cord(self.body.mass, self.body.cog)
 
-    def planned_band(self) -> tuple[float, float]:
-        model = SuspendedBody(self.body, self.modes, self.cord, np.zeros(0), np.zeros((0, 3)), 0.002)
-        band = predict_band(model, self.sensors, self.exciters, BAND_TOLERANCE)
+    def planned_band(self, suspension: Suspension | None = None) -> tuple[float, float]:
+        """The band planned (Hz) on ``suspension`` (None: the soft cord) for the nominal body, to the tightest of
+        ``BAND_TOLERANCES`` any band holds (a plate's corners and a stiff support's modes allow no 0.25 % band)."""
+        suspension = suspension or self.cord
+        model = SuspendedBody(self.body, self.modes, suspension, np.zeros(0), np.zeros((0, 3)), 0.002)
+        for tolerance in BAND_TOLERANCES:
+            band = predict_band(model, self.sensors, self.exciters, tolerance)
+            if np.isfinite([band.low, band.high]).all():
+                break
         return float(band.low), float(band.high)
 
+    def faults(self) -> tuple:
+        """The faults this bench's layout can show (a plate's out-of-plane lines: polarity, swap, gain, location)."""
+        return PLANAR_FAULTS if self.planar else FAULTS
 
-def scenario(bench: Bench, fault: str | None, seed: int) -> tuple[Recording, dict]:
-    """The recording of one blind test and its truth (``truth["fault"]``: name, size, lines 1-based)."""
+
+@dataclass(frozen=True)
+class Conditions:
+    """How the test is run and exported: the support (``SUPPORTS``) and the file (``STYLES``)."""
+
+    support: str = "soft"
+    style: str = "direct"
+
+
+def soft_cord(mass: float, cog: np.ndarray) -> Suspension:
+    """Bounce 1 Hz on a 1 m cord, 2 cm above ``cog`` (m) of a body of ``mass`` (kg)."""
+    return Suspension(cords=(Cord(cog + 0.02 * UP, mass * GRAVITY / 0.25, 1.0),))
+
+
+def stiff_cord(bench: Bench, masses: np.ndarray, points: np.ndarray) -> Suspension:
+    """A 0.3 m cord above the CoG (with the added masses, kg at m) whose top support mode is at a tenth of the
+    first elastic mode."""
+    m = bench.body.mass + masses.sum()
+    cog = (bench.body.mass * bench.body.cog + masses @ points) / m
+    point, target = point_above(bench.surface, cog)[0], bench.modes.frequencies_hz[0] / 10
+
+    def top(k: float) -> float:
+        cord = Suspension(cords=(Cord(point, k, 0.3),), loss_factor=0.05)
+        model = SuspendedBody(bench.body, None, cord, masses, points)
+        return model.suspension_frequencies.max() - target
+
+    return Suspension(cords=(Cord(point, brentq(top, 1.0, 1e9), 0.3),), loss_factor=0.05)
+
+
+def support(bench: Bench, kind: str, masses: np.ndarray, points: np.ndarray) -> Suspension:
+    """The clean support of ``kind``; the soft cord is hung above the CoG with the added masses (kg at m)."""
+    if kind == "stiff":
+        return stiff_cord(bench, masses, points)
+    if kind == "foam":
+        return Suspension.parse("foam", bench.surface, bench.body)
+    m = bench.body.mass + masses.sum()
+    return soft_cord(m, (bench.body.mass * bench.body.cog + masses @ points) / m)
+
+
+def scenario(bench: Bench, faults, seed: int, conditions: Conditions = Conditions()) -> tuple[Recording, dict]:
+    """The recording of one blind test and its truth.
+
+    ``faults``: None, a fault's name or a tuple of names. ``truth["faults"]``: each one's name, size and lines
+    (1-based); ``truth["conditions"]``: the support and the file style.
+    """
+    names = () if faults is None else (faults,) if isinstance(faults, str) else tuple(faults)
     rng = np.random.default_rng(seed)
     for attempt in range(20):
         try:
-            return _draw(bench, fault, rng, seed * 100 + attempt)
+            return _draw(bench, names, rng, seed * 100 + attempt, conditions)
         except MasslineError:  # a moved sensor or hit that left the solid: draw again
             continue
-    raise MasslineError(f"no valid draw of {fault} in 20 attempts")
+    raise MasslineError(f"no valid draw of {names} in 20 attempts")
 
 
-def _draw(bench: Bench, fault: str | None, rng: np.random.Generator, seed: int) -> tuple[Recording, dict]:
-    low, high = bench.planned_band()
-    effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
-    cord, modes, size, where = bench.cord, bench.modes, None, None
-    n_s, n_e = len(bench.sensors), len(bench.exciters)
-    if fault == "suspension":
-        size = float(rng.uniform(*RANGES[fault])) * low
+def _free_lines(bench: Bench, taken: list, count: int, rng: np.random.Generator) -> tuple:
+    """``count`` sensor lines at accelerometers no other fault of the scenario uses."""
+    points = bench.sensors.points
+    free = [i for i in range(len(points)) if all(np.linalg.norm(points[i] - points[t]) > 1e-3 for t in taken)]
+    where = tuple(int(i) for i in rng.choice(free, size=count, replace=False))
+    taken.extend(where)
+    return where
+
+
+def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band) -> tuple[dict, dict]:
+    """One fault drawn: its truth (name, size, 0-based lines) and what it changes in the test."""
+    low, high = band
+    if name == "suspension":
+        size = float(rng.uniform(*RANGES[name])) * low
         point = bench.body.cog + rng.uniform(0.01, 0.05) * UP  # a single cord must hang above the CoG
-        cord = Suspension(cords=(Cord(point, bench.body.mass * (2 * np.pi * size) ** 2, 0.3),))
-    elif fault == "residual_flexibility":
-        size = float(rng.uniform(*RANGES[fault])) * high
+        return {"size": size, "where": None}, {
+            "cord": Suspension(cords=(Cord(point, bench.body.mass * (2 * np.pi * size) ** 2, 0.3),))
+        }
+    if name == "residual_flexibility":
+        size = float(rng.uniform(*RANGES[name])) * high
         modes = replace(bench.modes, omega=bench.modes.omega * size / bench.modes.frequencies_hz[0])
-    elif fault in ("sensor_polarity", "channel_swap"):
-        where = tuple(rng.choice(n_s, size=1 if fault == "sensor_polarity" else 2, replace=False).tolist())
-        effects.append(Effect(fault, 0.0, where))
-    elif fault is not None:
-        size = float(rng.uniform(*RANGES[fault]))
-        if fault == "sensor_gain":
-            size *= rng.choice([-1.0, 1.0])
-        if fault == "sensor_mass_loading":
-            size *= bench.body.mass
-        where = (int(rng.integers(n_e if fault.startswith("excitation") else n_s)),)
-        effects.append(Effect(fault, size, where))
-        if fault == "sensor_mass_loading":  # the cord is hung above the loaded body's CoG
-            m, p = bench.body.mass, bench.sensors.points[where[0]]
-            cog = (m * bench.body.cog + size * p) / (m + size)
-            cord = Suspension(cords=(replace(bench.cord.cords[0], attachment=cog + 0.02 * UP),))
-    setup = Acquisition(bench.fmax, bench.lines)
-    recording, truth = run(bench.body, bench.sensors, bench.exciters, modes, cord, tuple(effects), setup, seed)
-    truth["fault"] = {"name": fault, "size": size, "lines": None if where is None else [w + 1 for w in where]}
-    truth["planned_band_hz"] = [low, high]
+        return {"size": size, "where": None}, {"modes": modes}
+    if name == "every_sensor_mass":
+        count = len(accelerometer_masses(bench.sensors, 1.0)[0])
+        cap = min(1.0, LOADING_CAP * bench.body.mass / (count * RANGES[name][1]))
+        return {"size": float(rng.uniform(*RANGES[name])) * cap, "where": None}, {}
+    if name in ("sensor_polarity", "channel_swap"):
+        where = _free_lines(bench, taken, 1 if name == "sensor_polarity" else 2, rng)
+        return {"size": None, "where": where}, {"effect": Effect(name, 0.0, where)}
+    size = float(rng.uniform(*RANGES[name]))
+    size *= rng.choice([-1.0, 1.0]) if name == "sensor_gain" else 1.0
+    size *= bench.body.mass if name == "sensor_mass_loading" else 1.0
+    if name.startswith("excitation"):
+        where = (int(rng.integers(len(bench.exciters))),)
+    else:
+        where = _free_lines(bench, taken, 1, rng)
+    return {"size": size, "where": where}, {"effect": Effect(name, size, where)}
+
+
+def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions):
+    band = bench.planned_band(support(bench, conditions.support, np.zeros(0), np.zeros((0, 3))))
+    effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
+    taken, drawn, changes = [], [], {}
+    for name in names:
+        truth, change = _fault(bench, name, rng, taken, band)
+        drawn.append(
+            {
+                "name": name,
+                "size": truth["size"],
+                "lines": None if truth["where"] is None else [w + 1 for w in truth["where"]],
+            }
+        )
+        effects += [change.pop("effect")] if "effect" in change else []
+        changes.update(change)
+    housing = next((d["size"] for d in drawn if d["name"] == "every_sensor_mass"), 0.0)
+    masses, points = accelerometer_masses(bench.sensors, housing)
+    for d in drawn:
+        if d["name"] == "sensor_mass_loading":
+            masses, points = np.append(masses, d["size"]), np.vstack([points, bench.sensors.points[d["lines"][0] - 1]])
+    cord = changes.get("cord") or support(bench, conditions.support, masses, points)
+    setup = acquisition(bench, conditions, housing)
+    recording, truth = run(
+        bench.body, bench.sensors, bench.exciters, changes.get("modes", bench.modes), cord, tuple(effects), setup, seed
+    )
+    truth["faults"] = drawn
+    truth["conditions"] = {"support": conditions.support, "style": conditions.style}
+    truth["planned_band_hz"] = list(band) if np.isfinite(band).all() else None  # no band holds: none given
     return recording, truth
+
+
+def acquisition(bench: Bench, conditions: Conditions, housing: float) -> Acquisition:
+    """The direct route on the bench's record (0 Hz line and coherence; on the stiff cord to 1.5 × the first
+    elastic mode, past its support modes), or hammer hits with H1 over 5 averages; ``housing``: kg each."""
+    if conditions.style == "impact":
+        return Acquisition(impact=ImpactTest(averages=5), sensor_mass=housing)
+    fmax = None if conditions.support == "stiff" else bench.fmax
+    return Acquisition(fmax, bench.lines, sensor_mass=housing)
+
+
+def write_case(path: Path, recording: Recording, conditions: Conditions) -> None:
+    """The Universal File as its style writes it: SI (direct), or mm geometry and g/N (exporter, impact)."""
+    if conditions.style == "direct":
+        write_uff(path, recording, force=True)
+    else:
+        write_uff(path, recording, force=True, units="MM", acceleration="g")

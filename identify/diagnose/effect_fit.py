@@ -111,28 +111,37 @@ class Fit:
         return self.problem.data.rss_at(self.masslines)
 
 
+def rejected(problem: Problem, blocks: tuple, x0: np.ndarray) -> Fit:
+    """A fit that failed (a start no body could have, a singular or non-converging solve): χ² infinite, so
+    it is never the best model and its candidate is rejected."""
+    return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
+
+
 def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
-    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt)."""
+    """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt); a failed solve is ``rejected``."""
     blocks = tuple(blocks)
     x0 = problem.start(previous, blocks)
-    if not np.isfinite(x0).all():  # a start no body could have (a hopeless trial): never the best model
-        return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
-    result = least_squares(
-        problem.residual,
-        x0,
-        jac=problem.jacobian,
-        args=(blocks,),
-        method="lm",
-        x_scale="jac",
-        xtol=1e-10,
-        ftol=1e-10,
-        max_nfev=MAX_EVALUATIONS,
-    )
-    chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
+    if not np.isfinite(x0).all() or not np.isfinite(problem.residual(x0, blocks)).all():
+        return rejected(problem, blocks, x0)
     try:
+        with np.errstate(all="ignore"):
+            result = least_squares(
+                problem.residual,
+                x0,
+                jac=problem.jacobian,
+                args=(blocks,),
+                method="lm",
+                x_scale="jac",
+                xtol=1e-10,
+                ftol=1e-10,
+                max_nfev=MAX_EVALUATIONS,
+            )
         spread = np.linalg.pinv(result.jac.T @ result.jac)
-    except np.linalg.LinAlgError:
-        spread = np.full((len(x0),) * 2, np.nan)
+    except (ValueError, np.linalg.LinAlgError):  # non-finite steps, an SVD that does not converge
+        return rejected(problem, blocks, x0)
+    if not (np.isfinite(result.x).all() and np.isfinite(result.cost)):
+        return rejected(problem, blocks, x0)
+    chi2 = float(np.sum(problem.data.rss / problem.sigma**2) + 2 * result.cost)
     dof = max(len(result.fun) - len(x0), 1)
     return Fit(problem, blocks, result.x, chi2, spread * max(2 * result.cost / dof, 1.0))
 
@@ -151,7 +160,12 @@ def score(current: Fit, block: Block, J: np.ndarray) -> float:
         scale = np.where(problem.released(blocks), MISALIGNMENT, problem.transverse)
         rows = np.arange(len(r) - problem.n_tau, len(r))
         J_new[rows, problem.model.p + np.arange(problem.n_tau)] = np.repeat(1 / scale, 2)
-    step, *_ = np.linalg.lstsq(J_new, r, rcond=None)
+    if not (np.isfinite(J_new).all() and np.isfinite(r).all()):
+        return -np.inf  # a block the current fit cannot even linearise: never ranked
+    try:
+        step, *_ = np.linalg.lstsq(J_new, r, rcond=None)
+    except np.linalg.LinAlgError:
+        return -np.inf
     return float(r_now @ r_now - np.sum((r - J_new @ step) ** 2))
 
 

@@ -100,8 +100,10 @@ def mass_loading(found: Estimate, sensors: Lines, nominal: RigidBody) -> MassLoa
     """The loading that best explains identify's θ̂ − θ_mesh, when the evidence says one does (3-D only)."""
     if found.model.planar:
         return None
-    delta = found.body.theta - nominal.theta
-    information = np.linalg.pinv(si_covariance(found))
+    delta, covariance = found.body.theta - nominal.theta, si_covariance(found)
+    if not (np.isfinite(delta).all() and np.isfinite(covariance).all()):
+        return None
+    information = np.linalg.pinv(covariance)
     chi2_before = float(delta @ information @ delta)
     if chi2_before < chi2_distribution.isf(CHANCE, 10):
         return None

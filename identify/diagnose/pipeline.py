@@ -141,19 +141,33 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
 
 def identified_after(recording, findings: list, band, transverse: float, before: Identification):
     """identify (on ``band``: None, its own) on the recording with every fault undone, and each fault's finding with how far undoing it
-    moved the properties (identify with all faults undone against with all but that one; no bootstrap)."""
+    moved the properties (identify with all faults undone against with all but that one; no bootstrap).
+
+    When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved them).
+    """
     faults = [f for f in findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
     if not faults:
         return before, findings
-    after = identify_recording(corrected(recording, faults), band, transverse)
+    after = attempt(corrected(recording, faults), band, transverse, 100)
+    if after is None:
+        return before, findings
     marked = []
     for finding in findings:
         if finding in faults and before is not None:
             rest = [f for f in faults if f is not finding]
-            without = identify_recording(corrected(recording, rest), band, transverse, draws=0).body
-            finding = replace(finding, evidence={**finding.evidence, "moved": moved(without, after.body)})
+            without = attempt(corrected(recording, rest), band, transverse, 0)
+            if without is not None:
+                finding = replace(finding, evidence={**finding.evidence, "moved": moved(without.body, after.body)})
         marked.append(finding)
     return after, marked
+
+
+def attempt(recording, band, transverse: float, draws: int) -> Identification | None:
+    """identify on ``recording``, or None when it refuses it or its solve fails."""
+    try:
+        return identify_recording(recording, band, transverse, draws=draws)
+    except (MasslineError, np.linalg.LinAlgError, ValueError):
+        return None
 
 
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
