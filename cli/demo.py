@@ -23,8 +23,8 @@ from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output, to_json, write_atomic
+from massline.options import SEED as SEED_RANGE
+from massline.placement.files import claim_folder, to_json, write_atomic
 from massline.placement.mesh import load_body
 from massline.placement.numbers import formatted, number, signed, value_with_sigma
 from massline.placement.plan_file import plan_to_dict
@@ -56,21 +56,16 @@ FILES = {
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="massline-demo", metavar="DIR", help="output folder (default ./massline-demo)")
     parser.add_argument("--fault", default=FAULT, choices=FAULTS, help=f"the fault concealed (default {FAULT})")
-    parser.add_argument("--seed", type=int, default=SEED, help=f"its size and place (default {SEED})")
+    parser.add_argument(
+        "--seed", type=SEED_RANGE, default=SEED, metavar="N", help=f"its size and place (default {SEED})"
+    )
     parser.add_argument("--force", action="store_true", help="overwrite the files of an earlier demo in DIR")
 
 
 def _outputs(out: Path, force: bool) -> dict:
     """The demo's files in ``out`` (created), refused before any work when one exists and not ``force``."""
-    if out.exists() and not out.is_dir():
-        raise MasslineError(f"--out {out} is a file: give a folder")
-    paths = {key: out / name for key, name in FILES.items()}
-    for path in paths.values():
-        if path.exists() and not force:
-            raise MasslineError(f"{path} exists; pass --force to overwrite the demo's files or choose another --out")
+    paths = dict(zip(FILES, claim_folder(out, FILES.values(), force)))
     out.mkdir(parents=True, exist_ok=True)
-    for path in paths.values():
-        claim_output(path, force)
     return paths
 
 

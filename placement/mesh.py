@@ -81,6 +81,8 @@ def _topology_problem(mesh: trimesh.Trimesh) -> str | None:
 def read_mesh(path: str | Path) -> trimesh.Trimesh:
     """Read a surface mesh file as it is, without scaling; errors are one line."""
     path = Path(path)
+    if path.is_dir():
+        raise MasslineError(f"{path} is a folder, not a mesh file: give the STL, OBJ or PLY file inside it")
     if not path.is_file():
         raise MasslineError(f"mesh file {path} does not exist: check the path")
     if path.suffix.lower() not in MESH_SUFFIXES:
