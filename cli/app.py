@@ -10,6 +10,7 @@ error.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import warnings
@@ -63,21 +64,24 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def run(argv: list[str] | None = None) -> int:
-    """Parse ``argv`` and run the command; return the exit code. Warnings are kept from the user."""
+def run(argv: list[str] | None = None, show_warnings: bool | None = None) -> int:
+    """Parse ``argv`` and run the command; return the exit code.
+
+    Warnings are kept from the user unless ``show_warnings`` (default: ``MASSLINE_DEBUG`` set), when each one
+    is a line on stderr: the tests run commands so, and fail on any.
+    """
     debug = bool(os.environ.get("MASSLINE_DEBUG"))
+    show_warnings = debug if show_warnings is None else show_warnings
+    if not debug:  # libraries' log records (trimesh on a damaged file) are no message for the user
+        logging.getLogger().addHandler(logging.NullHandler())
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
-            code = _command(argv, debug)
+            return _command(argv, debug)
         finally:
-            if debug:
-                for w in caught:
-                    print(
-                        f"massline: debug: {w.category.__name__}: {w.message} ({w.filename}:{w.lineno})",
-                        file=sys.stderr,
-                    )
-    return code
+            for w in caught if show_warnings else ():
+                where = f"{w.filename}:{w.lineno}"
+                print(f"massline: debug: {w.category.__name__}: {w.message} ({where})", file=sys.stderr)
 
 
 def _command(argv: list[str] | None, debug: bool) -> int:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from collections.abc import Callable
 
@@ -19,8 +20,16 @@ from massline.placement.mesh import MAX_MASS_KG, PLAUSIBLE_DENSITY
 SEED_MAX = 2**32 - 1  # numpy's seeds
 
 
+NEGATIVE = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
+
+
 class Parser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line (no usage block), exit code 2."""
+    """An ArgumentParser whose errors are one line (no usage block), exit code 2, and that reads '-1e3' and
+    '-inf' as values (argparse takes them for options), so that they meet the option's range check."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE
 
     def error(self, message: str):
         text = " ".join(message.split())

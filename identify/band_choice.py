@@ -92,6 +92,8 @@ def choose_band(
         if not np.isfinite(free.high):
             break
         above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
+        if above.sum() < MIN_LINES:  # nothing above it to search
+            break
     if fallback is None:
         raise MasslineError(
             f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "

@@ -88,7 +88,8 @@ def read_mesh(path: str | Path) -> trimesh.Trimesh:
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise MasslineError(f"{path.name}: unsupported mesh format {path.suffix!r}; use one of {sorted(MESH_SUFFIXES)}")
     try:
-        mesh = trimesh.load(path, force="mesh")
+        with np.errstate(all="ignore"):  # NaN vertices are refused below
+            mesh = trimesh.load(path, force="mesh")
     except Exception as err:  # trimesh raises many kinds for corrupt files
         raise MasslineError(f"{path.name} could not be read as a mesh ({err}); is the file complete?") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
