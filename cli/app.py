@@ -87,10 +87,9 @@ def run(argv: list[str] | None = None, show_warnings: bool | None = None) -> int
 def _command(argv: list[str] | None, debug: bool) -> int:
     try:
         args = build_parser().parse_args(argv)
+        args.run(args, console_for(sys.stdout))
     except SystemExit as done:  # --help, --version or a one-line usage error
         return int(done.code or 0)
-    try:
-        args.run(args, console_for(sys.stdout))
     except MasslineError as err:
         print(f"massline: error: {' '.join(str(err).split())}", file=sys.stderr)
         return 2

@@ -31,8 +31,6 @@ from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.placement.properties import SUMMARY
 from massline.report_command import build_report
-from massline.reports.diagnosis_report import diagnose_report
-from massline.reports.identification_report import identify_report
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
 from massline.virtual.elastic import ElasticBody, Material
@@ -156,6 +154,9 @@ def properties_table(nominal, columns: list) -> Table:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
+    from massline.reports.diagnosis_report import diagnose_report  # matplotlib: loaded when the demo runs
+    from massline.reports.identification_report import identify_report
+
     start = time.perf_counter()
     out = Path(args.out)
     paths = _outputs(out, args.force)

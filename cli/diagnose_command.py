@@ -18,7 +18,6 @@ from massline.output import write_report
 from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.numbers import number, value_with_sigma
 from massline.placement.properties import SUMMARY
-from massline.reports.diagnosis_figures import diagnosis_figure
 from massline.uff.reader import read_uff, to_recording
 
 
@@ -98,6 +97,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     console.print(properties_table(result, nominal, found.planar))
     if args.plot:
+        from massline.reports.diagnosis_figures import diagnosis_figure  # matplotlib: loaded when used
+
         write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")
     if args.json:

@@ -118,9 +118,8 @@ def checked(parse: Callable[[str], object]) -> Callable[[str], object]:
     def wrapped(text: str):
         try:
             return parse(text)
-        except MasslineError as error:  # "--opt 'text': what to give" loses the option argparse adds again
-            message = str(error)
-            raise argparse.ArgumentTypeError(message.split(": ", 1)[-1] if message.startswith("--") else message)
+        except MasslineError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
 
     wrapped.__name__ = getattr(parse, "__name__", "value")
     return wrapped

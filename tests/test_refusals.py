@@ -253,3 +253,10 @@ def test_the_real_entry_point_refuses_in_one_line(args, inputs, tmp_path):
     assert len(done.stderr.splitlines()) == 1 and "Traceback" not in done.stderr, done.stderr
     assert time.perf_counter() - start < 10  # the imports (~1 s) on a loaded machine
     assert list(work.iterdir()) == []
+
+
+@pytest.mark.parametrize("command", [[], *([c] for c in NUMBERS), ["report"]], ids=lambda c: " ".join(c) or "massline")
+def test_help_speaks_to_users(command, capsys):
+    assert run([*command, "--help"], show_warnings=True) == 0
+    out, err = capsys.readouterr()
+    assert err == "" and out.startswith("usage: massline") and "``" not in out and ":mod:" not in out

@@ -115,7 +115,8 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
     """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt)."""
     blocks = tuple(blocks)
     x0 = problem.start(previous, blocks)
-    if not np.isfinite(x0).all():  # a start no body could have (a hopeless trial): never the best model
+    hopeless = not np.isfinite(x0).all()  # a start no body could have: never the best model
+    if hopeless or problem.residual(x0, blocks).size < len(x0):  # or more unknowns than data
         return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
     result = least_squares(
         problem.residual,
