@@ -19,6 +19,8 @@ from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import is_planar, properties_payload, usable_lines
 from massline.identify.tails import BandData
 from massline.placement.band import Band
+from massline.placement.degeneracy import unseen_motion
+from massline.placement.errors import MasslineError
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
@@ -98,6 +100,18 @@ class DiagnosisRun:
         }
 
 
+def check_seen(layout: Layout) -> None:
+    """Refuse sensor lines that cannot see every rigid motion (identify refuses them too): nothing to diagnose."""
+    need = 3 if layout.planar else 6
+    rank = np.linalg.matrix_rank(kinematic_matrix(layout.sensors, layout.planar))
+    if rank < need:
+        why = f"the sensor lines see {rank} of a plate's 3 rigid motions" if layout.planar else None
+        raise MasslineError(
+            f"{why or unseen_motion(layout.sensors)}: the body can be neither identified nor diagnosed; "
+            "measure more responses"
+        )
+
+
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
     """The diagnosis on ``band`` (lo, hi) Hz, the plan's, or the found one; properties on identify's band.
 
@@ -111,6 +125,7 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
+    check_seen(layout)
     screens = screen(data, layout)
     result = diagnose(data, layout, nominal, transverse, wide)
     return DiagnosisRun(
