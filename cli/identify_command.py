@@ -59,8 +59,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--weighed-mass",
         type=checked(WeighedMass.parse),
         metavar="KG[±SD]",
-        help=f"the bare body's mass read on a scale, a prior on the mass (SD in kg or P%%; default {100 * RELATIVE_SD:g} %% "
-        "of KG, a trade-class bench scale near its capacity)",
+        help="the bare body's mass read on a scale, a prior on the mass (SD in kg or P%%; default "
+        f"{100 * RELATIVE_SD:g} %% of KG, a trade-class bench scale near its capacity)",
     )
     add_nominal_arguments(parser)
     parser.add_argument("--json", metavar="OUT", help="write the properties as JSON (DESIGN.md keys)")

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import math
 import re
-import sys
 from collections.abc import Callable
 
 from massline.placement.errors import MasslineError
@@ -35,21 +34,16 @@ class Parser(argparse.ArgumentParser):
         text = " ".join(message.split())
         self.exit(2, f"{self.prog}: error: {text} (see '{self.prog} --help')\n")
 
-    def exit(self, status: int = 0, message: str | None = None):
-        if message:
-            print(message, end="", file=sys.stderr)
-        raise SystemExit(status)
-
 
 def _shown(value: float) -> str:
     """2000000 as '2000000', 0.5 as '0.5', 1e6 Hz as '1000000'."""
     return str(int(value)) if value == int(value) and abs(value) < 1e15 else f"{value:g}"
 
 
-def range_text(low: float, high: float, unit: str, low_open: bool = False, high_open: bool = False) -> str:
+def range_text(low: float, high: float, unit: str, low_open: bool = False) -> str:
     """'0 ≤ value ≤ 1 (fraction)' or '0 < value (kg)': the allowed values, in words a user reads."""
     left = "" if low == -math.inf else f"{_shown(low)} {'<' if low_open else '≤'} "
-    right = "" if high == math.inf else f" {'<' if high_open else '≤'} {_shown(high)}"
+    right = "" if high == math.inf else f" ≤ {_shown(high)}"
     return f"{left}value{right}" + (f" ({unit})" if unit else "")
 
 
@@ -65,15 +59,15 @@ def real(
     high: float = math.inf,
     unit: str = "",
     low_open: bool = False,
-    high_open: bool = False,
     hint: Callable[[float], str] | None = None,
 ) -> Callable[[str], float]:
-    """A finite number in [low, high] (ends excluded when open), in ``unit``."""
-    allowed = range_text(low, high, unit, low_open, high_open)
+    """A finite number in [low, high] (``low`` excluded when ``low_open``), in ``unit``; ``hint(value)`` adds a
+    guess at the user's slip to the refusal."""
+    allowed = range_text(low, high, unit, low_open)
 
     def parse(text: str) -> float:
         value = _float(text)
-        inside = (low < value if low_open else low <= value) and (value < high if high_open else value <= high)
+        inside = (low < value if low_open else low <= value) and value <= high
         if not (math.isfinite(value) and inside):
             extra = hint(value) if hint and math.isfinite(value) else ""
             raise argparse.ArgumentTypeError(f"{text} is out of range: give a finite {allowed}{extra}")

@@ -158,8 +158,8 @@ def main() -> None:
                 print(f"{k + 1} files, {time.perf_counter() - start:.0f} s, {len(failures)} failures", flush=True)
     total = time.perf_counter() - start
     print(
-        f"\n{args.files} mutated files in {total:.0f} s ({total / args.files * 1e3:.0f} ms each; slowest {slowest[0]:.1f} s: "
-        f"{slowest[1]})"
+        f"\n{args.files} mutated files in {total:.0f} s ({total / args.files * 1e3:.0f} ms each; "
+        f"slowest {slowest[0]:.1f} s: {slowest[1]})"
     )
     for command, _ in SHARES:
         counts = {code: n for (c, code), n in sorted(exits.items()) if c == command}

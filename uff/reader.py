@@ -24,11 +24,10 @@ import numpy as np
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff.datasets import Function, function_name, parse, split
-from massline.uff.frf_kind import decide, to_accelerance
+from massline.uff.frf_kind import check_accelerance, decide, to_accelerance
 from massline.uff.recording import Channel, Recording, code_direction
 
 FRF_TYPE, COHERENCE_TYPE = 4, 6
-MAX_ACCELERANCE = 1e20  # (m/s²)/N: a milligram body's resonance with Q = 10⁴ is 1e10
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,22 +173,6 @@ def _same_axis(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and np.allclose(a, b, rtol=1e-6, atol=1e-9 * max(1.0, np.abs(a).max(initial=0.0)))
 
 
-def _check_finite(values: np.ndarray, where: str) -> None:
-    """Refuse an FRF with NaN or infinite values (in the file, or beyond a double once in SI), or values no
-    accelerance reaches (a damaged exponent)."""
-    bad = int(np.sum(~np.isfinite(values)))
-    if bad:
-        raise MasslineError(
-            f"{where} has NaN or infinite values at {bad} of {len(values)} frequencies: export it again or leave it out"
-        )
-    absurd = int(np.sum(np.abs(values) > MAX_ACCELERANCE))
-    if absurd:
-        raise MasslineError(
-            f"{where} has values beyond {MAX_ACCELERANCE:.0e} (m/s²)/N at {absurd} of {len(values)} frequencies, "
-            "far beyond any body's accelerance (a damaged number): export it again or leave it out"
-        )
-
-
 def _frfs(functions: list[Function], length: float, force: float, notes: list[str], name: str) -> tuple[Frf, ...]:
     """The FRF records as accelerance in SI, each with its coherence; exact repeats dropped."""
     coherences = {(f.response, f.reference): f for f in functions if f.type == COHERENCE_TYPE}
@@ -206,7 +189,7 @@ def _frfs(functions: list[Function], length: float, force: float, notes: list[st
             coherence = None
         with np.errstate(all="ignore"):  # overflow of absurd values is refused just below
             accelerance = to_accelerance(decision.kind, f.frequencies, f.values * decision.scale)
-        _check_finite(accelerance, f"file {name}: FRF {number} (line {f.line})")
+        check_accelerance(accelerance, f"file {name}: FRF {number} (line {f.line})")
         if coherence is not None and not np.isfinite(coherence.values).all():
             notes.append(f"{label}: its coherence has NaN or infinite values: ignored")
             coherence = None
@@ -370,7 +353,8 @@ def to_recording(contents: UffContents) -> Recording:
     ------
     MasslineError (a ValueError)
         No FRFs; a scalar or rotational channel; a node without coordinates; NaN or infinite values; fewer
-        than 3 exciters or 3 sensors; FRFs on different frequency axes; a pair measured twice with different data, or missing.
+        than 3 exciters or 3 sensors; FRFs on different frequency axes; a pair measured twice with different
+        data, or missing.
     """
     frfs = contents.frfs
     if not frfs:
@@ -379,19 +363,24 @@ def to_recording(contents: UffContents) -> Recording:
         _check_channels(frf, contents)
     sensors = list(dict.fromkeys(frf.response for frf in frfs))
     exciters = list(dict.fromkeys(frf.reference for frf in frfs))
-    if len(exciters) < 3:
-        raise MasslineError(
-            f"file {contents.path}: the FRFs have {len(exciters)} reference (exciter) channel(s) "
-            f"({', '.join(map(str, exciters))}): the method needs at least 3 excitations, in "
-            "non-parallel directions for a 3-D body (out-of-plane at 3 points not in a row for a plate); "
-            "measure more references"
-        )
-    if len(sensors) < 3:
-        raise MasslineError(
-            f"file {contents.path}: the FRFs have {len(sensors)} response (sensor) channel(s) "
-            f"({', '.join(map(str, sensors))}): the method needs at least 6 sensor lines for a 3-D body (3 along z "
-            "for a plate), so that every rigid motion is seen; measure more responses"
-        )
+    needs = {
+        "reference (exciter)": (
+            exciters,
+            "3 excitations, in non-parallel directions for a 3-D body (out-of-plane"
+            " at 3 points not in a row for a plate); measure more references",
+        ),
+        "response (sensor)": (
+            sensors,
+            "6 sensor lines for a 3-D body (3 along z for a plate), so that every rigid "
+            "motion is seen; measure more responses",
+        ),
+    }
+    for role, (channels, need) in needs.items():
+        if len(channels) < 3:
+            raise MasslineError(
+                f"file {contents.path}: the FRFs have {len(channels)} {role} channel(s) "
+                f"({', '.join(map(str, channels))}): the method needs at least {need}"
+            )
     first = frfs[0]
     for frf in frfs:
         if not _same_axis(frf.frequencies, first.frequencies):
