@@ -22,16 +22,14 @@ from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output, to_json, write_atomic
+from massline.options import SEED as SEED_RANGE
+from massline.placement.files import claim_folder, to_json, write_atomic
 from massline.placement.mesh import load_body
 from massline.placement.numbers import formatted, number, signed, value_with_sigma
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.placement.properties import SUMMARY
 from massline.report_command import build_report
-from massline.reports.diagnosis_report import diagnose_report
-from massline.reports.identification_report import identify_report
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
 from massline.virtual.elastic import ElasticBody, Material
@@ -55,21 +53,16 @@ FILES = {
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="massline-demo", metavar="DIR", help="output folder (default ./massline-demo)")
     parser.add_argument("--fault", default=FAULT, choices=FAULTS, help=f"the fault concealed (default {FAULT})")
-    parser.add_argument("--seed", type=int, default=SEED, help=f"its size and place (default {SEED})")
+    parser.add_argument(
+        "--seed", type=SEED_RANGE, default=SEED, metavar="N", help=f"its size and place (default {SEED})"
+    )
     parser.add_argument("--force", action="store_true", help="overwrite the files of an earlier demo in DIR")
 
 
 def _outputs(out: Path, force: bool) -> dict:
     """The demo's files in ``out`` (created), refused before any work when one exists and not ``force``."""
-    if out.exists() and not out.is_dir():
-        raise MasslineError(f"--out {out} is a file: give a folder")
-    paths = {key: out / name for key, name in FILES.items()}
-    for path in paths.values():
-        if path.exists() and not force:
-            raise MasslineError(f"{path} exists; pass --force to overwrite the demo's files or choose another --out")
+    paths = dict(zip(FILES, claim_folder(out, FILES.values(), force)))
     out.mkdir(parents=True, exist_ok=True)
-    for path in paths.values():
-        claim_output(path, force)
     return paths
 
 
@@ -160,6 +153,9 @@ def properties_table(nominal, columns: list) -> Table:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
+    from massline.reports.diagnosis_report import diagnose_report  # matplotlib: loaded when the demo runs
+    from massline.reports.identification_report import identify_report
+
     start = time.perf_counter()
     out = Path(args.out)
     paths = _outputs(out, args.force)

@@ -13,11 +13,11 @@ from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, check_band
 from massline.output import write_report
-from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.numbers import number, value_with_sigma
 from massline.placement.properties import SUMMARY
-from massline.reports.diagnosis_figures import diagnosis_figure
 from massline.uff.reader import read_uff, to_recording
 
 
@@ -25,14 +25,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
     parser.add_argument(
         "--band",
-        type=float,
+        type=BAND_EDGE,
         nargs=2,
         metavar=("LO", "HI"),
         help="the band the diagnosis examines, Hz (the plan's; default identify's); the properties are identify's",
     )
     add_nominal_arguments(parser)
     parser.add_argument(
-        "--transverse", type=float, default=TRANSVERSE, metavar="FRACTION", help="accelerometers' cross-axis prior"
+        "--transverse",
+        type=TRANSVERSE_PRIOR,
+        default=TRANSVERSE,
+        metavar="FRACTION",
+        help="accelerometers' cross-axis prior",
     )
     parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
@@ -69,9 +73,8 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
-    for path in (args.json, args.plot, args.report):
-        if path:
-            claim_output(path, args.force)
+    check_band(args.band)
+    claim_outputs({"--json": args.json, "--plot": args.plot, "--report": args.report}, args.force)
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
     recording = to_recording(read_uff(args.uff))
@@ -103,6 +106,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     console.print(properties_table(found, nominal, found.planar))
     if args.plot:
+        from massline.reports.diagnosis_figures import diagnosis_figure  # matplotlib: loaded when used
+
         write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")
     if args.json:

@@ -13,8 +13,9 @@ from massline.identify.pipeline import PAPER_METHODS, Identification, against_no
 from massline.identify.sensor_mass import parse_sensor_mass
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.options import BAND_EDGE, MAX_DRAWS, TRANSVERSE_PRIOR, check_band, checked, count
 from massline.output import write_report
-from massline.placement.files import claim_output, to_json, write_atomic
+from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.numbers import number, sigma_text, value_with_sigma
 from massline.placement.properties import QUANTITIES
 from massline.placement.rigid_body import RigidBody
@@ -23,7 +24,9 @@ from massline.uff.reader import read_uff, to_recording
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
-    parser.add_argument("--band", type=float, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (default: found)")
+    parser.add_argument(
+        "--band", type=BAND_EDGE, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (default: found)"
+    )
     parser.add_argument(
         "--method",
         default="best",
@@ -32,24 +35,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--transverse",
-        type=float,
+        type=TRANSVERSE_PRIOR,
         default=TRANSVERSE,
         metavar="FRACTION",
         help=f"prior 1-σ of each accelerometer's transverse sensitivity (default {TRANSVERSE}; 0: exact axes)",
     )
-    parser.add_argument("--bootstrap", type=int, default=100, metavar="N", help="bootstrap draws over the sensors")
+    parser.add_argument(
+        "--bootstrap",
+        type=count(0, MAX_DRAWS),
+        default=100,
+        metavar="N",
+        help="bootstrap draws over the sensors (default 100; 0: none)",
+    )
     parser.add_argument(
         "--sensor-mass",
-        default="0",
+        type=checked(parse_sensor_mass),
+        default=0.0,
         metavar="KG",
         help="mass of each accelerometer housing (a triaxial counts once): the FRFs weigh the body with them on; "
         "the properties reported are the bare body's (default 0)",
     )
     parser.add_argument(
         "--weighed-mass",
+        type=checked(WeighedMass.parse),
         metavar="KG[±SD]",
-        help=f"the bare body's mass read on a scale, a prior on the mass (SD in kg or P%%; default {RELATIVE_SD:.2%} "
-        "of KG, a trade-class bench scale near its capacity)",
+        help="the bare body's mass read on a scale, a prior on the mass (SD in kg or P%%; default "
+        f"{100 * RELATIVE_SD:g} %% of KG, a trade-class bench scale near its capacity)",
     )
     add_nominal_arguments(parser)
     parser.add_argument("--json", metavar="OUT", help="write the properties as JSON (DESIGN.md keys)")
@@ -72,11 +83,9 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
-    for path in (args.json, args.report):
-        if path:
-            claim_output(path, args.force)
-    sensor_mass = parse_sensor_mass(args.sensor_mass)
-    weighed = None if args.weighed_mass is None else WeighedMass.parse(args.weighed_mass)
+    claim_outputs({"--json": args.json, "--report": args.report}, args.force)
+    check_band(args.band)
+    sensor_mass, weighed = args.sensor_mass, args.weighed_mass
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
     found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method, sensor_mass, weighed)

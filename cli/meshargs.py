@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from massline.meshes import BUNDLED
+from massline.options import DENSITY, MASS
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import UNITS, BodyMesh, load_body
 from massline.virtual.elastic import Material
@@ -17,8 +18,8 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--units", choices=sorted(UNITS), help="length unit of the mesh file (required for files)")
     material = parser.add_mutually_exclusive_group()
-    material.add_argument("--density", type=float, metavar="KG_M3", help="material density, kg/m³")
-    material.add_argument("--mass", type=float, metavar="KG", help="total mass, kg (uniform density)")
+    material.add_argument("--density", type=DENSITY, metavar="KG_M3", help="material density, kg/m³")
+    material.add_argument("--mass", type=MASS, metavar="KG", help="total mass, kg (uniform density)")
 
 
 def body_from_arguments(args: argparse.Namespace) -> BodyMesh:
@@ -35,8 +36,8 @@ def add_nominal_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mesh", metavar="MESH", help="the nominal body's surface mesh or a bundled body")
     parser.add_argument("--units", choices=sorted(UNITS), help="length unit of the mesh file")
     material = parser.add_mutually_exclusive_group()
-    material.add_argument("--density", type=float, metavar="KG_M3", help="material density, kg/m³")
-    material.add_argument("--mass", type=float, metavar="KG", help="total mass, kg (uniform density)")
+    material.add_argument("--density", type=DENSITY, metavar="KG_M3", help="material density, kg/m³")
+    material.add_argument("--mass", type=MASS, metavar="KG", help="total mass, kg (uniform density)")
 
 
 def nominal_mesh(args: argparse.Namespace) -> BodyMesh | None:

@@ -1,12 +1,24 @@
-"""Writing a report from a command: a status line while it is built, then one atomic write."""
+"""What a command shows and writes: its console, and a report written whole after a status line."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from rich.console import Console
+
 from massline.placement.files import write_atomic
 
 STATUS = "writing the report: building the page and rendering its pictures"
+UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken
+
+
+def console_for(stream) -> Console:
+    """A console on ``stream``: a terminal's width there, else no wrapping (a file or a pipe gets whole
+    sentences and paths, one per line)."""
+    terminal = hasattr(stream, "isatty") and stream.isatty()
+    if terminal:
+        return Console(file=stream)
+    return Console(file=stream, width=UNWRAPPED, soft_wrap=True)
 
 
 def write_report(console, path: str | Path, build, force: bool = False, status: str | None = STATUS) -> Path:

@@ -88,5 +88,5 @@ def build_report(plan_path: str | Path, console: Console) -> Report:
 
 def run(args: argparse.Namespace, console: Console) -> None:
     plan_path = Path(args.plan)
-    out = claim_output(Path(args.out) if args.out else plan_path.with_name("report.html"), args.force)
+    out = claim_output(Path(args.out) if args.out else plan_path.with_name("report.html"), args.force, "--out")
     write_report(console, out, lambda: build_report(plan_path, console), args.force, status=None)

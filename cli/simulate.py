@@ -19,11 +19,13 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from massline.meshargs import plan_material, plan_mesh
+from massline.options import SEED, count, fraction, positive, real
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output, to_json, write_atomic
-from massline.placement.mesh import BodyMesh
+from massline.placement.files import claim_outputs, to_json, write_atomic
+from massline.placement.mesh import MAX_MASS_KG, BodyMesh
 from massline.placement.plan_file import read_plan
+from massline.placement.rigid_body import RigidBody
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
 from massline.virtual.band import predict_band, recommend_suspension
@@ -32,19 +34,31 @@ from massline.virtual.elastic import MATERIALS, ElasticBody, Material
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension, point_above
+from massline.virtual.tetmesh import size_for_dofs
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses
 from massline.virtual.virtual_test import run as run_test
 
 AUTO = -1.0  # --impact without a pulse length: the analyser setup chooses it
+MAX_PULSE_MS = 100.0  # a hammer pulse lasts 0.1-10 ms; a soft tip on a heavy body a few tens
+MAX_FMAX_HZ = 100_000.0  # an analyser's bandwidth
+MIN_LINES, MAX_SPECTRAL_LINES = 16, 102_400  # an analyser's line counts
+MAX_MODES = 100  # elastic modes of the FE model
+MAX_FE_DOFS = 200_000  # the finest FE model --fe-size may ask for (a few GB to assemble and solve)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("plan", metavar="PLAN.json", help="a plan written by 'massline plan'")
     parser.add_argument("--out", metavar="FILE.uff", help="the recording to write (its truth goes to FILE.truth.json)")
     parser.add_argument("--check", action="store_true", help="only predict the massline band; write no recording")
-    parser.add_argument("--seed", type=int, default=0, help="seed of noise and effect placement (default 0)")
-    parser.add_argument("--noise", type=float, default=0.01, metavar="REL", help="relative FRF noise (default 0.01)")
-    parser.add_argument("--noise-floor", type=float, default=0.0, metavar="F", help="noise floor, fraction of 1/mass")
+    parser.add_argument(
+        "--seed", type=SEED, default=0, metavar="N", help="seed of noise and effect placement (default 0)"
+    )
+    parser.add_argument(
+        "--noise", type=fraction(), default=0.01, metavar="REL", help="relative FRF noise (default 0.01)"
+    )
+    parser.add_argument(
+        "--noise-floor", type=fraction(), default=0.0, metavar="F", help="noise floor, fraction of 1/mass"
+    )
     parser.add_argument(
         "--suspension",
         default="cord",
@@ -59,30 +73,39 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME=SIZE@WHERE",
         help=f"an instrumentation effect (repeatable): {', '.join(EFFECTS)}",
     )
-    parser.add_argument("--sensor-mass", type=float, default=0.0, metavar="KG", help="mass of each accelerometer")
+    parser.add_argument(
+        "--sensor-mass", type=real(0, MAX_MASS_KG, "kg"), default=0.0, metavar="KG", help="mass of each accelerometer"
+    )
     parser.add_argument(
         "--impact",
-        type=float,
+        type=positive("ms", MAX_PULSE_MS),
         nargs="?",
         const=AUTO,
         metavar="MS",
         help="simulate hammer hits (half-sine pulse of MS ms; without MS the tip an engineer fits to the bandwidth)",
     )
-    parser.add_argument("--averages", type=int, default=5, help="hits averaged per exciter (impact route)")
+    parser.add_argument(
+        "--averages", type=count(1, 1000), default=5, metavar="N", help="hits averaged per exciter (impact route)"
+    )
     parser.add_argument(
         "--fmax",
-        type=float,
+        type=positive("Hz", MAX_FMAX_HZ),
         metavar="HZ",
         help="bandwidth (default: 1.5 × first elastic mode; with --impact an analyser bandwidth ≥ 3 × the band's top)",
     )
     parser.add_argument(
         "--lines",
-        type=int,
+        type=count(MIN_LINES, MAX_SPECTRAL_LINES, "spectral lines"),
+        metavar="N",
         help="spectral lines (default 2000; with --impact 400·2^k, a record long enough for the lowest support mode)",
     )
-    parser.add_argument("--modes", type=int, default=20, help="elastic modes kept (default 20)")
+    parser.add_argument(
+        "--modes", type=count(1, MAX_MODES), default=20, metavar="N", help="elastic modes kept (default 20)"
+    )
     parser.add_argument("--rigid", action="store_true", help="no elastic modes: a rigid body")
-    parser.add_argument("--fe-size", type=float, metavar="M", help="element size of the FE mesh (default: automatic)")
+    parser.add_argument(
+        "--fe-size", type=positive("m", 1.0), metavar="M", help="element size of the FE mesh (default: automatic)"
+    )
     parser.add_argument(
         "--material", metavar="NAME|E,NU", help=f"{', '.join(MATERIALS)}, or Young's modulus (Pa) and Poisson's ratio"
     )
@@ -124,24 +147,26 @@ def run(args: argparse.Namespace, console: Console) -> None:
     sensors, exciters, doc = read_plan(plan_path)
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
-    outputs = [] if args.check else [Path(args.out), Path(args.out).with_suffix(".truth.json")]
-    outputs += [Path(args.plot)] if args.plot else []
-    for path in outputs:
-        claim_output(path, args.force)
+    named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
+    outputs = list(claim_outputs(named | {"--plot": args.plot}, args.force).values())
     effects = tuple(Effect.parse(e) for e in args.effect)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)
-    suspension = Suspension.parse(args.suspension, body.mesh, body.nominal)
+    nominal = body.nominal
+    housings = accelerometer_masses(sensors, args.sensor_mass)
+    loaded = loaded_body(nominal, housings, args.sensor_mass)
+    suspension = Suspension.parse(args.suspension, body.mesh, loaded)
+    if not suspension.is_free:
+        suspension.reactions(loaded)  # a support that cannot carry the body is refused before the FE work
+    check_fe_size(args.fe_size, body)
     material = None if args.rigid else plan_material(args.material, body, doc.get("mesh"), console)
     modes = None
     if material is not None:
         modes = elastic_modes(body, material, args.fe_size, args.modes, console)
-    nominal = body.nominal
-    added = args.sensor_mass
-    planned = SuspendedBody(nominal, modes, suspension, *accelerometer_masses(sensors, added))
+    planned = SuspendedBody(nominal, modes, suspension, *housings)
     rows = [("planned: " + suspension.describe(), predict_band(planned, sensors, exciters), suspension)]
     if not suspension.is_free:
-        advice = recommend_suspension(planned, point_above(body.mesh, nominal.cog)[0])
+        advice = recommend_suspension(planned, point_above(body.mesh, loaded.cog)[0])
         advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
         band = predict_band(advised, sensors, exciters)
         if band.wider_than(rows[0][1]):
@@ -175,6 +200,29 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{frf_units(args)}) and {outputs[1]} (what was simulated, including "
         f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
     )
+
+
+def loaded_body(nominal: RigidBody, housings: tuple, mass: float) -> RigidBody:
+    """The body with its accelerometers on (what the supports carry and hold level); refused when they
+    would outweigh it."""
+    masses, _ = housings
+    if masses.sum() >= nominal.mass:
+        raise MasslineError(
+            f"--sensor-mass {mass:g}: {len(masses)} accelerometers of {mass:g} kg would weigh "
+            f"{masses.sum():.3g} kg, as much as the body ({nominal.mass:.3g} kg): give each housing's mass in kg, "
+            f"below {nominal.mass / len(masses):.3g}"
+        )
+    return SuspendedBody(nominal, None, Suspension(), *housings).loaded
+
+
+def check_fe_size(size: float | None, body: BodyMesh) -> None:
+    """``--fe-size``: no finer than the element size of MAX_FE_DOFS degrees of freedom on this body."""
+    finest = size_for_dofs(body.mesh, MAX_FE_DOFS)
+    if size is not None and size < finest:
+        raise MasslineError(
+            f"--fe-size {size:g}: elements this small would give this body more than {MAX_FE_DOFS} FE degrees of "
+            f"freedom (hours and tens of GB): give 0 < M ≤ 1 m, at least {finest:.3g} m"
+        )
 
 
 def acquisition(args: argparse.Namespace) -> Acquisition:

@@ -19,14 +19,74 @@ import numpy as np
 from massline.placement.errors import MasslineError
 
 
-def claim_output(path: str | Path, force: bool) -> Path:
-    """Check before any work that ``path`` may be written; return it."""
+def _named(path: Path, option: str) -> str:
+    return f"{option} {path}" if option else str(path)
+
+
+def writable_folder(folder: Path, label: str) -> Path:
+    """Raise unless files can be created in ``folder`` (or in the nearest existing folder above it, where
+    ``folder`` will be made); probed by creating and removing a file, which also covers read-only mounts
+    and a superuser's permissions. ``label`` ('--json out/a.json') opens the message."""
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise MasslineError(f"{label}: {existing} is a file, not a folder: choose another path")
+    try:
+        fd, name = tempfile.mkstemp(dir=existing, prefix=".massline-probe-")
+    except OSError as error:
+        raise MasslineError(
+            f"{label}: cannot write in folder {existing} ({error.strerror}): choose a writable folder"
+        ) from None
+    os.close(fd)
+    os.unlink(name)
+    return folder
+
+
+def claim_output(path: str | Path, force: bool, option: str = "") -> Path:
+    """Check before any work that the file ``path`` may be written (``option``, e.g. '--json', names it in
+    the message): not a folder, not an existing file unless ``force``, in a folder that exists and is
+    writable. Return it."""
     path = Path(path)
+    if path.is_dir():
+        raise MasslineError(f"{_named(path, option)} is a folder: give a file name (e.g. {path / 'out'})")
     if path.exists() and not force:
-        raise MasslineError(f"{path} exists; pass --force to overwrite it or choose another path")
+        raise MasslineError(f"{_named(path, option)} exists; pass --force to overwrite it or choose another path")
     if not path.parent.is_dir():
-        raise MasslineError(f"folder {path.parent} does not exist: create it or choose another path")
+        raise MasslineError(
+            f"{_named(path, option)}: folder {path.parent} does not exist: create it or choose another path"
+        )
+    writable_folder(path.parent, _named(path, option))
     return path
+
+
+def claim_outputs(named: dict, force: bool) -> dict:
+    """``claim_output`` for each {option: path} given (None: not asked for); one file named by two options
+    is refused (the second write would meet the first). Return {option: Path} of those given."""
+    given = {option: Path(path) for option, path in named.items() if path}
+    seen: dict[Path, str] = {}
+    for option, path in given.items():
+        twin = seen.setdefault(path.resolve(), option)
+        if twin != option:
+            raise MasslineError(f"{twin} and {option} both name {path}: give each output its own file")
+        claim_output(path, force, option)
+    return given
+
+
+def claim_folder(folder: str | Path, names, force: bool, option: str = "--out") -> list[Path]:
+    """Check before any work that ``folder`` may hold the files ``names``: a folder (existing or to be made
+    in a writable one) where none of them is a folder, or exists without ``force``. Return their paths."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise MasslineError(f"{option} {folder} is a file: give a folder")
+    writable_folder(folder, _named(folder, option))
+    paths = [folder / name for name in names]
+    for path in paths:
+        if path.is_dir():
+            raise MasslineError(f"{option} {folder}: {path} is a folder, where a file goes: move it or choose another")
+        if path.exists() and not force:
+            raise MasslineError(f"{path} exists; pass --force to overwrite it or choose another {option}")
+    return paths
 
 
 def _umask() -> int:
@@ -40,7 +100,10 @@ def atomic_file(path: str | Path):
     """A temporary path beside ``path`` to write; on success it is fsynced and renamed over ``path``,
     on any failure removed. The caller checks ``path`` may be written (``claim_output``)."""
     path = Path(path)
-    fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as error:
+        raise _unwritable(path, error) from None
     os.close(fd)
     temporary = Path(name)
     try:
@@ -49,9 +112,17 @@ def atomic_file(path: str | Path):
             os.fsync(handle.fileno())
         os.chmod(temporary, 0o666 & ~_umask())
         os.replace(temporary, path)
+    except OSError as error:
+        temporary.unlink(missing_ok=True)
+        raise _unwritable(path, error) from None
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def _unwritable(path: Path, error: OSError) -> MasslineError:
+    """A file system refusal met while writing (permissions changed, a folder put in the way, a full disk)."""
+    return MasslineError(f"cannot write {path} ({error.strerror or error}): free the path or choose another")
 
 
 def write_atomic(path: str | Path, data: str | bytes, force: bool = False) -> Path:

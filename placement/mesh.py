@@ -81,12 +81,15 @@ def _topology_problem(mesh: trimesh.Trimesh) -> str | None:
 def read_mesh(path: str | Path) -> trimesh.Trimesh:
     """Read a surface mesh file as it is, without scaling; errors are one line."""
     path = Path(path)
+    if path.is_dir():
+        raise MasslineError(f"{path} is a folder, not a mesh file: give the STL, OBJ or PLY file inside it")
     if not path.is_file():
         raise MasslineError(f"mesh file {path} does not exist: check the path")
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise MasslineError(f"{path.name}: unsupported mesh format {path.suffix!r}; use one of {sorted(MESH_SUFFIXES)}")
     try:
-        mesh = trimesh.load(path, force="mesh")
+        with np.errstate(all="ignore"):  # NaN vertices are refused below
+            mesh = trimesh.load(path, force="mesh")
     except Exception as err:  # trimesh raises many kinds for corrupt files
         raise MasslineError(f"{path.name} could not be read as a mesh ({err}); is the file complete?") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:

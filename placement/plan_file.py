@@ -59,9 +59,15 @@ def _read_lines(entries: list, what: str) -> Lines:
         points = [e["point"] for e in entries]
         directions = [e["direction"] for e in entries]
         triaxial = [-1 if e.get("triaxial") is None else int(e["triaxial"]) for e in entries]
-    except (KeyError, TypeError):
-        raise MasslineError(f"plan file: every {what} needs 'point' and 'direction'") from None
-    return Lines(points, directions, triaxial)
+        lines = Lines(points, directions, triaxial)
+    except MasslineError:
+        raise
+    except (KeyError, TypeError, ValueError, AttributeError):
+        raise MasslineError(
+            f"plan file: every {what} needs a 'point' and a 'direction' of three numbers each: write it again "
+            "with 'massline plan'"
+        ) from None
+    return lines
 
 
 def read_plan(path: str | Path) -> tuple[Lines, Lines, dict]:
@@ -71,8 +77,14 @@ def read_plan(path: str | Path) -> tuple[Lines, Lines, dict]:
         doc = json.loads(path.read_text())
     except FileNotFoundError:
         raise MasslineError(f"plan file {path} does not exist: run 'massline plan' first") from None
+    except IsADirectoryError:
+        raise MasslineError(f"{path} is a folder: give the plan.json inside it") from None
     except json.JSONDecodeError as err:
         raise MasslineError(f"plan file {path} is not valid JSON ({err.msg} at line {err.lineno})") from None
-    if not doc.get("sensors") or not doc.get("exciters"):
+    except UnicodeDecodeError:
+        raise MasslineError(f"plan file {path} is not text: give the plan.json 'massline plan' wrote") from None
+    except OSError as err:
+        raise MasslineError(f"plan file {path} cannot be read ({err.strerror}): check its permissions") from None
+    if not isinstance(doc, dict) or not doc.get("sensors") or not doc.get("exciters"):
         raise MasslineError(f"plan file {path} has no sensors or no exciters")
     return _read_lines(doc["sensors"], "sensor"), _read_lines(doc["exciters"], "exciter"), doc

@@ -1,6 +1,7 @@
 """The command line: tables, JSON contract, exit codes, nothing overwritten."""
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -13,7 +14,14 @@ from massline.identify.pipeline import PAPER_METHODS
 
 
 def massline(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "massline", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+    """Run the command; fail on any warning or library text it let through (MASSLINE_DEBUG shows them)."""
+    env = {**os.environ, "MASSLINE_DEBUG": "1"}
+    run = subprocess.run(
+        [sys.executable, "-m", "massline", *map(str, args)], capture_output=True, text=True, cwd=cwd, env=env
+    )
+    stray = [line for line in (run.stdout + run.stderr).splitlines() if "debug:" in line or "On entry to" in line]
+    assert not stray, f"stray warnings from massline {' '.join(map(str, args))}: {stray}"
+    return run
 
 
 def test_props_prints_a_table_with_units():

@@ -271,7 +271,7 @@ def test_failure_leaves_no_file(tmp_path, monkeypatch, existing):
         return write_record(*args)
 
     monkeypatch.setattr(uff_export, "_dataset_58", failing)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(MasslineError, match=r"cannot write .*test\.uff \(disk full\)"):  # exit 2, one line
         write_uff(path, recording(), force=True)
     assert len(calls) == 3
     assert [p.name for p in tmp_path.iterdir()] == (["test.uff"] if existing else [])

@@ -91,8 +91,10 @@ def _binary_block(data: bytes, first: int, ident: str, line: int, name: str) -> 
     delimiter."""
     order, fp_format, n_lines, n_bytes = (int(v) for v in ident[7:].split()[:4])
     end = _line_end(data, first)
-    for _ in range(n_lines):
+    for _ in range(n_lines):  # an absurd count stops at the end of the data
         end = _line_end(data, end + 1)
+        if end >= len(data):
+            break
     if end >= len(data):
         raise _truncated(name, 58, line)
     text = data[_line_end(data, first) + 1 : end].decode("latin-1")
@@ -162,6 +164,13 @@ def _numbers(text: str) -> np.ndarray:
     return np.array(text.upper().replace("D", "E").split(), dtype=float)
 
 
+def _finite(values: np.ndarray, what: str) -> np.ndarray:
+    """``values`` if every one is finite, else a ValueError naming ``what``."""
+    if not np.isfinite(values).all():
+        raise ValueError(f"NaN or infinite {what}")
+    return values
+
+
 def _int(field: str) -> int:
     return int(field) if field.strip() else 0
 
@@ -176,8 +185,8 @@ def _label(field: str) -> str:
 
 def _units_164(block: RawDataset) -> tuple[float, float]:
     """Length and force factors: file units per metre, per newton."""
-    factors = _numbers(" ".join(block.lines[1:]))[:2]
-    if not np.all(factors > 0):
+    factors = _finite(_numbers(" ".join(block.lines[1:]))[:2], "unit factors")
+    if not (len(factors) == 2 and np.all(factors > 0)):
         raise ValueError(f"length and force factors {factors} must be positive")
     return float(factors[0]), float(factors[1])
 
@@ -188,7 +197,7 @@ def _header_151(block: RawDataset) -> str:
 
 def _nodes(block: RawDataset) -> np.ndarray:
     """Rows (label, definition system, displacement system, colour, x, y, z) of dataset 15 or 2411."""
-    values = _numbers(" ".join(block.lines))
+    values = _finite(_numbers(" ".join(block.lines)), "node label or coordinate")
     if values.size % 7:
         raise ValueError(f"{values.size} numbers, not 7 per node")
     return values.reshape(-1, 7)
@@ -215,7 +224,7 @@ def _records(lines: list[str], head: int, count: int):
         first, values, i = lines[i].split(), [], i + 2
         while len(values) < count:
             values, i = [*values, *_numbers(lines[i])], i + 1
-        yield [int(v) for v in first], np.array(values[:count])
+        yield [int(v) for v in first], _finite(np.array(values[:count]), "coordinate system value")
 
 
 def _systems_18(block: RawDataset) -> dict:
@@ -280,7 +289,7 @@ def _function(block: RawDataset) -> tuple[Function, list[str]]:
     else:
         rows = _binary_rows(*block.binary, kind, even, num_pts)
     rows, kept = _kept_points(rows, num_pts, where)
-    frequencies = minimum + increment * np.arange(len(rows)) if even else rows[:, 0]
+    frequencies = _finite(minimum + increment * np.arange(len(rows)) if even else rows[:, 0], "abscissa (frequency)")
     values = rows[:, -2] + 1j * rows[:, -1] if parts == 2 else rows[:, -1]
     numerator, denominator = lines[8], lines[9]
     ordinate = Ordinate(
@@ -316,7 +325,8 @@ def parse(block: RawDataset, name: str):
     if parser is None:
         return None
     try:
-        return parser(block)
+        with np.errstate(all="ignore"):  # a damaged file's NaN and infinities are refused by the checks, quietly
+            return parser(block)
     except (ValueError, IndexError, KeyError, TypeError) as error:
         raise MasslineError(
             f"file {name}: dataset {block.number} at line {block.line} is unreadable ({error}): the file is damaged "

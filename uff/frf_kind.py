@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.placement.errors import MasslineError
 from massline.uff.units import INCH, LBF, G
 
 KINDS = ("accelerance", "mobility", "receptance")  # index: time derivatives from the stored FRF to accelerance
@@ -56,6 +57,9 @@ UNIT_SYMBOLS = {  # SI factor and exponents of (length, time, force)
 }
 KIND_WORDS = {"accel": 0, "inertance": 0, "mobil": 1, "veloc": 1, "recept": 2, "complian": 2, "displac": 2}
 TOKEN = re.compile(r"[a-zµμ]+|-?\d+(?:\.\d+)?|[*/^()]")
+
+
+MAX_ACCELERANCE = 1e20  # (m/s²)/N: a milligram body's resonance with Q = 10⁴ is 1e10
 
 
 @dataclass(frozen=True)
@@ -234,3 +238,16 @@ def decide(
 def to_accelerance(kind: str, frequencies: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Accelerance from an FRF of ``kind``: mobility × iω, receptance × (iω)² = −ω² (ω = 2πf, f in Hz)."""
     return np.asarray(values, dtype=complex) * (2j * np.pi * np.asarray(frequencies)) ** KINDS.index(kind)
+
+
+def check_accelerance(values: np.ndarray, where: str) -> None:
+    """Refuse an FRF with NaN or infinite values (in the file, or beyond a double once in SI), or values no
+    accelerance reaches (a damaged exponent)."""
+    for bad, what in (
+        (~np.isfinite(values), "NaN or infinite values"),
+        (np.abs(values) > MAX_ACCELERANCE, f"values beyond any body's accelerance ({MAX_ACCELERANCE:.0e} (m/s²)/N)"),
+    ):
+        if bad.any():
+            raise MasslineError(
+                f"{where} has {what} at {bad.sum()} of {len(values)} frequencies: export it again or leave it out"
+            )

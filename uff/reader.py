@@ -24,7 +24,7 @@ import numpy as np
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff.datasets import Function, function_name, parse, split
-from massline.uff.frf_kind import decide, to_accelerance
+from massline.uff.frf_kind import check_accelerance, decide, to_accelerance
 from massline.uff.recording import Channel, Recording, code_direction
 
 FRF_TYPE, COHERENCE_TYPE = 4, 6
@@ -173,7 +173,7 @@ def _same_axis(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and np.allclose(a, b, rtol=1e-6, atol=1e-9 * max(1.0, np.abs(a).max(initial=0.0)))
 
 
-def _frfs(functions: list[Function], length: float, force: float, notes: list[str]) -> tuple[Frf, ...]:
+def _frfs(functions: list[Function], length: float, force: float, notes: list[str], name: str) -> tuple[Frf, ...]:
     """The FRF records as accelerance in SI, each with its coherence; exact repeats dropped."""
     coherences = {(f.response, f.reference): f for f in functions if f.type == COHERENCE_TYPE}
     frfs, seen = [], {}
@@ -187,7 +187,12 @@ def _frfs(functions: list[Function], length: float, force: float, notes: list[st
         if coherence is not None and not _same_axis(coherence.frequencies, f.frequencies):
             notes.append(f"{label}: its coherence is on other frequencies: ignored")
             coherence = None
-        accelerance = to_accelerance(decision.kind, f.frequencies, f.values * decision.scale)
+        with np.errstate(all="ignore"):  # overflow of absurd values is refused just below
+            accelerance = to_accelerance(decision.kind, f.frequencies, f.values * decision.scale)
+        check_accelerance(accelerance, f"file {name}: FRF {number} (line {f.line})")
+        if coherence is not None and not np.isfinite(coherence.values).all():
+            notes.append(f"{label}: its coherence has NaN or infinite values: ignored")
+            coherence = None
         weights = None if coherence is None else coherence.values.real
         frf = Frf(
             number, f.line, f.response, f.reference, f.frequencies, accelerance, decision.kind, decision.rule, weights
@@ -259,7 +264,7 @@ def read_uff(path) -> UffContents:
         node_frames=frames,
         node_systems=node_systems,
         systems={label: np.vstack([axes.T, origin / length]) for label, (_, origin, axes) in systems.items() if label},
-        frfs=_frfs(functions, length, force, notes),
+        frfs=_frfs(functions, length, force, notes, name),
         description=next((p for n, p in parsed if n == 151), ""),
         warnings=notes,
     )
@@ -280,7 +285,7 @@ def _no_frfs(contents: UffContents) -> MasslineError:
 
 
 def _check_channels(frf: Frf, contents: UffContents) -> None:
-    """Every channel a translation (code ±1..±3) at a node with coordinates; finite values."""
+    """Every channel a translation (code ±1..±3) at a node with coordinates, and values."""
     where = f"file {contents.path}: FRF {frf.number} (line {frf.line})"
     for role, (node, code) in (("response", frf.response), ("reference", frf.reference)):
         if code == 0:
@@ -298,14 +303,8 @@ def _check_channels(frf: Frf, contents: UffContents) -> None:
                 f"{where} names {role} node {node}, which has no coordinates in dataset 15/2411: "
                 "export the geometry with the FRFs"
             )
-    bad = int(np.sum(~np.isfinite(frf.accelerance)))
     if not len(frf.accelerance):
         raise MasslineError(f"{where} holds no values: export it again or leave it out")
-    if bad:
-        raise MasslineError(
-            f"{where} has NaN or infinite values at {bad} of {len(frf.accelerance)} frequencies: "
-            "export it again or leave it out"
-        )
 
 
 def _lines(contents: UffContents, channels: list[tuple[int, int]], triaxials: bool) -> Lines:
@@ -354,7 +353,8 @@ def to_recording(contents: UffContents) -> Recording:
     ------
     MasslineError (a ValueError)
         No FRFs; a scalar or rotational channel; a node without coordinates; NaN or infinite values; fewer
-        than 3 exciters; FRFs on different frequency axes; a pair measured twice with different data, or missing.
+        than 3 exciters or 3 sensors; FRFs on different frequency axes; a pair measured twice with different
+        data, or missing.
     """
     frfs = contents.frfs
     if not frfs:
@@ -363,13 +363,24 @@ def to_recording(contents: UffContents) -> Recording:
         _check_channels(frf, contents)
     sensors = list(dict.fromkeys(frf.response for frf in frfs))
     exciters = list(dict.fromkeys(frf.reference for frf in frfs))
-    if len(exciters) < 3:
-        raise MasslineError(
-            f"file {contents.path}: the FRFs have {len(exciters)} reference (exciter) channel(s) "
-            f"({', '.join(map(str, exciters))}): the method needs at least 3 excitations, in "
-            "non-parallel directions for a 3-D body (out-of-plane at 3 points not in a row for a plate); "
-            "measure more references"
-        )
+    needs = {
+        "reference (exciter)": (
+            exciters,
+            "3 excitations, in non-parallel directions for a 3-D body (out-of-plane"
+            " at 3 points not in a row for a plate); measure more references",
+        ),
+        "response (sensor)": (
+            sensors,
+            "6 sensor lines for a 3-D body (3 along z for a plate), so that every rigid "
+            "motion is seen; measure more responses",
+        ),
+    }
+    for role, (channels, need) in needs.items():
+        if len(channels) < 3:
+            raise MasslineError(
+                f"file {contents.path}: the FRFs have {len(channels)} {role} channel(s) "
+                f"({', '.join(map(str, channels))}): the method needs at least {need}"
+            )
     first = frfs[0]
     for frf in frfs:
         if not _same_axis(frf.frequencies, first.frequencies):

@@ -22,7 +22,7 @@ TOLERANCE = 0.01  # relative deviation of the FRF matrix from the massline
 def deviation(model: SuspendedBody, sensors: Lines, exciters: Lines, frequencies: np.ndarray) -> np.ndarray:
     """‖H(f) − H₀‖_F / ‖H₀‖_F at each frequency: how far the FRFs sit from the massline."""
     H = model.accelerance(frequencies, sensors.points, sensors.directions, exciters.points, exciters.directions)
-    ideal = synthesise(model.body, sensors, exciters).values
+    ideal = synthesise(model.loaded, sensors, exciters).values  # the accelerometers are weighed too
     return np.linalg.norm(H - ideal[:, :, None], axis=(0, 1)) / np.linalg.norm(ideal)
 
 

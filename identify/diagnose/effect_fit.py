@@ -121,7 +121,8 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
     """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt); a failed solve is ``rejected``."""
     blocks = tuple(blocks)
     x0 = problem.start(previous, blocks)
-    if not np.isfinite(x0).all() or not np.isfinite(problem.residual(x0, blocks)).all():
+    residual = problem.residual(x0, blocks) if np.isfinite(x0).all() else None
+    if residual is None or not np.isfinite(residual).all() or residual.size < len(x0):  # or more unknowns than data
         return rejected(problem, blocks, x0)
     try:
         with np.errstate(all="ignore"):

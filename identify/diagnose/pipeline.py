@@ -29,6 +29,7 @@ from massline.identify.pipeline import Identification, identify_recording, is_pl
 from massline.identify.resonances import first_elastic, support_top
 from massline.identify.tails import BandData
 from massline.placement.band import Band
+from massline.placement.degeneracy import unseen_motion
 from massline.placement.errors import MasslineError
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
@@ -170,6 +171,18 @@ def attempt(recording, band, transverse: float, draws: int) -> Identification | 
         return None
 
 
+def check_seen(layout: Layout) -> None:
+    """Refuse sensor lines that cannot see every rigid motion (identify refuses them too): nothing to diagnose."""
+    need = 3 if layout.planar else 6
+    rank = np.linalg.matrix_rank(kinematic_matrix(layout.sensors, layout.planar))
+    if rank < need:
+        why = f"the sensor lines see {rank} of a plate's 3 rigid motions" if layout.planar else None
+        raise MasslineError(
+            f"{why or unseen_motion(layout.sensors)}: the body can be neither identified nor diagnosed; "
+            "measure more responses"
+        )
+
+
 def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
     """identify, then the diagnosis on ``band`` (lo, hi) Hz or identify's, then identify on the recording
     with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
@@ -181,6 +194,8 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     """
     recording, notes = usable_lines(recording)
     planar = is_planar(recording.sensors, recording.exciters)
+    layout = Layout.of(recording.sensors, recording.exciters, planar)
+    check_seen(layout)
     before, refused = identified(recording, band, transverse)
     identify_band = band if before is not None and before.band.rule == "given" else None
     f = recording.frequencies
@@ -191,7 +206,6 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     estimation = used if before is None else before.band
     data = BandData.from_recording(f, recording.frf, used.low, used.high)
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
-    layout = Layout.of(recording.sensors, recording.exciters, planar)
     screens = screen(data, layout)
     resonances = {
         "suspension": support_top(f, recording.frf, estimation),

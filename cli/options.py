@@ -1,0 +1,137 @@
+"""Option values checked where they are parsed.
+
+Each factory returns an argparse ``type=`` function: it gives back the value or raises
+``argparse.ArgumentTypeError`` with the allowed range and its unit, and argparse puts the option's
+name in front ("argument --noise: ..."). ``Parser`` prints that as one line, exit code 2, before any
+work starts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from collections.abc import Callable
+
+from massline.placement.errors import MasslineError
+from massline.placement.mesh import MAX_MASS_KG, PLAUSIBLE_DENSITY
+
+SEED_MAX = 2**32 - 1  # numpy's seeds
+
+
+NEGATIVE = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line (no usage block), exit code 2, and that reads '-1e3' and
+    '-inf' as values (argparse takes them for options), so that they meet the option's range check."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE
+
+    def error(self, message: str):
+        text = " ".join(message.split())
+        self.exit(2, f"{self.prog}: error: {text} (see '{self.prog} --help')\n")
+
+
+def _shown(value: float) -> str:
+    """2000000 as '2000000', 0.5 as '0.5', 1e6 Hz as '1000000'."""
+    return str(int(value)) if value == int(value) and abs(value) < 1e15 else f"{value:g}"
+
+
+def range_text(low: float, high: float, unit: str, low_open: bool = False) -> str:
+    """'0 ≤ value ≤ 1 (fraction)' or '0 < value (kg)': the allowed values, in words a user reads."""
+    left = "" if low == -math.inf else f"{_shown(low)} {'<' if low_open else '≤'} "
+    right = "" if high == math.inf else f" ≤ {_shown(high)}"
+    return f"{left}value{right}" + (f" ({unit})" if unit else "")
+
+
+def _float(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+
+
+def real(
+    low: float = -math.inf,
+    high: float = math.inf,
+    unit: str = "",
+    low_open: bool = False,
+    hint: Callable[[float], str] | None = None,
+) -> Callable[[str], float]:
+    """A finite number in [low, high] (``low`` excluded when ``low_open``), in ``unit``; ``hint(value)`` adds a
+    guess at the user's slip to the refusal."""
+    allowed = range_text(low, high, unit, low_open)
+
+    def parse(text: str) -> float:
+        value = _float(text)
+        inside = (low < value if low_open else low <= value) and value <= high
+        if not (math.isfinite(value) and inside):
+            extra = hint(value) if hint and math.isfinite(value) else ""
+            raise argparse.ArgumentTypeError(f"{text} is out of range: give a finite {allowed}{extra}")
+        return value
+
+    parse.__name__ = "number"
+    return parse
+
+
+def positive(unit: str, high: float = math.inf) -> Callable[[str], float]:
+    """A number > 0 (and ≤ ``high``) in ``unit``."""
+    return real(0.0, high, unit, low_open=True)
+
+
+def fraction(high: float = 1.0, low_open: bool = False) -> Callable[[str], float]:
+    """A fraction in [0, high] (or (0, high])."""
+    return real(0.0, high, "fraction, e.g. 0.01 for 1 %", low_open=low_open)
+
+
+def count(low: int, high: int, unit: str = "") -> Callable[[str], int]:
+    """A whole number in [low, high]; '1e5' is read as 100000."""
+    allowed = range_text(low, high, unit)
+
+    def parse(text: str) -> int:
+        value = _float(text)
+        if not (math.isfinite(value) and value == int(value) and low <= value <= high):
+            raise argparse.ArgumentTypeError(f"{text} is out of range: give a whole number {allowed}")
+        return int(value)
+
+    parse.__name__ = "count"
+    return parse
+
+
+def finite(unit: str) -> Callable[[str], float]:
+    """Any finite number (a coordinate) in ``unit``."""
+    return real(unit=unit)
+
+
+def checked(parse: Callable[[str], object]) -> Callable[[str], object]:
+    """A parser raising MasslineError, as an argparse type (its message kept)."""
+
+    def wrapped(text: str):
+        try:
+            return parse(text)
+        except MasslineError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
+
+    wrapped.__name__ = getattr(parse, "__name__", "value")
+    return wrapped
+
+
+def _grams_per_cc(value: float) -> str:
+    return f"; was it in g/cm³? (then pass {value * 1000:g})" if 0 < value < PLAUSIBLE_DENSITY[0] else ""
+
+
+DENSITY = real(*PLAUSIBLE_DENSITY, "kg/m³, from rigid foams to tungsten alloys", hint=_grams_per_cc)
+MASS = positive("kg", MAX_MASS_KG)
+SEED = count(0, SEED_MAX)
+BAND_EDGE = positive("Hz", 1e6)
+TRANSVERSE_PRIOR = fraction(0.5)  # a 1-σ beyond 50 % of the main axis' sensitivity is no accelerometer
+MAX_DRAWS = 10_000  # bootstrap draws: beyond this the ± no longer changes, the wait does
+
+
+def check_band(band: list[float] | None) -> None:
+    """``--band LO HI``: LO below HI (each already a positive frequency in Hz)."""
+    if band is not None and not band[0] < band[1]:
+        raise MasslineError(f"--band {band[0]:g} {band[1]:g}: give LO < HI, both in Hz (e.g. --band 5 40)")

@@ -1,0 +1,88 @@
+"""Fuzzed readers: a damaged UFF or mesh is refused with a MasslineError (exit 2), never anything else.
+
+Seeded from the real exporters' files and meshes in ../shared/fixtures/ and the project's own exports
+(tests/mutations.py); a short derandomised run here, ``python tests/fuzz_long.py`` pushes ≥ 10,000
+mutated files through the commands themselves.
+"""
+
+import random
+import warnings
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from mutations import FIXTURE_MESH_UNITS, fixture_meshes, fixture_uffs, mutate, own_meshes, own_uffs
+
+from massline.placement.errors import MasslineError
+from massline.placement.mesh import load_body
+from massline.uff.reader import read_uff, to_recording
+
+SMALL_MESH = 300_000  # bytes: the larger fixtures cost seconds per load and add no new structure
+FUZZ = settings(
+    max_examples=500, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+
+
+@pytest.fixture(scope="module")
+def uff_seeds(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("own-uff")
+    return [(p.suffix, p.read_bytes()) for p in fixture_uffs() + own_uffs(folder)]
+
+
+@pytest.fixture(scope="module")
+def mesh_seeds(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("own-mesh")
+    fixtures = [(p, FIXTURE_MESH_UNITS[p.name]) for p in fixture_meshes() if p.stat().st_size < SMALL_MESH]
+    return [(p.suffix, p.read_bytes(), units) for p, units in fixtures + own_meshes(folder)]
+
+
+def refused_quietly(call) -> None:
+    """``call()`` returns or raises MasslineError, and warns of nothing."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            call()
+        except MasslineError:
+            pass
+
+
+@FUZZ
+@given(st.data(), st.integers(1, 3), st.randoms(use_true_random=False))
+def test_uff_reader_raises_only_massline_errors(uff_seeds, tmp_path, data, steps, rng: random.Random):
+    suffix, seed = data.draw(st.sampled_from(uff_seeds))
+    damaged, _ = mutate(seed, rng, steps)
+    path = tmp_path / f"damaged{suffix}"
+    path.write_bytes(damaged)
+    refused_quietly(lambda: to_recording(read_uff(path)))
+
+
+@settings(FUZZ, max_examples=300)
+@given(st.data(), st.integers(1, 3), st.randoms(use_true_random=False))
+def test_mesh_loader_raises_only_massline_errors(mesh_seeds, tmp_path, data, steps, rng: random.Random):
+    suffix, seed, units = data.draw(st.sampled_from(mesh_seeds))
+    damaged, _ = mutate(seed, rng, steps)
+    path = tmp_path / f"damaged{suffix}"
+    path.write_bytes(damaged)
+    refused_quietly(lambda: load_body(path, units, 2700.0).nominal)
+
+
+def test_the_seeds_are_read(uff_seeds, mesh_seeds):
+    """The unmutated own exports identify-ready, the fixture meshes of known units load: mutations start from
+    files the tools accept."""
+    assert len(uff_seeds) >= 18 and len(mesh_seeds) >= 8
+
+
+def test_commands_exit_0_or_2_on_damaged_files(tmp_path):
+    """A short seeded run of tests/fuzz_long.py: mutated files through identify, diagnose and props."""
+    import signal
+
+    from fuzz_long import SHARES, _alarm, one_run, seeds
+
+    signal.signal(signal.SIGALRM, _alarm)
+    (tmp_path / "out").mkdir()
+    pool, rng, failures = seeds(tmp_path), random.Random(0), []
+    for k in range(80):
+        command = rng.choices([c for c, _ in SHARES], [w for _, w in SHARES])[0]
+        code, found, names, _ = one_run(command, rng.choice(pool[command]), rng, tmp_path)
+        failures += [(command, names, found)] if found else []
+    assert not failures

@@ -1,0 +1,33 @@
+"""Ctrl-C at any moment, also while the modules load, ends with one line and exit code 130.
+
+(The first ~30 ms are the interpreter's own start, before any of massline runs.)"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+
+def terminal_like():
+    """Ctrl-C as at a terminal: a test runner started in the background may pass SIGINT on ignored."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize(
+    "after", [0.1, 0.3, 0.6, 3.0], ids=["importing numpy", "importing", "importing trimesh", "planning"]
+)
+def test_ctrl_c_says_interrupted_and_exits_130(tmp_path, after):
+    env = {**os.environ, "MASSLINE_DEBUG": "1"}
+    command = [sys.executable, "-m", "massline", "plan", "structure", "--candidates", "20000", "--out", tmp_path / "p"]
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, preexec_fn=terminal_like
+    )
+    time.sleep(after)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130, (out, err)
+    assert err.strip() == "massline: interrupted" and "Traceback" not in out + err
+    assert not (tmp_path / "p").exists()
