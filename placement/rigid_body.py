@@ -149,8 +149,10 @@ class RigidBody:
 
     @cached_property
     def radius_of_gyration(self) -> float:
-        """√(tr J_G / 2m), m: the length that makes CoG errors comparable."""
-        return float(np.sqrt(np.trace(self.inertia_cog) / (2 * self.mass)))
+        """√(tr J_G / 2m), m: the length that makes CoG errors comparable (nan for no body: tr J_G / m ≤ 0, which a
+        gross fault's masslines can give; its callers refuse it)."""
+        with np.errstate(invalid="ignore"):
+            return float(np.sqrt(np.trace(self.inertia_cog) / (2 * self.mass)))
 
     def transformed(self, rotation: np.ndarray, translation: np.ndarray) -> "RigidBody":
         """The same body seen in a frame where x' = R x + t."""
