@@ -74,7 +74,8 @@ def _line_index(lines, point, direction) -> int:
 
 def concealed(truth: dict, planned, recording, sensors: list[str], hits: list[str]) -> tuple[str, list, int | None]:
     """The fault in words, the channels (0-based, in the file's order) and the hit it sits on."""
-    fault, size, lines = truth["fault"]["name"], truth["fault"]["size"], truth["fault"]["lines"] or []
+    drawn = truth["faults"][0]  # the demo conceals one fault
+    fault, size, lines = drawn["name"], drawn["size"], drawn["lines"] or []
     channels, hit = [], None
     if fault.startswith("excitation"):
         k = lines[0] - 1

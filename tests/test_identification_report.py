@@ -35,7 +35,7 @@ def test_file(tmp_path_factory):
     planned = plan(body, Budget(10, 4), CandidateOptions(n_samples=200), certify_seconds=1.0)
     bench = Bench(body.nominal, planned.sensors, planned.exciters, None, 150.0, lines=400)
     recording, truth = scenario(bench, "sensor_gain", 1)
-    assert truth["fault"]["lines"] == [2]
+    assert truth["faults"][0]["lines"] == [2]
     path = tmp_path_factory.mktemp("small") / "small.uff"
     write_uff(path, recording)
     return path, (truth["planned_band_hz"][0], bench.fmax)

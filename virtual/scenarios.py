@@ -97,9 +97,9 @@ class Bench:
         model = SuspendedBody(self.body, self.modes, suspension, np.zeros(0), np.zeros((0, 3)), 0.002)
         for tolerance in BAND_TOLERANCES:
             band = predict_band(model, self.sensors, self.exciters, tolerance)
-            if np.isfinite([band.low, band.high]).all():
+            if np.isfinite(band.low):
                 break
-        return float(band.low), float(band.high)
+        return float(band.low), float(min(band.high, self.fmax))  # a rigid model's band runs to the record's end
 
     def faults(self) -> tuple:
         """The faults this bench's layout can show (a plate's out-of-plane lines: polarity, swap, gain, location)."""
