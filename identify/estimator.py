@@ -27,6 +27,7 @@ and the scale said.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -115,7 +116,14 @@ def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: Rig
     scale = np.diag(1 / np.sqrt(np.maximum(np.abs(np.diag(pseudo_inertia(theta))), 1e-300)))
     psd = scale @ ((P + P.T) / 2) @ scale >> epsilon * scale @ scale
     problem = cp.Problem(cp.Minimize(objective), [psd])
-    problem.solve(solver=cp.CLARABEL)
+    with warnings.catch_warnings():  # an inaccurate solution is judged below, by its status, not printed
+        warnings.simplefilter("ignore", UserWarning)
+        problem.solve(solver=cp.CLARABEL)
+    if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or delta.value is None:
+        raise MasslineError(
+            "the estimate leaves the physical bodies and no physical step fits the masslines (a flipped or "
+            "swapped channel, or a band across a resonance?); run massline diagnose, or give --band LO HI"
+        )
     return np.asarray(delta.value)
 
 

@@ -176,6 +176,22 @@ def test_plate_data_are_diagnosed_with_the_planar_model(effect, channels, excite
     assert found.after_body.mass == pytest.approx(plate.mass, rel=0.003)
 
 
+def test_every_housing_on_a_plate_is_weighed_in_its_six_parameters_and_taken_off():
+    """5 g on each of the plate's eight out-of-plane accelerometers (40 g on the paper's 0.567 kg plate):
+    the loading of every housing is named, weighed within 3σ and taken off the properties after."""
+    plate = bundled("plate").nominal
+    rng = np.random.default_rng(3)
+    points = np.column_stack([rng.uniform(-0.2, 0.2, 8), rng.uniform(-0.15, 0.15, 8), np.zeros(8)])
+    sensors = Lines(points + plate.cog * [1, 1, 0], np.tile([0, 0, 1.0], (8, 1)))
+    rec, _ = run(plate, sensors, plate_table1()[1], setup=Acquisition(100.0, 400, sensor_mass=0.005))
+    found = diagnose_recording(rec, None, plate)
+    loading = next(f for f in found.findings if f.effect == "sensor_mass_loading")
+    assert loading.parameters["every_housing"] and loading.parameters["housings"] == 8
+    assert abs(loading.parameters["mass_kg"] - 0.005) < 3 * loading.parameters["mass_std_kg"]
+    assert found.after_body.mass == pytest.approx(plate.mass, rel=3e-4)
+    assert found.before.best.body.mass == pytest.approx(plate.mass + 0.04, rel=3e-4)
+
+
 def test_screens_without_a_model_locate_a_flipped_channel_and_an_extra_mode(structure):
     """Fourteen sensors, eight hits. A flipped channel keeps the matrix rank 6 (σ₇/σ₁ at the noise) but breaks the
     leave-one-out prediction of that channel (misfit 2: it reads minus what the others predict); a seventh,

@@ -58,7 +58,14 @@ RANGES = {
     "channel_swap": None,
 }
 FAULTS = tuple(RANGES)
-PLANAR_FAULTS = ("sensor_polarity", "channel_swap", "sensor_gain", "sensor_location")
+PLANAR_FAULTS = (
+    "sensor_polarity",
+    "channel_swap",
+    "sensor_gain",
+    "sensor_location",
+    "sensor_mass_loading",
+    "every_sensor_mass",
+)
 PAIRS = (
     ("channel_swap", "every_sensor_mass"),
     ("sensor_polarity", "sensor_direction"),

@@ -2,7 +2,9 @@
 
 A point mass m at p adds m φ(p) to the parameters θ = (m, m c, J_O), with
 
-    φ(p) = (1, p, six(|p|² I − p pᵀ))        (a unit mass's first and second moments about O).
+    φ(p) = (1, p, six(|p|² I − p pᵀ))        (a unit mass's first and second moments about O),
+
+or, on a plate, to its six θ_p = (m, m c_x, m c_y, J_xx, J_yy, J_xy) about O (§2.3) the same entries of φ(p).
 
 Given the difference Δθ = θ̂ − θ_mesh of identify's estimate and its covariance C, two kinds of loading
 are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀC⁻¹Δθ / φᵀC⁻¹φ, with
@@ -11,7 +13,7 @@ are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀ
 * every housing alike (what every test has: each accelerometer's own mass), φ = Σ_k φ(p_k);
 * one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k.
 
-The finding needs the difference to be real (χ²₀ beyond its 10-parameter chance level), the best
+The finding needs the difference to be real (χ²₀ beyond its chance level for 10 parameters, or 6), the best
 hypothesis to explain it (χ² within chance or under a tenth of χ²₀: C leaves out the band's small
 model biases), to beat every other by EVIDENCE, and a mass positive and SIGMAS from zero.
 """
@@ -25,9 +27,10 @@ from scipy.stats import chi2 as chi2_distribution
 
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate
-from massline.identify.sensor_mass import Housings, housing_points
+from massline.identify.sensor_mass import Housings, housing_points, point_mass_theta
 from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody, six_from_tensor, steiner
+from massline.placement.model import RigidModel
+from massline.placement.rigid_body import RigidBody
 
 CHANCE = 1e-3  # tail probability beyond which a χ² is no longer chance
 SIGMAS = 5.0  # a loading mass must be this many σ from zero
@@ -36,9 +39,9 @@ EVIDENCE = 10.0  # and fit better than any other hypothesis by this much
 SHARED = 1e-3  # m: channels this close share a housing
 
 
-def unit_mass(point: np.ndarray) -> np.ndarray:
-    """φ(p): θ of a 1 kg point mass at ``point`` (m)."""
-    return np.concatenate([[1.0], point, six_from_tensor(steiner(1.0, point))])
+def unit_mass(point: np.ndarray, planar: bool = False) -> np.ndarray:
+    """φ(p): θ of a 1 kg point mass at ``point`` (m), in 3-D or the plate's parameters."""
+    return point_mass_theta(1.0, point, planar)
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,6 +54,8 @@ class MassLoading:
         The loading masses: each of ``housings.points`` weighs ``housings.mass`` kg.
     every : bool
         Every housing alike (True) or one housing (False).
+    planar : bool
+        Weighed in the plate's six parameters.
     channels : tuple of int
         The loaded accelerometer's channels (one housing), empty for every housing.
     std : float
@@ -61,6 +66,7 @@ class MassLoading:
 
     housings: Housings
     every: bool
+    planar: bool
     channels: tuple
     std: float
     chi2_before: float
@@ -68,7 +74,7 @@ class MassLoading:
 
     def bare(self, body: RigidBody) -> RigidBody:
         """``body`` (identified as tested) with the loading masses taken away."""
-        return self.housings.removed_from(body)
+        return self.housings.removed_from(body, self.planar)
 
     def finding(self) -> Finding:
         parameters = {
@@ -78,7 +84,7 @@ class MassLoading:
             "every_housing": self.every,
             "points_m": self.housings.points.tolist(),
         }
-        evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 10}
+        evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 6 if self.planar else 10}
         return Finding("sensor_mass_loading", self.channels, None, parameters, evidence)
 
 
@@ -97,27 +103,27 @@ def hypotheses(sensors: Lines) -> list[tuple[bool, tuple, np.ndarray]]:
 
 
 def mass_loading(found: Estimate, sensors: Lines, nominal: RigidBody) -> MassLoading | None:
-    """The loading that best explains identify's θ̂ − θ_mesh, when the evidence says one does (3-D only)."""
-    if found.model.planar:
-        return None
-    delta, covariance = found.body.theta - nominal.theta, si_covariance(found)
+    """The loading that best explains identify's θ̂ − θ_mesh, when the evidence says one does."""
+    planar = found.model.planar
+    delta = found.model.theta - RigidModel(nominal, planar).theta
+    covariance, p = si_covariance(found), len(delta)
     if not (np.isfinite(delta).all() and np.isfinite(covariance).all()):
         return None
     information = np.linalg.pinv(covariance)
     chi2_before = float(delta @ information @ delta)
-    if chi2_before < chi2_distribution.isf(CHANCE, 10):
+    if chi2_before < chi2_distribution.isf(CHANCE, p):
         return None
     fits = []
     for every, channels, points in hypotheses(sensors):
-        phi = sum(unit_mass(p) for p in points)
+        phi = sum(unit_mass(r, planar) for r in points)
         weight = float(phi @ information @ phi)
         mass = float(phi @ information @ delta) / weight
         rest = delta - mass * phi
         fits.append((float(rest @ information @ rest), every, channels, points, mass, 1 / np.sqrt(weight)))
     fits.sort(key=lambda f: f[0])
     chi2_after, every, channels, points, mass, std = fits[0]
-    explains = chi2_after < max(chi2_distribution.isf(CHANCE, 9), EXPLAINED * chi2_before)
+    explains = chi2_after < max(chi2_distribution.isf(CHANCE, p - 1), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
     if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
         return None
-    return MassLoading(Housings(mass, points), every, channels, std, chi2_before, chi2_after)
+    return MassLoading(Housings(mass, points), every, planar, channels, std, chi2_before, chi2_after)
