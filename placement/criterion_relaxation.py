@@ -15,6 +15,8 @@ mean eigenvalue for the conic solver and the results scaled back.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from massline.placement.criteria import A, Criterion, a_bound, e_bound
@@ -50,14 +52,17 @@ def _solve(problem: BlockProblem, criterion: Criterion, work: np.ndarray, scale:
     F = (F + F.T) / 2
     constraints = [z >= 0, z <= 1]
     constraints += [cp.sum(z[np.flatnonzero(problem.group[work] == g)]) == k for g, k in enumerate(problem.budgets)]
-    if criterion is A:
-        cp.Problem(cp.Minimize(cp.tr_inv(F)), constraints).solve(solver="CLARABEL")
-        W = None
-    else:
-        t = cp.Variable()
-        lmi = F - t * np.eye(p) >> 0
-        cp.Problem(cp.Maximize(t), constraints + [lmi]).solve(solver="CLARABEL")
-        W = np.asarray(lmi.dual_value)
+    t = cp.Variable()
+    lmi = F - t * np.eye(p) >> 0
+    problem_ = (
+        cp.Problem(cp.Minimize(cp.tr_inv(F)), constraints)
+        if criterion is A
+        else cp.Problem(cp.Maximize(t), constraints + [lmi])
+    )
+    with warnings.catch_warnings():  # an inaccurate solve is harmless: the bound is re-evaluated from it
+        warnings.simplefilter("ignore")
+        problem_.solve(solver="CLARABEL")
+    W = None if criterion is A else np.asarray(lmi.dual_value)
     weights = np.clip(np.asarray(z.value).ravel(), 0, 1)
     return problem.fixed + scale * (K @ weights).reshape(p, p), W
 
