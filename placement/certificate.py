@@ -3,7 +3,8 @@
 With six sensors or three exciters for ten parameters the relaxation's bound
 (relaxation.py) can sit 1 nat above the best selection. Two honest tightenings:
 
-* branch and bound over the selections, each branch bounded by its relaxation;
+* branch and bound over cells of candidates, each node bounded by its relaxation,
+  with screening (cell_bound.py);
 * cuts that every admissible layout satisfies: a layout the paper's equations
   can solve sees every rigid motion q, so for a motion q₀ that some selection
   leaves unseen, at least one chosen candidate must see it (ℓ · q₀ ≠ 0). The
@@ -13,105 +14,17 @@ With six sensors or three exciters for ten parameters the relaxation's bound
 
 from __future__ import annotations
 
-import heapq
 import itertools
 import time
 from typing import Callable
 
 import numpy as np
 
-from massline.placement.information import log_det
+from massline.placement.cell_bound import branch_and_bound
 from massline.placement.relaxation import relax_cvxpy, relax_first_order
 from massline.placement.selection import BlockProblem, greedy, swap
 
-TARGET_EFFICIENCY = 0.99  # branch and bound stops once the certificate reaches this
-
-
-def _restrict(problem: BlockProblem, inside: frozenset, outside: frozenset):
-    """The sub-problem with ``inside`` chosen (into M₀) and ``outside`` removed; None if infeasible."""
-    budgets = np.array(problem.budgets)
-    for i in inside:
-        budgets[problem.group[i]] -= 1
-    keep = np.ones(len(problem.blocks), dtype=bool)
-    keep[list(inside | outside)] = False
-    index = np.flatnonzero(keep)
-    available = np.bincount(problem.group[index], minlength=len(budgets))
-    if np.any(budgets < 0) or np.any(available < budgets):
-        return None, index
-    A = problem.blocks[list(inside)].reshape(-1, problem.p)
-    return BlockProblem(problem.blocks[index], problem.group[index], tuple(budgets), problem.fixed + A.T @ A), index
-
-
-def branch_and_bound(
-    problem: BlockProblem,
-    chosen,
-    slack: float,
-    max_nodes: int = 100_000,
-    tol: float = 1e-4,
-    seconds: float = 10.0,
-    root_bound: float = np.inf,
-) -> tuple[float, list]:
-    """A tighter certified bound: the relaxation's bounds over a partition of all selections.
-
-    Best first: the open branch of largest bound is split by fixing its most
-    decided fractional candidate in or out; a branch whose relaxation bound is
-    within ``slack`` of the best selection known is closed. At any moment the
-    largest bound over closed and open branches is a valid certificate, and it
-    only falls, so the search can stop after ``seconds`` or ``max_nodes``.
-    Small budgets (six sensors, three exciters for ten parameters) leave the plain
-    relaxation loose; this closes most of that gap honestly. Returns the bound
-    and the best selection met (``chosen`` or better).
-    """
-    deadline = time.perf_counter() + seconds
-    best_value, best = problem.value(chosen), list(chosen)
-    closed = -np.inf
-    heap = [(-root_bound, 0, frozenset(), frozenset(), None)]  # (−parent bound, tie, in, out, parent weights)
-    nodes = 0
-    while heap:
-        if nodes >= max_nodes or time.perf_counter() > deadline:
-            break
-        negative_bound, _, inside, outside, parent_z = heapq.heappop(heap)
-        parent_bound = -negative_bound
-        if parent_bound <= best_value + slack:  # every open branch is now within the slack
-            closed = max(closed, parent_bound)
-            heap = []
-            break
-        nodes += 1
-        sub, index = _restrict(problem, inside, outside)
-        if sub is None:
-            continue
-        if sum(sub.budgets) == 0:
-            value = log_det(sub.fixed)
-            closed = max(closed, value)
-            if value > best_value:
-                best_value, best = value, sorted(inside)
-            continue
-        start = greedy(sub) if parent_z is None else ()
-        if parent_z is None and sub.value(start) > best_value:
-            best_value, best = sub.value(start), sorted(inside | {int(index[s]) for s in start})
-        target = best_value + slack
-        z, bound = relax_first_order(
-            sub,
-            start,
-            None if parent_z is None else parent_z[index],
-            tol=tol,
-            refresh=10,
-            stop_below=target,
-            stop_above=target,
-            deadline=deadline,
-        )
-        bound = min(bound, parent_bound)
-        if bound <= target:
-            closed = max(closed, bound)
-            continue
-        open_ = (z > 1e-9) & (z < 1 - 1e-9)
-        pick = int(index[np.argmax(np.where(open_, z, -1.0))]) if open_.any() else int(index[np.argmax(z)])
-        full = np.zeros(len(problem.blocks))
-        full[index] = z
-        heapq.heappush(heap, (-bound, nodes * 2, inside | {pick}, outside, full))
-        heapq.heappush(heap, (-bound, nodes * 2 + 1, inside, outside | {pick}, full))
-    still_open = max((-item[0] for item in heap), default=-np.inf)
-    return max(closed, still_open, best_value), best
+TARGETS = (0.95, 0.99)  # branch and bound aims at these certified efficiencies in turn
 
 
 def split_by_cover(problem: BlockProblem, cover: np.ndarray) -> list[BlockProblem]:
@@ -189,19 +102,31 @@ def certify(
     admissible=None,
     cover_for=None,
     seconds: float = 10.0,
+    targets: tuple = TARGETS,
 ) -> tuple[float, list]:
     """Upper bound U on ``problem`` over the admissible selections, and the best one met.
 
     The relaxation's bound first; when it leaves the per-parameter D-efficiency
-    below TARGET_EFFICIENCY (small budgets), branch and bound and admissibility
-    cuts tighten it (certificate.py).
+    below the last of ``targets`` (small budgets), branch and bound and admissibility
+    cuts tighten it, aiming at each target in turn (a near target closes nodes
+    sooner) while time remains; every bound met is valid, the least is returned.
     """
     if relaxation == "cvxpy":
         return relax_cvxpy(problem)[1], chosen
+    deadline = time.perf_counter() + seconds
     _, bound = relax_first_order(problem, chosen, tol=1e-3)
-    slack = problem.p * np.log(1 / TARGET_EFFICIENCY)
-    if bound - problem.value(chosen) <= slack:
-        return bound, chosen
-    return certify_admissible(
-        problem, chosen, slack, admissible or (lambda c: True), cover_for or (lambda c: None), seconds, root_bound=bound
-    )
+    for target in targets:
+        slack = problem.p * np.log(1 / target)
+        if bound - problem.value(chosen) <= slack or time.perf_counter() > deadline:
+            continue
+        found, chosen = certify_admissible(
+            problem,
+            chosen,
+            slack,
+            admissible or (lambda c: True),
+            cover_for or (lambda c: None),
+            deadline - time.perf_counter(),
+            root_bound=bound,
+        )
+        bound = min(bound, found)
+    return bound, chosen

@@ -2,9 +2,11 @@
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
 ``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres,
-mesh frame), ``criterion`` (``log_det``, ``condition_numbers``,
-``d_efficiency_lower_bound``, ``upper_bounds``), ``noise``, ``predicted_std``
-(identify's std keys). NaN (unobservable) is written as null.
+mesh frame), ``criterion`` (``name`` D, A or E, its ``value``, ``bounds`` and
+``efficiency_lower_bound``; ``smallest_eigenvalue`` of the scaled information;
+``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system
+by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det),
+``noise``, ``predicted_std`` (identify's std keys). NaN (unobservable) is written as null.
 """
 
 from __future__ import annotations
@@ -27,6 +29,21 @@ def _lines(lines: Lines, nodes: np.ndarray) -> list:
     ]
 
 
+def condition_systems(planar: bool) -> dict:
+    """The paper's system behind each condition number of a layout (kinematics method 2 + dynamics method 3)."""
+    if planar:
+        return {
+            "kinematic": "plate kinematics, eq. (10)",
+            "translation": "plate mass and CoG, eq. (12)",
+            "rotation": "plate inertia, eq. (13)",
+        }
+    return {
+        "kinematic": "kinematics S Q = H, eq. (6)",
+        "translation": "dynamics method 3, force rows (eq. 9)",
+        "rotation": "dynamics method 3, moment rows (eq. 9)",
+    }
+
+
 def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
     nominal = plan.model.nominal
     return {
@@ -38,11 +55,18 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
         "sensors": _lines(plan.sensors, plan.sensor_nodes),
         "exciters": _lines(plan.exciters, plan.exciter_nodes),
         "criterion": {
+            "name": plan.criterion.name,
+            "title": plan.criterion.title,
+            "value": plan.value,
+            "bounds": plan.bounds,
+            "efficiency_lower_bound": plan.efficiency_lower_bound,
+            "smallest_eigenvalue": plan.smallest_eigenvalue,
             "log_det": plan.log_det,
             "parameters": list(plan.model.names),
             "condition_numbers": plan.condition,
+            "condition_systems": {k: condition_systems(plan.model.planar).get(k, k) for k in plan.condition},
             "d_efficiency_lower_bound": plan.d_efficiency_lower_bound,
-            "upper_bounds": plan.bounds,
+            "upper_bounds": plan.d_bounds,
             "worst_relative_std": plan.worst_relative_std,
         },
         "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},

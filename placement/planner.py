@@ -1,12 +1,16 @@
 """The pre-test planner: the sensor and exciter layout of greatest information.
 
-    maximise over S, E   log det F(S, E),   F = Σ_{i∈S, j∈E} g_ij g_ijᵀ / σ_ij²
+    maximise over S, E   φ(F(S, E)),   F = Σ_{i∈S, j∈E} g_ij g_ijᵀ / σ_ij²,
+
+φ = log det (D, the default), −tr(·)⁻¹ (A) or λ_min (E) of the scaled
+information (criteria.py).
 
 F is linear in the sensors for fixed exciters and vice versa, so the layout is
 found by alternating the two selection problems (greedy, then exchanges), from
 several starts, until neither side improves. Each side's convex relaxation
-bounds the best layout from above; the plan states the certified D-efficiency
-exp((log det F − U)/p) of the worse side. Only layouts that the paper's
+bounds the best layout from above; the plan states the certified efficiency of
+the worse side in the criterion's sense (D: exp((log det F − U)/p)). A and E
+start from the D layout and climb their own criterion from there. Only layouts that the paper's
 equations can solve are admitted (rank S = 6, non-singular dynamic systems).
 """
 
@@ -26,7 +30,9 @@ from massline.placement.candidates import (
     candidate_lines,
     candidate_points,
 )
-from massline.placement.certificate import certify
+from massline.placement.certificate import TARGETS, certify
+from massline.placement.criteria import CRITERIA, Criterion, D
+from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -72,7 +78,8 @@ class Plan:
     """A layout with its certificate and predicted accuracy.
 
     ``sensor_nodes`` / ``exciter_nodes`` index the candidate points.
-    ``bounds`` holds the relaxation's upper bound U for each side.
+    ``bounds`` holds the upper bound U of the plan's criterion for each side
+    (``value`` is the layout's), ``d_bounds`` that of log det F.
     """
 
     model: RigidModel
@@ -87,11 +94,25 @@ class Plan:
     noise: NoiseModel
     candidates: CandidatePoints | None = None
     n_candidate_lines: dict = field(default_factory=dict)
+    criterion: Criterion = D
+    value: float = np.nan
+    d_bounds: dict = field(default_factory=dict)
+    information: np.ndarray | None = None
 
     @property
     def d_efficiency_lower_bound(self) -> float:
         """exp((log det F − U)/p) for the worse of the two sides."""
-        return float(np.exp((self.log_det - max(self.bounds.values())) / self.model.p))
+        return float(np.exp((self.log_det - max(self.d_bounds.values())) / self.model.p))
+
+    @property
+    def efficiency_lower_bound(self) -> float:
+        """The certified efficiency in the plan's criterion, for the worse of the two sides."""
+        return self.criterion.efficiency(self.value, max(self.bounds.values()), self.model.p)
+
+    @property
+    def smallest_eigenvalue(self) -> float:
+        """λ_min of the scaled information: 1/√λ_min is the worst relative 1-σ of any parameter combination."""
+        return float(np.linalg.eigvalsh(self.information)[0])
 
     @property
     def worst_relative_std(self) -> float:
@@ -109,7 +130,7 @@ def is_plate(body: BodyMesh) -> bool:
 
 
 class Planner:
-    """Alternating D-optimal selection of sensors and exciters on one model."""
+    """Alternating selection of sensors and exciters on one model, by one criterion."""
 
     def __init__(
         self,
@@ -120,8 +141,9 @@ class Planner:
         noise: NoiseModel,
         fixed_sensors: Lines | None = None,
         fixed_exciters: Lines | None = None,
+        criterion: Criterion = D,
     ):
-        self.model, self.budget, self.noise = model, budget, noise
+        self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
         self.e_coords = model.coordinates(exciter_side.lines)
@@ -148,7 +170,7 @@ class Planner:
         padded = np.concatenate([per_line, np.zeros((1,) + per_line.shape[1:])])  # row −1: nothing
         blocks = padded[side.members].reshape(len(side), -1, self.model.p)
         A0 = (sens(fixed, other) if sensors_side else sens(other, fixed)).reshape(-1, self.model.p)
-        return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0)
+        return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0, self.criterion)
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])
@@ -261,6 +283,68 @@ class Planner:
         return starts
 
 
+def _certify_sides(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float, targets):
+    """Both sides' D bounds at the layout, and the layouts better on one side that the search met."""
+    deadline = time.perf_counter() + seconds
+    sp = planner.sensor_problem(planner.exciter_rows(exciters))
+    ep = planner.exciter_problem(planner.sensor_rows(sensors))
+    U_s, better_s = certify(
+        sp,
+        sensors,
+        relaxation,
+        lambda c: planner.admits(c, exciters),
+        planner.sensor_cover(exciters),
+        seconds / 2,
+        targets,
+    )
+    remaining = max(deadline - time.perf_counter(), 0.0)
+    U_e, better_e = certify(
+        ep, exciters, relaxation, lambda c: planner.admits(sensors, c), planner.exciter_cover, remaining, targets
+    )
+    value = ep.value(exciters)
+    improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
+    return {"sensors": U_s, "exciters": U_e}, [
+        c for c in improved if c[0] > value + 1e-9 and planner.admits(c[1], c[2])
+    ]
+
+
+def _certify_d(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float):
+    """Both sides' D bounds (certificate.py). At the first target a better layout the search meets
+    is adopted and both sides certified anew (up to three times); the time left tightens the
+    bounds of the final layout towards the last target. Returns the sensors, exciters and bounds."""
+    deadline = time.perf_counter() + seconds
+    for _ in range(3):
+        remaining = max(deadline - time.perf_counter(), 0.0)
+        bounds, improved = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[:1])
+        if not improved or time.perf_counter() > deadline:
+            break
+        _, sensors, exciters = max(improved, key=lambda c: c[0])
+    if not improved and time.perf_counter() < deadline:
+        remaining = deadline - time.perf_counter()
+        tighter = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[1:])[0]
+        bounds = {side: min(bounds[side], tighter[side]) for side in bounds}
+    return sensors, exciters, bounds
+
+
+def _certify_criterion(planner: Planner, sensors: list, exciters: list) -> dict:
+    """Both sides' bounds of an A or E plan (criterion_relaxation.py)."""
+    return {
+        "sensors": relax_criterion(planner.sensor_problem(planner.exciter_rows(exciters)), planner.criterion, sensors),
+        "exciters": relax_criterion(planner.exciter_problem(planner.sensor_rows(sensors)), planner.criterion, exciters),
+    }
+
+
+def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, float]:
+    """The best alternation over the starts (exciter sets), by the searcher's criterion."""
+    best = None
+    for k, start in enumerate(starts):
+        progress("alternating sensors and exciters", 0.8 * k / len(starts))
+        result = searcher.alternate(*start)
+        if best is None or result[2] > best[2]:
+            best = result
+    return best
+
+
 def plan_on_candidates(
     model: RigidModel,
     sensor_side: CandidateLines,
@@ -274,11 +358,13 @@ def plan_on_candidates(
     seed: int = 0,
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
+    criterion: str = "D",
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
-    ``certify_seconds`` bounds the branch and bound that tightens the certificate;
-    what it reaches by then is what the plan states.
+    ``certify_seconds`` bounds the branch and bound that tightens the D certificate;
+    what it reaches by then is what the plan states. ``criterion`` is "D", "A" or "E"
+    (criteria.py): A and E alternate from the D layout by their own criterion.
     """
     budget.check(model.planar)
     for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
@@ -287,45 +373,32 @@ def plan_on_candidates(
                 f"only {len(side)} {name} candidates for a budget of {need}: "
                 "sample more points (--candidates) or relax the exclusions"
             )
-    planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
+    chosen = CRITERIA[criterion]
+    fixed = (fixed_sensors, fixed_exciters)
+    planner = Planner(model, sensor_side, exciter_side, budget, noise, *fixed)
     s_work, e_work = planner.working_sets(seed)
-    searcher = Planner(
-        model, sensor_side.subset(s_work), exciter_side.subset(e_work), budget, noise, fixed_sensors, fixed_exciters
-    )
-    best = None
-    start_sets = searcher.starts(starts - 1, seed)
-    for k, start in enumerate(start_sets):
-        progress("alternating sensors and exciters", 0.8 * k / len(start_sets))
-        result = searcher.alternate(start)
-        if best is None or result[2] > best[2]:
-            best = result
-    sensors, exciters, value = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]], best[2]
-
+    searcher = Planner(model, sensor_side.subset(s_work), exciter_side.subset(e_work), budget, noise, *fixed)
+    best = _search(searcher, [(start,) for start in searcher.starts(starts - 1, seed)], progress)
+    if chosen is not D:
+        searcher = Planner(searcher.model, searcher.s, searcher.e, budget, noise, *fixed, chosen)
+        best = _search(searcher, [(best[1], best[0])], progress)
+    sensors, exciters = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]]
     if not planner.admits(sensors, exciters):
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate layouts: allow points that are "
             "not all in one line or plane, and hits in several directions"
         )
-    deadline = time.perf_counter() + certify_seconds
-    for _ in range(3):
-        progress("certifying", 0.85)
-        sp = planner.sensor_problem(planner.exciter_rows(exciters))
-        ep = planner.exciter_problem(planner.sensor_rows(sensors))
-        seconds = max(deadline - time.perf_counter(), 0.0) / 2
-        U_s, better_s = certify(
-            sp, sensors, relaxation, lambda c: planner.admits(c, exciters), planner.sensor_cover(exciters), seconds
+    progress("certifying", 0.85)
+    if chosen is D:
+        sensors, exciters, d_bounds = _certify_d(planner, sensors, exciters, relaxation, certify_seconds)
+        bounds = d_bounds
+    else:
+        d_bounds = _certify_d(planner, sensors, exciters, relaxation, 0.0)[2]
+        bounds = _certify_criterion(
+            Planner(model, sensor_side, exciter_side, budget, noise, *fixed, chosen), sensors, exciters
         )
-        U_e, better_e = certify(
-            ep, exciters, relaxation, lambda c: planner.admits(sensors, c), planner.exciter_cover, seconds
-        )
-        improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
-        improved = [c for c in improved if c[0] > value + 1e-9 and planner.admits(c[1], c[2])]
-        if not improved or time.perf_counter() > deadline:
-            break
-        # the certificate's search met a better layout: adopt it, then certify both sides anew
-        value, sensors, exciters = max(improved, key=lambda c: c[0])
     S_all, E_all = planner.layout(sensors, exciters)
-    F = ep.information(exciters)
+    F = planner.exciter_problem(planner.sensor_rows(sensors)).information(exciters)
     found = identify(synthesise(model.nominal, S_all, E_all), "plate" if model.planar else "method2")
     progress("done", 1.0)
     return Plan(
@@ -335,12 +408,16 @@ def plan_on_candidates(
         planner.lines(exciter_side, exciters),
         exciter_side.node[exciter_side.line_index(exciters)],
         log_det(F),
-        {"sensors": U_s, "exciters": U_e},
+        bounds,
         found.condition,
         predicted_std(model, F),
         noise,
         None,
         {"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)},
+        chosen,
+        chosen.value(F),
+        d_bounds,
+        F,
     )
 
 
@@ -356,8 +433,10 @@ def plan(
     planar: bool | None = None,
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
+    criterion: str = "D",
 ) -> Plan:
-    """The best layout of ``budget`` on the body's surface, certified and with predicted 1-σ."""
+    """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified and
+    with predicted 1-σ."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
@@ -376,5 +455,6 @@ def plan(
         options.seed,
         certify_seconds,
         progress,
+        criterion,
     )
     return replace(result, candidates=points)

@@ -6,7 +6,12 @@ exciters, a triaxial sensor (three lines), or an exciter seen through the chosen
 sensors. Candidates fall into budget groups (uniaxial, triaxial) with a count
 each; information already fixed (instrumented points) is M₀. The criterion is
 
-    f(S) = log det(M₀ + Σ_{i∈S} G_i).
+    f(S) = φ(M₀ + Σ_{i∈S} G_i),
+
+φ one of criteria.py's: log det (D, the default), −tr(·)⁻¹ (A) or λ_min (E).
+Greedy grows the selection by D (A and E are flat or infinite until the
+information is regular, so a regular start is built by D, as is classical);
+the exchanges then climb the problem's own criterion.
 """
 
 from __future__ import annotations
@@ -15,17 +20,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.placement.criteria import Criterion, D
 from massline.placement.information import log_det
 
 
 @dataclass(frozen=True, eq=False)
 class BlockProblem:
-    """Candidate blocks (n, r, p), their budget group (n,), budgets per group, fixed M₀ (p, p)."""
+    """Candidate blocks (n, r, p), their budget group (n,), budgets per group, fixed M₀ (p, p), criterion."""
 
     blocks: np.ndarray
     group: np.ndarray
     budgets: tuple
     fixed: np.ndarray
+    criterion: Criterion = D
 
     @property
     def p(self) -> int:
@@ -36,7 +43,7 @@ class BlockProblem:
         return self.fixed + A.T @ A
 
     def value(self, chosen) -> float:
-        return log_det(self.information(chosen))
+        return self.criterion.value(self.information(chosen))
 
     def regulariser(self) -> np.ndarray:
         """ε I, tiny against the candidates' information, so that log det is finite."""
@@ -85,6 +92,22 @@ def best_gains(
     return index, value
 
 
+def best_scores(
+    problem: BlockProblem, M: np.ndarray, allowed: np.ndarray, count: int, floor: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` allowed blocks whose addition to M gives the largest criterion, and those values.
+
+    D evaluates lazily (best_gains); A and E evaluate every allowed block.
+    """
+    if problem.criterion is D:
+        index, gain = best_gains(problem.blocks, np.linalg.inv(M), allowed, count, floor - log_det(M))
+        return index, log_det(M) + gain
+    index = np.flatnonzero(allowed)
+    values = problem.criterion.scores(problem.blocks[index], M)
+    order = np.argsort(-values)[:count]
+    return index[order], values[order]
+
+
 def _open(problem: BlockProblem, chosen: list) -> np.ndarray:
     """Candidates that may still be added: not chosen, group budget not used up."""
     used = (
@@ -125,15 +148,14 @@ def swap(
     ok_now = admissible is None or admissible(chosen)
     for _ in range(max_passes):
         M = problem.information(chosen) + eps
-        current = log_det(M)
-        best = (current + tol if ok_now else -np.inf, None, None)
+        current = problem.criterion.value(M)
+        best = (current + tol * max(abs(current), 1) if ok_now else -np.inf, None, None)
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
             open_ = problem.group == problem.group[out]
             open_[chosen] = False
-            base = log_det(reduced)
-            candidates, gain = best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries, best[0] - base)
-            for candidate, total in zip(candidates, base + gain):
+            candidates, totals = best_scores(problem, reduced, open_, tries, best[0])
+            for candidate, total in zip(candidates, totals):
                 if total <= best[0]:
                     break
                 trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]

@@ -103,12 +103,24 @@ def criterion_html(doc: dict) -> str:
     c, noise = doc["criterion"], doc.get("noise", {})
     names = c.get("parameters", [])
     efficiency = num(100 * c["d_efficiency_lower_bound"], ".1f")
+    systems = c.get("condition_systems", {})
     worst = num(100 * _float(c.get("worst_relative_std")), ".2f")
     relative, floor = (num(100 * _float(noise.get(k)), ".3g") for k in ("relative", "floor"))
-    rows = [
+    rows = []
+    if "name" in c:
+        chosen = num(100 * c["efficiency_lower_bound"], ".1f")
+        rows += [
+            [f"criterion {escape(c['name'])}", f"{escape(c['title'])} = {num(c['value'], '.4g')}"],
+            [f"certified {escape(c['name'])}-efficiency", f"≥ {chosen} % of the best possible layout"],
+            ["smallest eigenvalue of F", f"{num(c['smallest_eigenvalue'], '.4g')} (relative parameters)"],
+        ]
+    rows += [
         ["certified D-efficiency", f"≥ {efficiency} % of the best possible layout"],
         ["log det F", f"{num(c['log_det'], '.3f')} over {len(names)} parameters: {escape(', '.join(names))}"],
-        *[[f"condition number, {escape(k)}", num(v, ".3g")] for k, v in c.get("condition_numbers", {}).items()],
+        *[
+            [f"condition number, {escape(systems.get(k, k))}", num(v, ".3g")]
+            for k, v in c.get("condition_numbers", {}).items()
+        ],
         ["worst relative 1-σ", f"{worst} % (mass, CoG against the radius of gyration, principal moments)"],
         ["noise model", f"{relative} % of each massline + {floor} % of 1/m"],
     ]

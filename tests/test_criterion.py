@@ -1,0 +1,87 @@
+"""Criteria D, A and E: certified bounds against brute force; E raises λ_min on every bundled body."""
+
+import itertools
+import json
+
+import numpy as np
+import pytest
+import trimesh
+from conftest import bundled
+from test_cli import massline
+
+from massline.placement import Lines
+from massline.placement.certificate import certify
+from massline.placement.criteria import CRITERIA, D
+from massline.placement.criterion_relaxation import relax_criterion
+from massline.placement.information import NoiseModel
+from massline.placement.model import RigidModel
+from massline.placement.planner import Budget, CandidateLines, Planner, plan
+from massline.placement.selection import greedy, swap
+
+MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}
+
+
+def _side_problems(seed: int, criterion):
+    """A sensor problem (12 candidates, 6 to choose) and an exciter problem (9, 3) on the structure."""
+    body = bundled("structure")
+    rng = np.random.default_rng(seed)
+    points, faces = trimesh.sample.sample_surface(body.mesh, 21, seed=seed)
+    lines = Lines(points, body.mesh.face_normals[faces])
+    s_side, e_side = CandidateLines.single(lines[np.arange(12)]), CandidateLines.single(lines[np.arange(12, 21)])
+    planner = Planner(RigidModel(body.nominal), s_side, e_side, Budget(6, 3), NoiseModel(), criterion=criterion)
+    exciters, sensors = list(rng.choice(9, 3, replace=False)), list(rng.choice(12, 6, replace=False))
+    return planner.sensor_problem(planner.exciter_rows(exciters)), planner.exciter_problem(planner.sensor_rows(sensors))
+
+
+def _brute_force(problem) -> float:
+    k = problem.budgets[0]
+    return max(problem.value(list(c)) for c in itertools.combinations(range(len(problem.blocks)), k))
+
+
+@pytest.mark.parametrize("name", ["D", "A", "E"])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_certified_bound_is_above_the_brute_force_optimum(name, seed):
+    for problem in _side_problems(seed, CRITERIA[name]):
+        chosen = swap(problem, greedy(problem))
+        best = _brute_force(problem)
+        if name == "D":
+            bound = certify(problem, chosen, seconds=2.0)[0]
+        else:
+            bound = relax_criterion(problem, CRITERIA[name], chosen)
+        assert problem.value(chosen) <= best + 1e-9 * abs(best)
+        assert bound >= best - 1e-7 * abs(best), (bound, best)
+        assert CRITERIA[name].efficiency(problem.value(chosen), bound, problem.p) <= 1 + 1e-9
+
+
+def test_criterion_scores_are_the_criterion_of_the_updated_information():
+    problem = _side_problems(3, D)[0]
+    M = problem.information([0, 1, 2, 3]) + problem.regulariser()
+    for criterion in CRITERIA.values():
+        expected = [criterion.value(M + b.T @ b) for b in problem.blocks]
+        np.testing.assert_allclose(criterion.scores(problem.blocks, M), expected, rtol=1e-8)
+
+
+@pytest.fixture(scope="module")
+def d_and_e_plans():
+    return {name: {c: plan(bundled(name), budget, criterion=c) for c in "DE"} for name, budget in MINIMAL.items()}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(MINIMAL))
+def test_criterion_e_raises_the_smallest_eigenvalue(d_and_e_plans, name):
+    d, e = d_and_e_plans[name]["D"], d_and_e_plans[name]["E"]
+    assert e.smallest_eigenvalue > d.smallest_eigenvalue, (e.smallest_eigenvalue, d.smallest_eigenvalue)
+    assert e.value <= e.bounds["sensors"] + 1e-9 and e.value <= e.bounds["exciters"] + 1e-9
+    assert 0 < e.efficiency_lower_bound <= 1
+    assert d.criterion is D and d.value == pytest.approx(d.log_det)
+
+
+def test_plan_criterion_e_on_the_command_line(tmp_path):
+    run = massline("plan", "plate", "--sensors", "3", "--criterion", "E", "--out", tmp_path / "p")
+    assert run.returncode == 0, run.stderr
+    c = json.loads((tmp_path / "p" / "plan.json").read_text())["criterion"]
+    assert c["name"] == "E" and c["value"] == pytest.approx(c["smallest_eigenvalue"])
+    assert 0 < c["efficiency_lower_bound"] <= 1
+    assert "eq. (10)" in c["condition_systems"]["kinematic"]
+    assert "E-efficiency" in run.stdout and "eq. (1" in run.stdout
+    assert "E-efficiency" in (tmp_path / "p" / "report.html").read_text()
