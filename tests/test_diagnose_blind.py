@@ -78,14 +78,15 @@ def blind_case(b: Bench, faults, seed: int, conditions: Conditions, folder: Path
 
 def full_cases(name: str, seeds: int) -> list:
     """Every fault of the bench under cycling conditions, the pairs, clean tests on every support and file,
-    a few hammer tests (slow: clean, a polarity flip, a swap), and every fault once on the stiff cord."""
+    a few hammer tests (slow: clean, a polarity flip, a swap), and every fault once on the stiff cord (but a
+    support stiffer still: its bounce would have to lie below the stiff cord's band, inside its support modes)."""
     faults = PLANAR_FAULTS if name == "plate" else FAULTS
     cases = [(None, s, c) for s in range(seeds) for c in CLEAN]
     cases += [(f, s, CYCLE[s % len(CYCLE)]) for f in faults for s in range(seeds)]
     if name != "plate":
         cases += [(p, s, CYCLE[s % len(CYCLE)]) for p in PAIRS for s in range(seeds)]
         cases += [(f, 0, Conditions("soft", "impact")) for f in (None, "sensor_polarity", "channel_swap")]
-    return cases + [(f, seeds, STIFF) for f in faults]
+    return cases + [(f, seeds, STIFF) for f in faults if f != "suspension"]
 
 
 def ci_cases(name: str) -> list:
