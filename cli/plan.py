@@ -1,4 +1,5 @@
-"""``massline plan``: the layout, its certificate and predicted accuracy → DIR/plan.json."""
+"""``massline plan``: the layout, its certificate and predicted accuracy, the support the test hangs on and the
+massline band it predicts → DIR/plan.json."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ from massline.placement.numbers import formatted, number, sigma_text, vector_tex
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.report_command import build_report
+from massline.support import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
@@ -210,7 +212,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"D-efficiency ≥ {result.d_efficiency_lower_bound:.1%} of the best possible layout; condition numbers "
         + ", ".join(f"{k} {v:.3g}" for k, v in result.condition.items())
     )
+    test, _ = plan_test(body, str(args.mesh), result.sensors, result.exciters, console)
+    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)
-    write_atomic(target, to_json(plan_to_dict(result, str(args.mesh), body.units, body.density)), args.force)
+    write_atomic(target, to_json(doc), args.force)
     console.print(f"wrote {target}")
     write_report(console, report, lambda: build_report(target, console), args.force, status=None)
