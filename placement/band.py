@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+NULL = 1e-9  # a massline this small against the largest is none
+
 
 @dataclass(frozen=True)
 class Band:
@@ -64,6 +66,8 @@ class Band:
 def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
     """max_ij |H_ij(f) − A_ij| / |A_ij| at each frequency: the FRF farthest from its massline, relative.
 
+    An FRF with no massline (|A_ij| ≤ NULL × the largest: a sensor square to all a hit drives) has none to hold.
+
     Parameters
     ----------
     frf : (n_s, n_e, n_f) complex array
@@ -71,8 +75,9 @@ def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
     massline : (n_s, n_e) array
         The masslines A_ij, (m/s²)/N.
     """
-    scale = np.maximum(np.abs(massline), np.finfo(float).tiny)[:, :, None]
-    return np.max(np.abs(frf - massline[:, :, None]) / scale, axis=(0, 1))
+    size = np.abs(massline)
+    kept = size > NULL * size.max()
+    return np.max(np.abs(frf[kept] - massline[kept][:, None]) / size[kept][:, None], axis=0)
 
 
 def held_band(frequencies: np.ndarray, strays: np.ndarray, tolerance: float) -> tuple[float, float]:
