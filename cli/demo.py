@@ -1,7 +1,8 @@
 """``massline demo``: the whole story on the bundled 3-D structure, written into one folder.
 
-Plan a test with room to spare (14 accelerometers, 4 hits), simulate it as a careful lab would record
-it (FE modes, a soft cord, 1 % noise, every channel a little sensitive across its axis) with one fault
+Plan a test with room to spare (14 accelerometers, 4 hits) and the support it hangs on, simulate it as a
+careful lab would record it (FE modes, the planned support, 1 % noise, every channel a little sensitive across
+its axis) with one fault
 concealed in it, write the UFF, identify the properties from the file alone, diagnose it with the
 planned band and the mesh, and write the plan, the placement report, the identification report and
 the diagnosis report. The tool never reads what was concealed (``truth.json`` keeps it for the reader).
@@ -30,14 +31,13 @@ from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.placement.properties import SUMMARY
 from massline.report_command import build_report
+from massline.support import band_phrase, plan_test, planned_band, planned_suspension
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
-from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.scenarios import FAULTS, Bench, scenario
 
 BODY = "structure"
 BUDGET = Budget(sensors=14, exciters=4)  # 14 channels for 10 parameters: room to tell a faulty channel
-MODES = 12  # elastic modes of the virtual test
 BANDWIDTH = 2.5  # the recording reaches the first elastic mode / BANDWIDTH
 FAULT, SEED = "sensor_gain", 3
 FILES = {
@@ -177,28 +177,30 @@ def run(args: argparse.Namespace, console: Console) -> None:
         mesh = load_body(BUNDLED[BODY].path, "m", BUNDLED[BODY].density)
         nominal = mesh.nominal
         planned = plan(mesh, BUDGET)
-        write_atomic(paths["plan"], to_json(plan_to_dict(planned, BODY, "m", mesh.density)), args.force)
+        step("2/8 the support and its band: FE model of the structure, every FRF against its massline")
+        test, modes = plan_test(mesh, BODY, planned.sensors, planned.exciters, quiet)
+        doc = plan_to_dict(planned, BODY, "m", mesh.density, test)
+        write_atomic(paths["plan"], to_json(doc), args.force)
+        band, support = planned_band(doc), planned_suspension(doc)
         console.print(
             f"planned {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits on the structure: certified "
             f"D-efficiency ≥ {planned.d_efficiency_lower_bound:.1%}, predicted worst 1-σ "
-            f"{planned.worst_relative_std:.2%} → {paths['plan']}"
+            f"{planned.worst_relative_std:.2%}; support {support.describe()}, planned band {band_phrase(band)} "
+            f"→ {paths['plan']}"
         )
-        step("2/8 placement report: band prediction (coarse FE) and views")
+        step("3/8 placement report: views")
         placement = build_report(paths["plan"], quiet)
         write_atomic(paths["placement"], placement.html, args.force)
-        step("3/8 FE model of the structure: elastic modes")
-        material = Material(BUNDLED[BODY].youngs, BUNDLED[BODY].poisson, mesh.density)
-        modes = ElasticBody.from_mesh(mesh.mesh, material).modes(MODES)
         step(f"4/8 simulating the test with a concealed fault ({args.fault})")
-        bench = Bench(nominal, planned.sensors, planned.exciters, modes, modes.frequencies_hz[0] / BANDWIDTH)
+        fmax = modes.frequencies_hz[0] / BANDWIDTH
+        bench = Bench(nominal, planned.sensors, planned.exciters, modes, fmax, support=support, band=demo_band(band))
         recording, truth = scenario(bench, args.fault, args.seed)
         write_uff(paths["uff"], recording, force=args.force)
         write_atomic(paths["truth"], to_json(truth), args.force)
-        low, high = truth["planned_band_hz"]
         console.print(
-            f"simulated: FE modes from {modes.frequencies_hz[0]:.0f} Hz, a soft 1 m cord, 1 % noise, every channel "
-            f"up to 2 % sensitive across its axis, {len(recording.frequencies)} lines to {bench.fmax:.0f} Hz; "
-            f"planned band {low:.1f}–{high:.1f} Hz → {paths['uff']}"
+            f"simulated: FE modes from {modes.frequencies_hz[0]:.0f} Hz, the planned support, 1 % noise, every "
+            f"channel up to 2 % sensitive across its axis, {len(recording.frequencies)} lines to {bench.fmax:.0f} Hz "
+            f"→ {paths['uff']}"
         )
         step("5/8 identify: band, band fits, estimate, bootstrap")
         read = to_recording(read_uff(paths["uff"]))  # from here on the tool sees the file only
@@ -215,16 +217,33 @@ def run(args: argparse.Namespace, console: Console) -> None:
     summary(console, args, paths, nominal, truth, planned, identified, diagnosis, time.perf_counter() - start)
 
 
+def demo_band(band) -> tuple[float, float] | None:
+    """The planned band (Hz) the scenario passes on, or None when the plan predicts none."""
+    return (band.low, band.high) if band.exists else None
+
+
+def band_story(found, planned: list | None) -> str:
+    """identify's band beside the planned one, and why they differ, in one sentence."""
+    text = f"identify chose the band {found.low:.1f}–{found.high:.1f} Hz"
+    if planned is None:
+        return text + " (the plan predicted none)"
+    low, high = planned
+    inside = "contains" if found.low <= low and found.high >= high else "does not contain"
+    return (
+        f"{text}; it {inside} the planned {low:.1f}–{high:.1f} Hz and is wider because identify fits the tails "
+        "of the support and elastic modes, which the planned band keeps clear of"
+    )
+
+
 def summary(console, args, paths, nominal, truth, planned, identified, diagnosis, seconds) -> None:
     """What was planned, concealed, identified and diagnosed, and where the reports are."""
     result = diagnosis.result
     sensors, hits = diagnosis.sensors, diagnosis.hits
     fault, channels, hit = concealed(truth, planned, diagnosis.recording, sensors, hits)
     console.print(f"\n[bold]Concealed fault[/] ({args.fault}, seed {args.seed}; the tool was not told): {fault}.")
-    zones = identified.band
     console.print(
-        f"[bold]identify[/] (band {zones.low:.1f}–{zones.high:.1f} Hz, found): {_errors(identified.body, nominal)} "
-        "against the mesh."
+        f"[bold]identify[/]: {_errors(identified.body, nominal)} against the mesh; "
+        f"{band_story(identified.band, truth['planned_band_hz'])}.",
     )
     if not diagnosis.findings:
         console.print("[bold]diagnose[/]: no findings: the rigid body fits every line within the noise.")

@@ -1,4 +1,5 @@
-"""``massline plan``: the layout, its certificate and predicted accuracy → DIR/plan.json."""
+"""``massline plan``: the layout, its certificate and predicted accuracy, the support the test hangs on and the
+massline band it predicts → DIR/plan.json."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ from massline.placement.numbers import formatted, number, sigma_text, vector_tex
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget, plan
 from massline.report_command import build_report
+from massline.support import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
@@ -227,7 +229,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
     console.print(std_table(result))
     console.print(criterion_text(result))
+    test, _ = plan_test(body, str(args.mesh), result.sensors, result.exciters, console)
+    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)
-    write_atomic(target, to_json(plan_to_dict(result, str(args.mesh), body.units, body.density)), args.force)
+    write_atomic(target, to_json(doc), args.force)
     console.print(f"wrote {target}")
     write_report(console, report, lambda: build_report(target, console), args.force, status=None)

@@ -1,8 +1,8 @@
 """``massline report PLAN.json``: the placement report of a plan, as one HTML file (``massline plan`` writes it too).
 
-Reads the plan and its mesh, predicts the massline band with the recommended
-suspension (FE elastic modes, as ``massline simulate`` finds them), renders the
-views off-screen and writes the page atomically.
+Reads the plan and its mesh, shows the support the plan chose and the band it predicts (plan.json; for a
+plan written before it kept them, predicted here with a soft cord and on foam from a coarse FE model),
+renders the views off-screen and writes the page atomically.
 """
 
 from __future__ import annotations
@@ -18,13 +18,13 @@ from massline.output import write_report
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_output
 from massline.placement.mesh import BodyMesh
-from massline.placement.plan_file import read_plan
+from massline.placement.plan_file import band_from_dict, read_plan
 from massline.reports.html import Report
 from massline.reports.placement_report import BandRow, report_html
 from massline.reports.plan_scene import scene_of
 from massline.reports.rendering import render_views
-from massline.simulate import elastic_modes
-from massline.virtual.band import TOLERANCE, predict_band
+from massline.support import elastic_modes, planned_band
+from massline.virtual.band import predict_band
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
 from massline.virtual.tetmesh import default_size, size_for_dofs
@@ -40,8 +40,40 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite OUT.html if it exists")
 
 
+def band_row(role: str, suspension: str, band) -> BandRow:
+    """One row of the report's band table."""
+    return BandRow(
+        f"{role}: {suspension}", band.suspension_top, band.low, band.high, band.first_elastic, band.tolerance
+    )
+
+
+def planned_bands(doc: dict) -> tuple[list[BandRow], str] | None:
+    """The plan's support and band first, then the alternatives it weighed, and a note on the FE model behind
+    them; None for a plan that keeps none."""
+    band = planned_band(doc)
+    if band is None:
+        return None
+    rows = [band_row("planned", doc["suspension"].get("description", "support"), band)]
+    rows += [
+        band_row("for comparison", a["suspension"], band_from_dict(a["band"])) for a in doc.get("alternatives", [])
+    ]
+    fe = doc.get("elastic", {})
+    note = (
+        f"Chosen by the plan: the support whose band is widest where every FRF stays within {100 * band.tolerance:g} "
+        "% of its own massline (the tightest of 1, 2 and 5 % that holds a band an octave wide); `massline simulate` "
+        "hangs the body on it and `simulate --check` predicts the same band. Elastic modes of the free body from "
+        f"the finite-element model simulate builds ({fe.get('dofs')} DOF, quadratic tetrahedra of "
+        f"{1e3 * fe.get('element_size', float('nan')):.1f} mm, E = {fe.get('youngs', float('nan')) / 1e9:.0f} GPa, "
+        f"ν = {fe.get('poisson')}): " + ", ".join(f"{f:.0f}" for f in fe.get("frequencies_hz", [])[:3]) + " Hz. "
+        "identify's band is wider: it fits the support's and the elastic modes' tails, which this band keeps "
+        "clear of. Accelerometer masses are not included."
+    )
+    return rows, note
+
+
 def predicted_bands(body: BodyMesh, mesh_name: str | None, sensors, exciters, console: Console):
-    """The massline band with the recommended cord and on foam, and a note on the FE model behind them."""
+    """The massline band with a soft cord and on foam, and a note on the FE model behind them (a plan that
+    keeps no support)."""
     material = plan_material(None, body, mesh_name, console)
     size = max(default_size(body.mesh), size_for_dofs(body.mesh, FE_DOFS))
     modes = elastic_modes(body, material, size, MODES, console)
@@ -51,13 +83,11 @@ def predicted_bands(body: BodyMesh, mesh_name: str | None, sensors, exciters, co
             suspension = Suspension.parse(spec, body.mesh, body.nominal)
             band = predict_band(SuspendedBody(body.nominal, modes, suspension), sensors, exciters)
         except MasslineError as err:  # e.g. foam under a body with no flat underside
-            rows.append(BandRow(f"{role}: {spec} is not possible here ({err})", np.nan, np.nan, np.nan, np.nan))
+            rows.append(BandRow(f"{role}: {spec} is not possible here ({err})", *[np.nan] * 5))
             continue
-        rows.append(
-            BandRow(f"{role}: {suspension.describe()}", band.suspension_top, band.low, band.high, band.first_elastic)
-        )
+        rows.append(band_row(role, suspension.describe(), band))
     note = (
-        f"FRFs within {100 * TOLERANCE:g} % of the massline. Elastic modes of the free body from a finite-element "
+        "Every FRF within the tolerance of its own massline. Elastic modes of the free body from a finite-element "
         f"model (coarse: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm, E = "
         f"{material.youngs / 1e9:.0f} GPa, ν = {material.poisson:g}): "
         + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:3])
@@ -73,7 +103,7 @@ def build_report(plan_path: str | Path, console: Console) -> Report:
     sensors, exciters, doc = read_plan(plan_path)
     body = plan_mesh(doc, plan_path)
     nominal = body.nominal
-    bands, fe_note = predicted_bands(body, doc.get("mesh"), sensors, exciters, console)
+    bands, fe_note = planned_bands(doc) or predicted_bands(body, doc.get("mesh"), sensors, exciters, console)
     scene = scene_of(body.mesh, sensors, exciters, nominal.cog)
     with console.status("rendering the views"):
         renderings = render_views(scene)

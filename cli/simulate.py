@@ -5,8 +5,10 @@ in mm (164 code 5) and accelerance in g/N. Accelerometers are calibrated in mV/g
 accelerance in g/N (Testlab, ME'scope "Gs/N"), while the geometry comes from CAD in mm; ``--units``,
 ``--acceleration``, ``--nodes`` and ``--no-dc`` write the other conventions.
 
-Also the pre-test check: where the massline band will lie with the planned
-suspension, and a suspension that widens it (``--check`` stops there).
+The body hangs on the plan's support (plan.json's ``suspension``; a plan without one: a soft cord above the
+CoG) unless ``--suspension`` gives another. Also the pre-test check: where the massline band lies under the
+support simulated, by the plan's rule (every FRF within the tolerance of its massline), and the plan's
+support when it widens the band (``--check`` stops there).
 """
 
 from __future__ import annotations
@@ -15,7 +17,6 @@ import argparse
 from pathlib import Path
 
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from massline.meshargs import plan_material, plan_mesh
@@ -26,14 +27,15 @@ from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.mesh import MAX_MASS_KG, BodyMesh
 from massline.placement.plan_file import read_plan
 from massline.placement.rigid_body import RigidBody
+from massline.support import MODES, band_phrase, elastic_modes, planned_band, planned_suspension
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
 from massline.virtual.band import predict_band, recommend_suspension
 from massline.virtual.effects import EFFECTS, Effect, check_targets
-from massline.virtual.elastic import MATERIALS, ElasticBody, Material
+from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Suspension, point_above
+from massline.virtual.suspension import Suspension, hung_over, point_above
 from massline.virtual.tetmesh import size_for_dofs
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses
 from massline.virtual.virtual_test import run as run_test
@@ -61,10 +63,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--suspension",
-        default="cord",
         metavar="SPEC",
-        help="'cord[:k=N/m,L=m,at=X;Y;Z,loss=η]' (default: a soft 1 m cord tied above the CoG), "
-        "'foam[:k=N/m,shear=r]' or 'none' (free body)",
+        help="'cord[:k=N/m,L=m,at=X;Y;Z,loss=η]' (a soft 1 m cord tied above the CoG), 'foam[:k=N/m,shear=r]' "
+        "or 'none' (free body); default: the plan's support",
     )
     parser.add_argument(
         "--effect",
@@ -100,7 +101,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="spectral lines (default 2000; with --impact 400·2^k, a record long enough for the lowest support mode)",
     )
     parser.add_argument(
-        "--modes", type=count(1, MAX_MODES), default=20, metavar="N", help="elastic modes kept (default 20)"
+        "--modes", type=count(1, MAX_MODES), default=MODES, metavar="N", help=f"elastic modes kept (default {MODES})"
     )
     parser.add_argument("--rigid", action="store_true", help="no elastic modes: a rigid body")
     parser.add_argument(
@@ -132,14 +133,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
-    table = Table(title="Predicted massline band (FRFs within 1 % of the massline)")
-    for col in ("suspension", "top susp. mode (Hz)", "band (Hz)", "1st elastic (Hz)", "width"):
+    table = Table(title="Predicted massline band (every FRF within the tolerance of its own massline)")
+    for col in ("suspension", "top susp. mode (Hz)", "band (Hz)", "every FRF within", "1st elastic (Hz)", "width"):
         table.add_column(col, justify="right")
     for name, band, _ in rows:
         width = f"{band.ratio:.1f}×" if band.exists else "no band"
         span = f"{band.low:.1f} – {band.high:.1f}" if band.exists else "—"
-        table.add_row(name, f"{band.suspension_top:.2f}", span, f"{band.first_elastic:.1f}", width)
+        within = f"{100 * band.tolerance:g} %"
+        table.add_row(name, f"{band.suspension_top:.2f}", span, within, f"{band.first_elastic:.1f}", width)
     return table
+
+
+def simulated_support(spec: str | None, planned: Suspension | None, mesh, loaded: RigidBody) -> Suspension:
+    """The support simulated: ``--suspension``'s, else the plan's hung above the CoG with the accelerometers on,
+    else (a plan that keeps none) a soft cord above the CoG."""
+    if spec is None and planned is not None:
+        return hung_over(planned, loaded.cog)
+    return Suspension.parse(spec or "cord", mesh, loaded)
+
+
+def departures(args: argparse.Namespace) -> str:
+    """The options that make this test differ from the one plan.json predicted its band for."""
+    given = {
+        "--suspension": args.suspension,
+        "--sensor-mass": args.sensor_mass,
+        "--rigid": args.rigid,
+        "--modes": args.modes != MODES,
+        "--fe-size": args.fe_size,
+        "--material": args.material,
+    }
+    return ", ".join(name for name, value in given.items() if value)
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
@@ -155,7 +178,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     nominal = body.nominal
     housings = accelerometer_masses(sensors, args.sensor_mass)
     loaded = loaded_body(nominal, housings, args.sensor_mass)
-    suspension = Suspension.parse(args.suspension, body.mesh, loaded)
+    plan_support = planned_suspension(doc)
+    suspension = simulated_support(args.suspension, plan_support, body.mesh, loaded)
     if not suspension.is_free:
         suspension.reactions(loaded)  # a support that cannot carry the body is refused before the FE work
     check_fe_size(args.fe_size, body)
@@ -165,13 +189,21 @@ def run(args: argparse.Namespace, console: Console) -> None:
         modes = elastic_modes(body, material, args.fe_size, args.modes, console)
     planned = SuspendedBody(nominal, modes, suspension, *housings)
     rows = [("planned: " + suspension.describe(), predict_band(planned, sensors, exciters), suspension)]
-    if not suspension.is_free:
-        advice = recommend_suspension(planned, point_above(body.mesh, loaded.cog)[0])
+    if args.suspension is not None and not suspension.is_free:
+        advice = simulated_support(None, plan_support, None, loaded) if plan_support else None
+        advice = advice or recommend_suspension(planned, point_above(body.mesh, loaded.cog)[0])
         advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
-        band = predict_band(advised, sensors, exciters)
+        band = predict_band(advised, sensors, exciters, rows[0][1].tolerance)
         if band.wider_than(rows[0][1]):
             rows.append(("recommended: " + advice.describe(), band, advice))
     console.print(band_table(rows))
+    expected = planned_band(doc)
+    if expected is not None and departures(args):
+        console.print(
+            f"plan.json predicts {band_phrase(expected)} for {plan_support.describe()} on the bare body; this test "
+            f"departs from it ({departures(args)}), so its band is predicted again above",
+            soft_wrap=True,
+        )
     if args.plot:
         from massline.reports.figures import driving_point_figure
 
@@ -253,25 +285,3 @@ def frf_units(args: argparse.Namespace) -> str:
     force = system.g_force_label if args.acceleration == "g" else system.force_label
     top = "g" if args.acceleration == "g" else f"({system.length_label}/s²)"
     return f"geometry in {system.length_label}, accelerance in {top}/{force}"
-
-
-def elastic_modes(body: BodyMesh, material: Material, size: float | None, n: int, console: Console):
-    """FE model of the body and its n lowest elastic modes, with a progress bar over the stages."""
-    with Progress(
-        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
-    ) as bar:
-        task = bar.add_task("meshing", total=4)
-        stages = iter(range(4))
-
-        def progress(stage: str) -> None:
-            bar.update(task, completed=next(stages), description=stage)
-
-        fe = ElasticBody.from_mesh(body.mesh, material, size, body.name, progress)
-        modes = fe.modes(n, progress)
-        bar.update(task, completed=4)
-    console.print(
-        f"FE model: {fe.n_dofs} DOF, quadratic tetrahedra of {fe.element_size * 1e3:.1f} mm; elastic modes "
-        + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
-        + " … Hz"
-    )
-    return modes

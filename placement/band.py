@@ -1,8 +1,12 @@
 """The massline band: Appendix A's zone B, between the support modes (zone A) and the elastic modes (zone C).
 
 One type for the band wherever it comes from: predicted before the test from the model
-(:func:`massline.virtual.band.predict_band`), found in a recording
-(:func:`massline.identify.band.find_band`) or given by the engineer (``--band LO HI``).
+(:func:`massline.virtual.band.predict_band`), chosen in a recording
+(:func:`massline.identify.band_choice.choose_band`) or given by the engineer (``--band LO HI``).
+
+One rule for a predicted band (:func:`held_band`): the widest run of frequencies where every single FRF
+stays within the tolerance of its own massline, |H_ij(f) − A_ij| ≤ tol·|A_ij| — not the norm of the
+matrix, which lets the weak FRFs stray far while the strong ones hold.
 """
 
 from __future__ import annotations
@@ -10,6 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+NULL = 1e-9  # a massline this small against the largest is none
 
 
 @dataclass(frozen=True)
@@ -27,7 +33,7 @@ class Band:
     rule : str
         How the band was chosen: "predicted", "found" or "given".
     tolerance : float
-        Relative deviation from the massline allowed inside a predicted band (nan otherwise).
+        Relative deviation of every FRF from its own massline allowed inside a predicted band (nan otherwise).
     """
 
     low: float
@@ -55,3 +61,31 @@ class Band:
         if np.isinf(self.high) and np.isinf(other.high):
             return self.low < other.low
         return self.ratio > other.ratio
+
+
+def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
+    """max_ij |H_ij(f) − A_ij| / |A_ij| at each frequency: the FRF farthest from its massline, relative.
+
+    An FRF with no massline (|A_ij| ≤ NULL × the largest: a sensor square to all a hit drives) has none to hold.
+
+    Parameters
+    ----------
+    frf : (n_s, n_e, n_f) complex array
+        Accelerance, (m/s²)/N.
+    massline : (n_s, n_e) array
+        The masslines A_ij, (m/s²)/N.
+    """
+    size = np.abs(massline)
+    kept = size > NULL * size.max()
+    return np.max(np.abs(frf[kept] - massline[kept][:, None]) / size[kept][:, None], axis=0)
+
+
+def held_band(frequencies: np.ndarray, strays: np.ndarray, tolerance: float) -> tuple[float, float]:
+    """First and last frequency (Hz) of the widest run, in log frequency, where ``strays`` ≤ ``tolerance``;
+    (nan, nan) when no frequency holds."""
+    good = np.asarray(strays) <= tolerance
+    if not good.any():
+        return np.nan, np.nan
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], good.astype(int), [0]]))).reshape(-1, 2)
+    start, stop = runs[np.argmax(np.log(frequencies[runs[:, 1] - 1]) - np.log(frequencies[runs[:, 0]]))]
+    return float(frequencies[start]), float(frequencies[stop - 1])

@@ -7,6 +7,14 @@ mesh frame), ``criterion`` (``name`` D, A or E, its ``value``, ``bounds`` and
 ``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system
 by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det),
 ``noise``, ``predicted_std`` (identify's std keys). NaN (unobservable) is written as null.
+
+The test the plan sets up (absent in plans written before it was kept; their readers fall back to a
+default cord): ``suspension`` (``cords``: ``{"attachment" m, "stiffness" N/m, "length" m, "direction"}``,
+``foam``: ``{"points" m, "stiffness" N/m, "shear_ratio"}`` or null, ``loss_factor``, ``up``,
+``description``), ``band`` (the band it predicts: ``low_hz``, ``high_hz``, ``tolerance`` — every FRF within
+it of its massline —, ``suspension_top_hz``, ``first_elastic_hz``), ``elastic`` (the FE model behind it:
+``element_size`` m, ``modes``, ``dofs``, ``youngs`` Pa, ``poisson``, ``frequencies_hz``) and
+``alternatives`` (the other supports considered: ``{"suspension": description, "band": {...}}``).
 """
 
 from __future__ import annotations
@@ -16,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.planner import Plan
@@ -44,7 +53,33 @@ def condition_systems(planar: bool) -> dict:
     }
 
 
-def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
+def band_to_dict(band: Band) -> dict:
+    """A predicted band as plan.json keeps it (Hz)."""
+    return {
+        "low_hz": band.low,
+        "high_hz": band.high,
+        "tolerance": band.tolerance,
+        "suspension_top_hz": band.suspension_top,
+        "first_elastic_hz": band.first_elastic,
+    }
+
+
+def band_from_dict(doc: dict | None) -> Band | None:
+    """The band ``band_to_dict`` wrote (null edges: no band held), or None for a plan that keeps none."""
+    if not isinstance(doc, dict):
+        return None
+    try:
+        low, high, top, elastic, tolerance = (
+            np.nan if doc.get(k) is None else float(doc[k])
+            for k in ("low_hz", "high_hz", "suspension_top_hz", "first_elastic_hz", "tolerance")
+        )
+    except (TypeError, ValueError):
+        raise MasslineError("plan file: its 'band' needs numbers (Hz): write it again with 'massline plan'") from None
+    return Band(low, high, top, elastic, "predicted", tolerance)
+
+
+def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict | None = None) -> dict:
+    """plan.json's document; ``test``: the support, band, elastic model and alternatives the plan chose."""
     nominal = plan.model.nominal
     return {
         "mesh": mesh,
@@ -75,7 +110,7 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
             "points": len(plan.candidates) if plan.candidates is not None else None,
             "lines": plan.n_candidate_lines,
         },
-    }
+    } | (test or {})
 
 
 def _read_lines(entries: list, what: str) -> Lines:

@@ -23,13 +23,15 @@ from massline.reports.viewer3d import viewer_html
 
 @dataclass(frozen=True)
 class BandRow:
-    """One suspension's predicted massline band: its description and edges, Hz."""
+    """One suspension's predicted massline band: its description, edges (Hz) and tolerance (every FRF within it
+    of its massline)."""
 
     suspension: str
     suspension_top: float
     low: float
     high: float
     first_elastic: float
+    tolerance: float
 
 
 def _direction(d: np.ndarray) -> str:
@@ -137,9 +139,12 @@ def band_html(rows: list[BandRow], fe_note: str) -> str:
         exists = np.isfinite(r.low) and r.high > r.low
         span = f"{num(r.low, '.1f')} – {num(r.high, '.1f')}" if exists else "no band"
         width = f"{num(r.high / r.low, '.1f')}×" if exists else "—"
-        out.append([escape(r.suspension), num(r.suspension_top, ".2f"), span, num(r.first_elastic, ".0f"), width])
-    head = ["suspension", "top susp. mode (Hz)", "band (Hz)", "1st elastic (Hz)", "width"]
-    return html_table(head, out, "lrrrr", [42, 14, 18, 14, 12]) + f'<p class="note">{escape(fe_note)}</p>'
+        within = num(100 * r.tolerance, "g") + " %" if np.isfinite(r.tolerance) else "—"
+        out.append(
+            [escape(r.suspension), num(r.suspension_top, ".2f"), span, within, num(r.first_elastic, ".0f"), width]
+        )
+    head = ["suspension", "top susp. mode (Hz)", "band (Hz)", "every FRF within", "1st elastic (Hz)", "width"]
+    return html_table(head, out, "lrrrrr", [36, 12, 16, 12, 12, 12]) + f'<p class="note">{escape(fe_note)}</p>'
 
 
 def report_html(
@@ -158,7 +163,7 @@ def report_html(
     renderings : list of Rendering
         The views, each with its labelled picture.
     bands : list of BandRow
-        Predicted massline bands, the recommended suspension first.
+        Predicted massline bands, the planned suspension first.
     fe_note : str
         How the first elastic frequency was found.
     """

@@ -16,9 +16,9 @@ diagnosis library drawn from a realistic range (``RANGES``) at a random place:
   different alloy): its elastic modes at 2–4 × the planned band's upper edge.
 
 A scenario may carry two faults at once (``PAIRS``), at different accelerometers.
-The planned band is where the ideal massline holds to ``BAND_TOLERANCES`` on the
-nominal test on the clean support, which the engineer passes to the diagnosis (``--band``); where none
-holds (a plate on foam), none is passed.
+The planned band is the plan's (``Bench.band``, on the plan's support ``Bench.support``), or where every
+FRF of the nominal test on the clean support holds to its massline (:func:`.band.predict_band`); the engineer
+passes it to the diagnosis (``--band``); where none holds (a plate on foam), none is passed.
 """
 
 from __future__ import annotations
@@ -38,10 +38,9 @@ from massline.virtual.band import predict_band
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension, point_above
+from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension, hung_over, point_above
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
 
-BAND_TOLERANCES = (0.0025, 0.01, 0.04)  # the planned band: FRFs within 0.25 % of the massline, or 1 %, or 4 %
 TRANSVERSE = (0.0, 0.02)  # every channel's transverse sensitivity, drawn uniformly (fraction)
 LOADING_CAP = 0.2  # every housing's mass together: at most this share of the body's mass
 RANGES = {
@@ -80,7 +79,9 @@ STYLES = ("direct", "exporter", "impact")  # SI file; g/N and mm; hammer hits wi
 class Bench:
     """A body on the bench with its planned layout: what stays fixed across scenarios.
 
-    ``surface`` is the body's mesh (the foam's pads and the stiff cord's point); ``planar``: a plate.
+    ``surface`` is the body's mesh (the foam's pads and the stiff cord's point); ``planar``: a plate;
+    ``support`` and ``band`` (Hz) the plan's soft support and its band (None: the soft cord of
+    :func:`soft_cord` and the band predicted here).
     """
 
     body: RigidBody
@@ -91,21 +92,21 @@ class Bench:
     lines: int = 2000
     surface: object = None
     planar: bool = False
+    support: Suspension | None = None
+    band: tuple[float, float] | None = None
 
     @property
     def cord(self) -> Suspension:
-        """The planned support: bounce 1 Hz on a 1 m cord, 2 cm above the CoG."""
-        return soft_cord(self.body.mass, self.body.cog)
+        """The planned support: the plan's, or bounce 1 Hz on a 1 m cord, 2 cm above the CoG."""
+        return self.support or soft_cord(self.body.mass, self.body.cog)
 
-    def planned_band(self, suspension: Suspension | None = None) -> tuple[float, float]:
-        """The band planned (Hz) on ``suspension`` (None: the soft cord) for the nominal body, to the tightest of
-        ``BAND_TOLERANCES`` any band holds (a plate's corners and a stiff support's modes allow no 0.25 % band)."""
-        suspension = suspension or self.cord
-        model = SuspendedBody(self.body, self.modes, suspension, np.zeros(0), np.zeros((0, 3)), 0.002)
-        for tolerance in BAND_TOLERANCES:
-            band = predict_band(model, self.sensors, self.exciters, tolerance)
-            if np.isfinite(band.low):
-                break
+    def planned_band(self, kind: str = "soft") -> tuple[float, float]:
+        """The band planned (Hz) on the clean support of ``kind`` for the nominal body: the plan's on the soft
+        support when the bench has one, else where every FRF holds to its massline (:func:`.predict_band`)."""
+        if kind == "soft" and self.band is not None:
+            return self.band
+        model = SuspendedBody(self.body, self.modes, support(self, kind, np.zeros(0), np.zeros((0, 3))))
+        band = predict_band(model, self.sensors, self.exciters)
         return float(band.low), float(min(band.high, self.fmax))  # a rigid model's band runs to the record's end
 
     def faults(self) -> tuple:
@@ -148,7 +149,8 @@ def support(bench: Bench, kind: str, masses: np.ndarray, points: np.ndarray) -> 
     if kind == "foam":
         return Suspension.parse("foam", bench.surface, bench.body)
     m = bench.body.mass + masses.sum()
-    return soft_cord(m, (bench.body.mass * bench.body.cog + masses @ points) / m)
+    cog = (bench.body.mass * bench.body.cog + masses @ points) / m
+    return hung_over(bench.support, cog) if bench.support else soft_cord(m, cog)
 
 
 def scenario(bench: Bench, faults, seed: int, conditions: Conditions = Conditions()) -> tuple[Recording, dict]:
@@ -207,7 +209,7 @@ def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band)
 
 
 def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions):
-    band = bench.planned_band(support(bench, conditions.support, np.zeros(0), np.zeros((0, 3))))
+    band = bench.planned_band(conditions.support)
     effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
     taken, drawn, changes = [], [], {}
     for name in names:

@@ -13,7 +13,7 @@ P(r) = [I, −[r]×].
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.linalg import eigh
@@ -169,6 +169,41 @@ class Suspension:
             raise MasslineError(f"--suspension {kind}: unknown option(s) {', '.join(options)}")
         return suspension
 
+    def as_dict(self) -> dict:
+        """The support as plan.json and the truth file keep it: SI, the test frame (``from_dict`` reads it)."""
+        cords = [
+            {
+                "attachment": c.attachment.tolist(),
+                "stiffness": c.stiffness,
+                "length": c.length,
+                "direction": None if c.direction is None else np.asarray(c.direction, dtype=float).tolist(),
+            }
+            for c in self.cords
+        ]
+        foam = self.foam and {
+            "points": self.foam.points.tolist(),
+            "stiffness": self.foam.stiffness,
+            "shear_ratio": self.foam.shear_ratio,
+        }
+        return {"cords": cords, "foam": foam, "loss_factor": self.loss_factor, "up": self.up.tolist()}
+
+    @classmethod
+    def from_dict(cls, doc: dict) -> "Suspension":
+        """The support ``as_dict`` wrote; MasslineError when a key is missing or not a number."""
+        try:
+            cords = tuple(
+                Cord(c["attachment"], float(c["stiffness"]), float(c["length"]), vector(c.get("direction")))
+                for c in doc["cords"]
+            )
+            foam = doc.get("foam")
+            pad = foam and Foam(foam["points"], float(foam["stiffness"]), float(foam.get("shear_ratio", 0.5)))
+            return cls(cords, pad or None, float(doc.get("loss_factor", 0.05)), np.asarray(doc.get("up", UP), float))
+        except (KeyError, TypeError, ValueError):
+            raise MasslineError(
+                "plan file: its 'suspension' needs cords (attachment, stiffness, length) or a foam pad (points, "
+                "stiffness): write it again with 'massline plan'"
+            ) from None
+
     def describe(self) -> str:
         """'free', 'foam k=… N/m' or 'cord k=… N/m, L=… m at (x, y, z) mm'."""
         if self.is_free:
@@ -249,6 +284,21 @@ class Suspension:
         K = self.spring_matrix(body)
         K[3:, 3:] += self.geometric_stiffness(body)
         return K
+
+
+def hung_over(suspension: Suspension, cog: np.ndarray) -> Suspension:
+    """The support with a single cord's pivot moved level until it hangs straight above ``cog`` (m), as a lab
+    re-hangs a body whose balance changed (accelerometers on); cords in a group and foam stay."""
+    if len(suspension.cords) != 1:
+        return suspension
+    cord, up = suspension.cords[0], suspension.up
+    shift = np.asarray(cog, dtype=float) - cord.attachment
+    return replace(suspension, cords=(replace(cord, attachment=cord.attachment + shift - (shift @ up) * up),))
+
+
+def vector(value) -> np.ndarray | None:
+    """A JSON list of three numbers as an array; None stays None."""
+    return None if value is None else np.asarray(value, dtype=float).reshape(3)
 
 
 def single_cord(body: RigidBody, stiffness: float, length: float, height: float, up=UP) -> Suspension:

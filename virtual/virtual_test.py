@@ -160,15 +160,7 @@ def measure(model: SuspendedBody, inst: Instrumentation, setup: Acquisition, mas
 def suspension_summary(suspension: Suspension, model: SuspendedBody) -> dict:
     """The support as simulated, for the truth file."""
     tensions = [] if suspension.is_free else model.suspension.reactions(model.loaded).tolist()
-    return {
-        "cords": [
-            {"attachment": c.attachment.tolist(), "stiffness": c.stiffness, "length": c.length}
-            for c in suspension.cords
-        ],
-        "foam": None
-        if suspension.foam is None
-        else {"points": suspension.foam.points.tolist(), "stiffness": suspension.foam.stiffness},
-        "loss_factor": suspension.loss_factor,
+    return suspension.as_dict() | {
         "reactions": tensions,
         "modes_hz": model.suspension_frequencies.tolist(),
     }
