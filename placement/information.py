@@ -5,7 +5,9 @@ sensitivity to the scaled parameters is
 
     g_ij,k = ∂H_ij/∂θ̃_k = −ℓ_iᵀ M⁻¹ B_k M⁻¹ w_j = −u_iᵀ Y(v_j)_k,
 
-with u_i = M⁻¹ ℓ_i, v_j = M⁻¹ w_j and Y(v) = [B_1 v … B_p v]. With noise σ_ij
+with u_i = M⁻¹ ℓ_i, v_j = M⁻¹ w_j and Y(v) = [B_1 v … B_p v]. Each B_k is
+symmetric, so g_ij and H_ij are symmetric in the two lines: a sensor and an
+exciter on the same line have the same sensitivities. With noise σ_ij
 on each massline the information is F = Σ_ij g_ij g_ijᵀ / σ_ij²: linear in the
 chosen sensors for fixed exciters and vice versa. It is the information of the
 whole chain (kinematic and dynamic steps together), which is what an efficient
@@ -40,12 +42,17 @@ class NoiseModel:
 
 
 def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray):
-    """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model."""
+    """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model.
+
+    Summed as g_ij,k = −Σ_a u_ia Y(v_j)_ak by einsum: fast when the exciters are few (pass the many
+    lines first, by the symmetry above), and single-threaded, which a tall product with a
+    six-long inner dimension gains nothing from.
+    """
     Minv = model.mass_matrix_inverse
     U = sensor_coords @ Minv  # u_i (M symmetric)
     V = exciter_coords @ Minv  # v_j
-    Y = np.einsum("kab,jb->jak", model.basis, V)  # Y(v_j): (n_e, q, p)
-    return -np.einsum("ia,jak->ijk", U, Y), U @ exciter_coords.T
+    Y = np.einsum("kab,jb->ajk", model.basis, V)  # Y(v_j) side by side: (q, n_e, p)
+    return -np.einsum("ia,ajk->ijk", U, Y), np.einsum("ia,ja->ij", U, exciter_coords)
 
 
 def weighted_sensitivities(

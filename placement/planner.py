@@ -16,7 +16,6 @@ equations can solve are admitted (rank S = 6, non-singular dynamic systems).
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
@@ -30,9 +29,8 @@ from massline.placement.candidates import (
     candidate_lines,
     candidate_points,
 )
-from massline.placement.certificate import TARGETS, certify
+from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
-from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -160,27 +158,20 @@ class Planner:
         other: np.ndarray,
         fixed: np.ndarray,
         budgets: tuple,
-        sensors_side: bool,
     ) -> BlockProblem:
-        def sens(a, b):
-            g = weighted_sensitivities(self.model, a, b, self.noise)
-            return g if sensors_side else g.transpose(1, 0, 2)
-
-        per_line = sens(coords, other) if sensors_side else sens(other, coords)
+        per_line = weighted_sensitivities(self.model, coords, other, self.noise)  # symmetric: lines first
         padded = np.concatenate([per_line, np.zeros((1,) + per_line.shape[1:])])  # row −1: nothing
         blocks = padded[side.members].reshape(len(side), -1, self.model.p)
-        A0 = (sens(fixed, other) if sensors_side else sens(other, fixed)).reshape(-1, self.model.p)
+        A0 = weighted_sensitivities(self.model, fixed, other, self.noise).reshape(-1, self.model.p)
         return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0, self.criterion)
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])
-        return self._problem(
-            self.s, self.s_coords, other, self.fixed_s, (self.budget.sensors, self.budget.triaxial), True
-        )
+        return self._problem(self.s, self.s_coords, other, self.fixed_s, (self.budget.sensors, self.budget.triaxial))
 
     def exciter_problem(self, sensor_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_s, sensor_rows])
-        return self._problem(self.e, self.e_coords, other, self.fixed_e, (self.budget.exciters,), False)
+        return self._problem(self.e, self.e_coords, other, self.fixed_e, (self.budget.exciters,))
 
     def sensor_rows(self, chosen) -> np.ndarray:
         return self.s_coords[self.s.line_index(chosen)]
@@ -283,57 +274,6 @@ class Planner:
         return starts
 
 
-def _certify_sides(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float, targets):
-    """Both sides' D bounds at the layout, and the layouts better on one side that the search met."""
-    deadline = time.perf_counter() + seconds
-    sp = planner.sensor_problem(planner.exciter_rows(exciters))
-    ep = planner.exciter_problem(planner.sensor_rows(sensors))
-    U_s, better_s = certify(
-        sp,
-        sensors,
-        relaxation,
-        lambda c: planner.admits(c, exciters),
-        planner.sensor_cover(exciters),
-        seconds / 2,
-        targets,
-    )
-    remaining = max(deadline - time.perf_counter(), 0.0)
-    U_e, better_e = certify(
-        ep, exciters, relaxation, lambda c: planner.admits(sensors, c), planner.exciter_cover, remaining, targets
-    )
-    value = ep.value(exciters)
-    improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
-    return {"sensors": U_s, "exciters": U_e}, [
-        c for c in improved if c[0] > value + 1e-9 and planner.admits(c[1], c[2])
-    ]
-
-
-def _certify_d(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float):
-    """Both sides' D bounds (certificate.py). At the first target a better layout the search meets
-    is adopted and both sides certified anew (up to three times); the time left tightens the
-    bounds of the final layout towards the last target. Returns the sensors, exciters and bounds."""
-    deadline = time.perf_counter() + seconds
-    for _ in range(3):
-        remaining = max(deadline - time.perf_counter(), 0.0)
-        bounds, improved = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[:1])
-        if not improved or time.perf_counter() > deadline:
-            break
-        _, sensors, exciters = max(improved, key=lambda c: c[0])
-    if not improved and time.perf_counter() < deadline:
-        remaining = deadline - time.perf_counter()
-        tighter = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[1:])[0]
-        bounds = {side: min(bounds[side], tighter[side]) for side in bounds}
-    return sensors, exciters, bounds
-
-
-def _certify_criterion(planner: Planner, sensors: list, exciters: list) -> dict:
-    """Both sides' bounds of an A or E plan (criterion_relaxation.py)."""
-    return {
-        "sensors": relax_criterion(planner.sensor_problem(planner.exciter_rows(exciters)), planner.criterion, sensors),
-        "exciters": relax_criterion(planner.exciter_problem(planner.sensor_rows(sensors)), planner.criterion, exciters),
-    }
-
-
 def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, float]:
     """The best alternation over the starts (exciter sets), by the searcher's criterion."""
     best = None
@@ -390,11 +330,11 @@ def plan_on_candidates(
         )
     progress("certifying", 0.85)
     if chosen is D:
-        sensors, exciters, d_bounds = _certify_d(planner, sensors, exciters, relaxation, certify_seconds)
+        sensors, exciters, d_bounds = certify_d(planner, sensors, exciters, relaxation, certify_seconds)
         bounds = d_bounds
     else:
-        d_bounds = _certify_d(planner, sensors, exciters, relaxation, 0.0)[2]
-        bounds = _certify_criterion(
+        d_bounds = certify_d(planner, sensors, exciters, relaxation, 0.0)[2]
+        bounds = certify_criterion(
             Planner(model, sensor_side, exciter_side, budget, noise, *fixed, chosen), sensors, exciters
         )
     S_all, E_all = planner.layout(sensors, exciters)
