@@ -11,24 +11,30 @@ from test_cli import massline
 
 from massline.placement import Lines
 from massline.placement.certificate import certify
+from massline.placement.certification import certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.information import NoiseModel
 from massline.placement.model import RigidModel
 from massline.placement.planner import Budget, CandidateLines, Planner, plan
-from massline.placement.selection import greedy, swap
+from massline.placement.selection import best_gains, gains, greedy, swap
 
 MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}
 
 
-def _side_problems(seed: int, criterion):
-    """A sensor problem (12 candidates, 6 to choose) and an exciter problem (9, 3) on the structure."""
+def _small_planner(seed: int, criterion=D) -> Planner:
+    """12 sensor and 9 exciter candidates on the structure, budget 6 × 3."""
     body = bundled("structure")
-    rng = np.random.default_rng(seed)
     points, faces = trimesh.sample.sample_surface(body.mesh, 21, seed=seed)
     lines = Lines(points, body.mesh.face_normals[faces])
     s_side, e_side = CandidateLines.single(lines[np.arange(12)]), CandidateLines.single(lines[np.arange(12, 21)])
-    planner = Planner(RigidModel(body.nominal), s_side, e_side, Budget(6, 3), NoiseModel(), criterion=criterion)
+    return Planner(RigidModel(body.nominal), s_side, e_side, Budget(6, 3), NoiseModel(), criterion=criterion)
+
+
+def _side_problems(seed: int, criterion):
+    """A sensor problem (12 candidates, 6 to choose) and an exciter problem (9, 3) on the structure."""
+    rng = np.random.default_rng(seed)
+    planner = _small_planner(seed, criterion)
     exciters, sensors = list(rng.choice(9, 3, replace=False)), list(rng.choice(12, 6, replace=False))
     return planner.sensor_problem(planner.exciter_rows(exciters)), planner.exciter_problem(planner.sensor_rows(sensors))
 
@@ -51,6 +57,35 @@ def test_certified_bound_is_above_the_brute_force_optimum(name, seed):
         assert problem.value(chosen) <= best + 1e-9 * abs(best)
         assert bound >= best - 1e-7 * abs(best), (bound, best)
         assert CRITERIA[name].efficiency(problem.value(chosen), bound, problem.p) <= 1 + 1e-9
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_certified_sides_bound_every_change_of_one_side(seed):
+    """certify_d's U_s bounds every sensor set at the final exciters, U_e every exciter set at the final
+    sensors (brute force), and the layout it returns is no worse than the one it was given."""
+    planner = _small_planner(seed)
+    sensors, exciters = list(range(6)), [0, 1, 2]
+    start = planner.exciter_problem(planner.sensor_rows(sensors)).value(exciters)
+    sensors, exciters, bounds = certify_d(planner, sensors, exciters, "first-order", 2.0)
+    sp, ep = (
+        planner.sensor_problem(planner.exciter_rows(exciters)),
+        planner.exciter_problem(planner.sensor_rows(sensors)),
+    )
+    assert ep.value(exciters) >= start - 1e-9
+    assert bounds["sensors"] >= _brute_force(sp) - 1e-7 * abs(bounds["sensors"])
+    assert bounds["exciters"] >= _brute_force(ep) - 1e-7 * abs(bounds["exciters"])
+
+
+def test_lazy_best_gains_are_the_exhaustive_ones_even_near_singular():
+    """The lazy order's bound (Hadamard and the eigen split) never skips a block that belongs in the top."""
+    problem = _side_problems(4, D)[0]
+    for chosen in ([0, 1, 2, 3, 4, 5], [0, 1, 2, 3, 4]):  # the second leaves M nearly singular
+        M = problem.information(chosen) + problem.regulariser()
+        allowed = np.ones(len(problem.blocks), bool)
+        allowed[chosen] = False
+        index, value = best_gains(problem.blocks, np.linalg.inv(M), allowed, count=3, chunk=2)
+        exhaustive = np.where(allowed, gains(problem.blocks, np.linalg.inv(M)), -np.inf)
+        np.testing.assert_allclose(value, np.sort(exhaustive)[::-1][:3], rtol=1e-9)
 
 
 def test_criterion_scores_are_the_criterion_of_the_updated_information():
