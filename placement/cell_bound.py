@@ -105,8 +105,12 @@ def branch_and_bound(
     tol: float = 1e-4,
     seconds: float = 10.0,
     root_bound: float = np.inf,
+    root_weights: np.ndarray | None = None,
 ) -> tuple[float, list]:
     """A certified upper bound on log det over the selections, and the best selection met.
+
+    ``root_bound`` and ``root_weights`` are a relaxation already solved on the whole problem
+    (its bound, its weights per candidate): the root node starts from them.
 
     Best first: the open node of largest bound is relaxed, screened and split; a
     node whose bound is within ``slack`` of the best selection known is closed.
@@ -127,7 +131,8 @@ def branch_and_bound(
         nodes += 1
         sub, index = _node_problem(problem, cells)
         target = best_value + slack
-        weights = None if parent is None else _warm_start(sub, parent[0][index], parent[1][index])
+        weights = root_weights[index] if parent is None and root_weights is not None else None
+        weights = weights if parent is None else _warm_start(sub, parent[0][index], parent[1][index])
         start = () if parent is not None else [int(np.flatnonzero(index == i)[0]) for i in chosen]
         z, bound = relax_first_order(sub, start, weights, tol=tol, stop_below=target, deadline=deadline)
         bound = min(bound, -negative_bound)

@@ -57,6 +57,7 @@ def certify_admissible(
     seconds: float = 10.0,
     depth: int = 2,
     root_bound: float = np.inf,
+    root_weights: np.ndarray | None = None,
 ) -> tuple[float, list]:
     """An upper bound over the admissible selections, and the best admissible one met.
 
@@ -65,10 +66,13 @@ def certify_admissible(
     no cut is known, the plain bound stands) and the bound is the largest over the
     split problems, each certified the same way (``depth`` levels of cuts). A
     bound over all selections holds for the admissible ones too, so the smaller
-    of the two is returned.
+    of the two is returned. ``root_bound`` and ``root_weights``: the whole problem's
+    relaxation, already solved, where the branch and bound's root starts.
     """
     deadline = time.perf_counter() + seconds
-    bound, best = branch_and_bound(problem, chosen, slack, seconds=seconds, root_bound=root_bound)
+    bound, best = branch_and_bound(
+        problem, chosen, slack, seconds=seconds, root_bound=root_bound, root_weights=root_weights
+    )
     if problem.value(best) <= problem.value(chosen) + 1e-9 or admissible(best) or depth == 0:
         return bound, best if admissible(best) else list(chosen)
     cover = cover_for(best)
@@ -114,7 +118,7 @@ def certify(
     if relaxation == "cvxpy":
         return relax_cvxpy(problem)[1], chosen
     deadline = time.perf_counter() + seconds
-    _, bound = relax_first_order(problem, chosen, tol=1e-3)
+    weights, bound = relax_first_order(problem, chosen, tol=1e-3)
     for target in targets:
         slack = problem.p * np.log(1 / target)
         if bound - problem.value(chosen) <= slack or time.perf_counter() > deadline:
@@ -127,6 +131,7 @@ def certify(
             cover_for or (lambda c: None),
             deadline - time.perf_counter(),
             root_bound=bound,
+            root_weights=weights,
         )
         bound = min(bound, found)
     return bound, chosen

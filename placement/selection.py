@@ -16,6 +16,7 @@ the exchanges then climb the problem's own criterion.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,11 +149,14 @@ def swap(
     ``admissible(chosen) -> bool`` restricts the selections swaps may reach (a
     layout the paper's equations can solve); from an inadmissible start, the
     best admissible exchange is taken whatever its value. For each chosen block
-    the ``tries`` best exchanges are checked for admissibility.
+    the ``tries`` best exchanges are checked for admissibility; from an inadmissible
+    start, ``tries`` checks in all (when the other side is what fails, none can
+    succeed; settle's repair is the way out).
     """
     chosen = list(chosen)
     eps = problem.regulariser()
     ok_now = admissible is None or admissible(chosen)
+    checks = itertools.count() if ok_now else iter(range(tries))
     for _ in range(max_passes):
         M = problem.information(chosen) + eps
         current = problem.criterion.value(M)
@@ -166,13 +170,15 @@ def swap(
                 if total <= best[0]:
                     break
                 trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]
+                if next(checks, None) is None:
+                    break
                 if admissible is None or admissible(trial):
                     best = (total, position, int(candidate))
                     break
         if best[1] is None:
             return chosen
         chosen[best[1]] = best[2]
-        ok_now = True
+        ok_now, checks = True, itertools.count()
     return chosen
 
 
