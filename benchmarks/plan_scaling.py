@@ -13,10 +13,13 @@ both certified bounds (re-evaluated at the returned weights, so both are valid).
 SCS is stopped after --cvxpy-seconds; a stopped run prints its time with '>'.
 Memory is the tracemalloc peak of a second, untimed run.
 
---certificate prints, for 1e5 lines and the minimal budget, the certified
-D-efficiency and the wall time of the whole plan for several certification
-times, against the baseline in the same run: the relaxation's bound alone
-(certify_seconds 0, no branch and bound). Best of --repeat runs (shared machines are noisy).
+--certificate prints, for 1e5 lines and the minimal budget (6 sensors × 3 exciters,
+the paper's 18 masslines), the certified D-efficiency and the wall time of the whole
+plan (search + certificate) for several certification times, against the baseline in
+the same run: the relaxation's bound alone (certify_seconds 0, no branch and bound).
+The efficiency is certified against every layout changing the sensors alone or the
+exciters alone (placement/certification.py). Best of --repeat runs (shared machines
+are noisy), with the process CPU time beside the wall time.
 """
 
 from __future__ import annotations
@@ -54,16 +57,20 @@ def certificate_table(model, repeat: int, seconds: list) -> None:
     body_mesh = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density).mesh
     points, faces = trimesh.sample.sample_surface(body_mesh, 100_000, seed=1)
     side = CandidateLines.single(Lines(points, body_mesh.face_normals[faces]))
-    print(f"{'certify s':>9} | {'plan s (best)':>13} {'D-eff ≥':>8} {'log det':>8}")
+    print(f"{'certify s':>9} | {'plan s (best)':>13} {'cpu s':>6} {'× baseline':>10} {'D-eff ≥':>8} {'log det':>8}")
+    baseline = None
     for certify_seconds in [0.0, *seconds]:
         runs = []
         for _ in range(repeat):
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             plan = plan_on_candidates(model, side, side, Budget(6, 3), certify_seconds=certify_seconds)
-            runs.append((time.perf_counter() - start, plan.d_efficiency_lower_bound, plan.log_det))
-        t, eff, value = min(runs)
+            wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+            runs.append((wall, cpu, plan.d_efficiency_lower_bound, plan.log_det))
+        t, cpu, eff, value = min(runs)
+        baseline = baseline or t
         label = "baseline" if certify_seconds == 0 else f"{certify_seconds:.1f}"
-        print(f"{label:>9} | {t:13.2f} {eff:8.1%} {value:8.3f}", flush=True)
+        print(f"{label:>9} | {t:13.2f} {cpu:6.2f} {t / baseline:10.2f} {eff:8.2%} {value:8.3f}", flush=True)
+    print(f"best of {repeat}; goal: D-eff ≥ 95 % in < 5 s end to end on 2 cores")
 
 
 def main() -> None:
@@ -73,7 +80,7 @@ def main() -> None:
     parser.add_argument("--certify-seconds", type=float, default=1.0)
     parser.add_argument("--certificate", action="store_true", help="the certificate table at 1e5 lines only")
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--certificate-seconds", type=float, nargs="+", default=[2.0, 4.0, 8.0])
+    parser.add_argument("--certificate-seconds", type=float, nargs="+", default=[1.5, 2.0, 3.0])
     args = parser.parse_args()
     body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
     model = RigidModel(body.nominal)

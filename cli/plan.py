@@ -160,7 +160,7 @@ def criterion_text(result) -> str:
     c, systems = result.criterion, condition_systems(result.model.planar)
     lines = [
         f"criterion {c.name}: {c.title} = {result.value:.4g}; certified {c.name}-efficiency ≥ "
-        f"{result.efficiency_lower_bound:.1%} of the best possible layout",
+        f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone",
         f"log det F = {result.log_det:.3f} ({result.model.p} parameters), D-efficiency ≥ "
         f"{result.d_efficiency_lower_bound:.1%}; smallest eigenvalue of F (relative parameters) "
         f"{result.smallest_eigenvalue:.4g}",

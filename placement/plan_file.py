@@ -5,7 +5,9 @@ Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys
 mesh frame), ``criterion`` (``name`` D, A or E, its ``value``, ``bounds`` and
 ``efficiency_lower_bound``; ``smallest_eigenvalue`` of the scaled information;
 ``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system
-by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det),
+by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound
+and efficiency is against the best layout changing the sensors alone or the exciters alone,
+the other side held at the plan's: placement/certification.py),
 ``noise``, ``predicted_std`` (identify's std keys). NaN (unobservable) is written as null.
 
 The test the plan sets up (absent in plans written before it was kept; their readers fall back to a

@@ -8,8 +8,10 @@ information (criteria.py).
 F is linear in the sensors for fixed exciters and vice versa, so the layout is
 found by alternating the two selection problems (greedy, then exchanges), from
 several starts, until neither side improves. Each side's convex relaxation
-bounds the best layout from above; the plan states the certified efficiency of
-the worse side in the criterion's sense (D: exp((log det F − U)/p)). A and E
+bounds from above the best layout that changes that side alone, the other held
+(certification.py); the plan states the certified efficiency of the worse side in
+the criterion's sense (D: exp((log det F − U)/p)): a lower bound against every
+layout that changes the sensors alone or the exciters alone, not both at once. A and E
 start from the D layout and climb their own criterion from there. Only layouts that the paper's
 equations can solve are admitted (rank S = 6, non-singular dynamic systems).
 """
@@ -77,7 +79,9 @@ class Plan:
 
     ``sensor_nodes`` / ``exciter_nodes`` index the candidate points.
     ``bounds`` holds the upper bound U of the plan's criterion for each side
-    (``value`` is the layout's), ``d_bounds`` that of log det F.
+    (``value`` is the layout's), ``d_bounds`` that of log det F: U of "sensors"
+    bounds every sensor selection with the plan's exciters, U of "exciters" every
+    exciter selection with the plan's sensors (certification.py).
     """
 
     model: RigidModel
@@ -99,7 +103,7 @@ class Plan:
 
     @property
     def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) for the worse of the two sides."""
+        """exp((log det F − U)/p) for the worse of the two sides: against one-side changes."""
         return float(np.exp((self.log_det - max(self.d_bounds.values())) / self.model.p))
 
     @property
