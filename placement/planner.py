@@ -7,7 +7,9 @@ found by alternating the two selection problems (greedy, then exchanges), from
 several starts, until neither side improves. Each side's convex relaxation
 bounds the best layout from above; the plan states the certified D-efficiency
 exp((log det F − U)/p) of the worse side. Only layouts that the paper's
-equations can solve are admitted (rank S = 6, non-singular dynamic systems).
+equations can solve are admitted (rank S = 6, non-singular dynamic systems),
+and, when asked, only diagnosable ones (:mod:`.diagnosability`): an inadmissible
+selection is first walked by single exchanges to one that is.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from massline.placement.candidates import (
     candidate_points,
 )
 from massline.placement.certificate import certify
+from massline.placement.diagnosability import Diagnosability, UndiagnosableError, diagnosability
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -34,7 +37,7 @@ from massline.placement.masslines import synthesise
 from massline.placement.mesh import BodyMesh
 from massline.placement.methods import identify
 from massline.placement.model import RigidModel
-from massline.placement.selection import BlockProblem, compress, greedy, leverages, settle
+from massline.placement.selection import BlockProblem, compress, descend, greedy, leverages, settle
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
@@ -87,6 +90,12 @@ class Plan:
     noise: NoiseModel
     candidates: CandidatePoints | None = None
     n_candidate_lines: dict = field(default_factory=dict)
+    minimal: Plan | None = None  # the paper's minimal layout this plan is compared with
+
+    @property
+    def diagnosability(self) -> Diagnosability:
+        """Can one faulty channel or hit of this layout be located (:mod:`.diagnosability`)?"""
+        return diagnosability(self.model, self.sensors, self.exciters, self.noise)
 
     @property
     def d_efficiency_lower_bound(self) -> float:
@@ -120,8 +129,9 @@ class Planner:
         noise: NoiseModel,
         fixed_sensors: Lines | None = None,
         fixed_exciters: Lines | None = None,
+        diagnosable: bool = False,
     ):
-        self.model, self.budget, self.noise = model, budget, noise
+        self.model, self.budget, self.noise, self.diagnosable = model, budget, noise, diagnosable
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
         self.e_coords = model.coordinates(exciter_side.lines)
@@ -200,9 +210,22 @@ class Planner:
             return False
         return True
 
+    def violation(self, sensors: list, exciters: list) -> float:
+        """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
+        if not self.diagnosable:
+            return 0.0
+        return diagnosability(self.model, *self.layout(sensors, exciters), self.noise).excess
+
     def admits(self, sensors: list, exciters: list) -> bool:
-        """Is the selection (candidate indices, fixed lines added) a regular layout?"""
-        return self.regular(*self.layout(sensors, exciters))
+        """Is the selection (candidate indices, fixed lines added) a regular (and, if asked, diagnosable) layout?"""
+        return self.violation(sensors, exciters) == 0 and self.regular(*self.layout(sensors, exciters))
+
+    def settled(self, problem: BlockProblem, start: list, admissible, cover_for, violation) -> list:
+        """``settle``; an inadmissible result walked towards diagnosable by ``descend`` and settled again."""
+        chosen = settle(problem, start, admissible, cover_for)
+        if admissible(chosen) or not self.diagnosable:
+            return chosen
+        return settle(problem, descend(problem, chosen, violation), admissible, cover_for)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -217,12 +240,18 @@ class Planner:
         value = -np.inf
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
-            sensors = settle(
-                sp, sensors if sensors else greedy(sp), lambda c: self.admits(c, exciters), self.sensor_cover(exciters)
+            sensors = self.settled(
+                sp,
+                sensors if sensors else greedy(sp),
+                lambda c: self.admits(c, exciters),
+                self.sensor_cover(exciters),
+                lambda c: self.violation(c, exciters),
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
-            new_exciters = settle(ep, start, lambda c: self.admits(sensors, c), self.exciter_cover)
+            new_exciters = self.settled(
+                ep, start, lambda c: self.admits(sensors, c), self.exciter_cover, lambda c: self.violation(sensors, c)
+            )
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
                 break
@@ -274,11 +303,13 @@ def plan_on_candidates(
     seed: int = 0,
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
+    diagnosable: bool = False,
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
     ``certify_seconds`` bounds the branch and bound that tightens the certificate;
-    what it reaches by then is what the plan states.
+    what it reaches by then is what the plan states. ``diagnosable``: only layouts in which one
+    faulty channel or hit can be located are admitted (the certificate's bound covers all layouts).
     """
     budget.check(model.planar)
     for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
@@ -287,10 +318,17 @@ def plan_on_candidates(
                 f"only {len(side)} {name} candidates for a budget of {need}: "
                 "sample more points (--candidates) or relax the exclusions"
             )
-    planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
+    planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters, diagnosable)
     s_work, e_work = planner.working_sets(seed)
     searcher = Planner(
-        model, sensor_side.subset(s_work), exciter_side.subset(e_work), budget, noise, fixed_sensors, fixed_exciters
+        model,
+        sensor_side.subset(s_work),
+        exciter_side.subset(e_work),
+        budget,
+        noise,
+        fixed_sensors,
+        fixed_exciters,
+        diagnosable,
     )
     best = None
     start_sets = searcher.starts(starts - 1, seed)
@@ -301,6 +339,8 @@ def plan_on_candidates(
             best = result
     sensors, exciters, value = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]], best[2]
 
+    if diagnosable and planner.regular(*planner.layout(sensors, exciters)) and not planner.admits(sensors, exciters):
+        raise UndiagnosableError(f"no diagnosable layout of {budget} was found among the candidates")
     if not planner.admits(sensors, exciters):
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate layouts: allow points that are "
@@ -356,8 +396,10 @@ def plan(
     planar: bool | None = None,
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
+    diagnosable: bool = False,
 ) -> Plan:
-    """The best layout of ``budget`` on the body's surface, certified and with predicted 1-σ."""
+    """The best layout of ``budget`` on the body's surface, certified and with predicted 1-σ
+    (``diagnosable``: the best of the layouts in which one faulty channel or hit can be located)."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
@@ -376,5 +418,6 @@ def plan(
         options.seed,
         certify_seconds,
         progress,
+        diagnosable,
     )
     return replace(result, candidates=points)

@@ -208,6 +208,33 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
     return chosen
 
 
+def descend(problem: BlockProblem, chosen: list, violation, tries: int = 20, max_passes: int = 30) -> list:
+    """Single exchanges that lower ``violation(chosen)`` (≥ 0; 0 when the selection is admissible), the
+    most informative of equal violation first, until it is 0 or no exchange among each chosen block's
+    ``tries`` best lowers it."""
+    chosen, now = list(chosen), violation(chosen)
+    eps = problem.regulariser()
+    for _ in range(max_passes):
+        if now <= 0:
+            break
+        M = problem.information(chosen) + eps
+        best = ((now, np.inf), None)
+        for position, out in enumerate(chosen):
+            reduced = M - problem.blocks[out].T @ problem.blocks[out]
+            open_ = problem.group == problem.group[out]
+            open_[chosen] = False
+            base = log_det(reduced)
+            for candidate, gain in zip(*best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries)):
+                trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]
+                score = (violation(trial), -(base + gain))
+                if score[0] < now and score < best[0]:
+                    best = (score, trial)
+        if best[1] is None:
+            break
+        now, chosen = best[0][0], best[1]
+    return chosen
+
+
 def compress(blocks: np.ndarray) -> np.ndarray:
     """Blocks with more rows than parameters replaced by p rows of the same information."""
     n, r, p = blocks.shape
