@@ -141,15 +141,16 @@ def confusion(P: np.ndarray) -> np.ndarray:
 def hit_leverages(A: np.ndarray) -> np.ndarray:
     """λ_max(A_j F⁻¹ A_jᵀ) per hit, A (n_s, n_e, p) the weighted sensitivities; 1 when F is singular."""
     F = np.einsum("ijp,ijq->pq", A, A)
-    if np.linalg.cond(F) > 1e12:
+    w = np.linalg.eigvalsh(F)
+    if w[0] <= 1e-12 * w[-1]:
         return np.ones(A.shape[1])
-    K = np.einsum("ijp,pq,kjq->jik", A, np.linalg.inv(F), A)
+    B = np.linalg.solve(np.linalg.cholesky(F), A.reshape(-1, A.shape[2]).T).reshape(A.shape[2], *A.shape[:2])
+    K = np.einsum("pij,pkj->jik", B, B)
     return np.linalg.eigvalsh(K)[:, -1]
 
 
-def diagnosability(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel = NoiseModel()) -> Diagnosability:
-    """The diagnosability of the layout at the model's nominal body."""
-    S, W = model.coordinates(sensors), model.coordinates(exciters)
+def of_coordinates(model: RigidModel, S: np.ndarray, W: np.ndarray, noise: NoiseModel) -> Diagnosability:
+    """The diagnosability of sensor and exciter line coordinates S (n_s, q), W (n_e, q) at the nominal body."""
     q = S.shape[1]
     P = hat_matrix(S, q)
     return Diagnosability(
@@ -158,3 +159,8 @@ def diagnosability(model: RigidModel, sensors: Lines, exciters: Lines, noise: No
         np.clip(hit_leverages(weighted_sensitivities(model, S, W, noise)), 0.0, 1.0),
         q,
     )
+
+
+def diagnosability(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel = NoiseModel()) -> Diagnosability:
+    """The diagnosability of the layout at the model's nominal body."""
+    return of_coordinates(model, model.coordinates(sensors), model.coordinates(exciters), noise)

@@ -29,7 +29,7 @@ from massline.placement.candidates import (
     candidate_points,
 )
 from massline.placement.certificate import certify
-from massline.placement.diagnosability import Diagnosability, UndiagnosableError, diagnosability
+from massline.placement.diagnosability import Diagnosability, UndiagnosableError, diagnosability, of_coordinates
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -214,18 +214,21 @@ class Planner:
         """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
         if not self.diagnosable:
             return 0.0
-        return diagnosability(self.model, *self.layout(sensors, exciters), self.noise).excess
+        S = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+        W = np.vstack([self.fixed_e, self.exciter_rows(exciters)])
+        return of_coordinates(self.model, S, W, self.noise).excess
 
     def admits(self, sensors: list, exciters: list) -> bool:
         """Is the selection (candidate indices, fixed lines added) a regular (and, if asked, diagnosable) layout?"""
         return self.violation(sensors, exciters) == 0 and self.regular(*self.layout(sensors, exciters))
 
-    def settled(self, problem: BlockProblem, start: list, admissible, cover_for, violation) -> list:
-        """``settle``; an inadmissible result walked towards diagnosable by ``descend`` and settled again."""
+    def settled(self, problem: BlockProblem, start: list, admissible, cover_for, violation, regular) -> list:
+        """``settle``; an inadmissible result walked towards diagnosable by ``descend`` among regular
+        layouts, and settled again."""
         chosen = settle(problem, start, admissible, cover_for)
         if admissible(chosen) or not self.diagnosable:
             return chosen
-        return settle(problem, descend(problem, chosen, violation), admissible, cover_for)
+        return settle(problem, descend(problem, chosen, violation, regular), admissible, cover_for)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -246,11 +249,17 @@ class Planner:
                 lambda c: self.admits(c, exciters),
                 self.sensor_cover(exciters),
                 lambda c: self.violation(c, exciters),
+                lambda c: self.regular(*self.layout(c, exciters)),
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
             new_exciters = self.settled(
-                ep, start, lambda c: self.admits(sensors, c), self.exciter_cover, lambda c: self.violation(sensors, c)
+                ep,
+                start,
+                lambda c: self.admits(sensors, c),
+                self.exciter_cover,
+                lambda c: self.violation(sensors, c),
+                lambda c: self.regular(*self.layout(sensors, c)),
             )
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
@@ -339,7 +348,7 @@ def plan_on_candidates(
             best = result
     sensors, exciters, value = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]], best[2]
 
-    if diagnosable and planner.regular(*planner.layout(sensors, exciters)) and not planner.admits(sensors, exciters):
+    if diagnosable and not planner.admits(sensors, exciters):
         raise UndiagnosableError(f"no diagnosable layout of {budget} was found among the candidates")
     if not planner.admits(sensors, exciters):
         raise MasslineError(
