@@ -161,6 +161,8 @@ def of_coordinates(model: RigidModel, S: np.ndarray, W: np.ndarray, noise: Noise
     )
 
 
-def diagnosability(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel = NoiseModel()) -> Diagnosability:
+def diagnosability(
+    model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel = NoiseModel()
+) -> Diagnosability:
     """The diagnosability of the layout at the model's nominal body."""
     return of_coordinates(model, model.coordinates(sensors), model.coordinates(exciters), noise)

@@ -4,7 +4,10 @@ Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys
 ``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres,
 mesh frame), ``criterion`` (``log_det``, ``condition_numbers``,
 ``d_efficiency_lower_bound``, ``upper_bounds``), ``noise``, ``predicted_std``
-(identify's std keys). NaN (unobservable) is written as null.
+(identify's std keys), ``diagnosability`` (``diagnosable``, per-channel and per-hit leverage,
+``hidden``: the faults each channel could hide, ``failures``; ``cost``: the minimal layout's
+lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared).
+NaN (unobservable) is written as null.
 """
 
 from __future__ import annotations
@@ -51,6 +54,22 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
             "points": len(plan.candidates) if plan.candidates is not None else None,
             "lines": plan.n_candidate_lines,
         },
+        "diagnosability": {**plan.diagnosability.as_dict(), "cost": cost(plan)},
+    }
+
+
+def cost(plan: Plan) -> dict | None:
+    """What the plan costs over the minimal layout it was compared with (None: not compared)."""
+    minimal = plan.minimal
+    if minimal is None:
+        return None
+    return {
+        "minimal_lines": len(minimal.sensors),
+        "minimal_hits": len(minimal.exciters),
+        "extra_lines": len(plan.sensors) - len(minimal.sensors),
+        "extra_hits": len(plan.exciters) - len(minimal.exciters),
+        "worst_relative_std": plan.worst_relative_std,
+        "minimal_worst_relative_std": minimal.worst_relative_std,
     }
 
 
