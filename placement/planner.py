@@ -222,13 +222,17 @@ class Planner:
         """Is the selection (candidate indices, fixed lines added) a regular (and, if asked, diagnosable) layout?"""
         return self.violation(sensors, exciters) == 0 and self.regular(*self.layout(sensors, exciters))
 
-    def settled(self, problem: BlockProblem, start: list, admissible, cover_for, violation, regular) -> list:
-        """``settle``; an inadmissible result walked towards diagnosable by ``descend`` among regular
-        layouts, and settled again."""
-        chosen = settle(problem, start, admissible, cover_for)
+    def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
+        """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
+        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again."""
+        admissible = lambda c: self.admits(*side(c))  # noqa: E731
+        chosen = settle(problem, start, admissible, cover)
         if admissible(chosen) or not self.diagnosable:
             return chosen
-        return settle(problem, descend(problem, chosen, violation, regular), admissible, cover_for)
+        walked = descend(
+            problem, chosen, lambda c: self.violation(*side(c)), lambda c: self.regular(*self.layout(*side(c)))
+        )
+        return settle(problem, walked, admissible, cover)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -244,23 +248,11 @@ class Planner:
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = self.settled(
-                sp,
-                sensors if sensors else greedy(sp),
-                lambda c: self.admits(c, exciters),
-                self.sensor_cover(exciters),
-                lambda c: self.violation(c, exciters),
-                lambda c: self.regular(*self.layout(c, exciters)),
+                sp, sensors if sensors else greedy(sp), lambda c: (c, exciters), self.sensor_cover(exciters)
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
-            new_exciters = self.settled(
-                ep,
-                start,
-                lambda c: self.admits(sensors, c),
-                self.exciter_cover,
-                lambda c: self.violation(sensors, c),
-                lambda c: self.regular(*self.layout(sensors, c)),
-            )
+            new_exciters = self.settled(ep, start, lambda c: (sensors, c), self.exciter_cover)
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
                 break
@@ -329,16 +321,8 @@ def plan_on_candidates(
             )
     planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters, diagnosable)
     s_work, e_work = planner.working_sets(seed)
-    searcher = Planner(
-        model,
-        sensor_side.subset(s_work),
-        exciter_side.subset(e_work),
-        budget,
-        noise,
-        fixed_sensors,
-        fixed_exciters,
-        diagnosable,
-    )
+    subsets = sensor_side.subset(s_work), exciter_side.subset(e_work)
+    searcher = Planner(model, *subsets, budget, noise, fixed_sensors, fixed_exciters, diagnosable)
     best = None
     start_sets = searcher.starts(starts - 1, seed)
     for k, start in enumerate(start_sets):
