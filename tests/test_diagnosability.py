@@ -63,12 +63,15 @@ def test_the_minimal_layout_checks_nothing():
     assert d.weak_channels == list(range(6)) and d.weak_hits == [0, 1, 2]
 
 
-def test_a_collinear_twin_cannot_be_told_apart():
-    lines = corner_lines(12)
-    twin = Lines(lines.points[:1] + 0.3 * lines.directions[:1], lines.directions[:1])  # same line, another point
-    d = diagnosability(RigidModel(BODY), lines + twin, hits(5))
-    assert d.channel_confusion[0] > 0.999 and d.channel_confusion[-1] > 0.999
-    assert {0, 12} <= set(d.weak_channels)
+def test_a_motion_only_two_channels_see_leaves_their_faults_confused():
+    """Every line but the first two is along z or meets the z axis: only those two see a turn about z."""
+    z = [[0.2, 0.2, 0.1], [-0.2, 0.2, 0.1], [0.2, -0.2, -0.1], [-0.2, -0.1, 0.0]]
+    on_axis = [[0.0, 0.0, 0.2], [0.0, 0.0, -0.2], [0.0, 0.0, 0.1], [0.0, 0.0, -0.1]]
+    points = [[0.1, 0.2, 0.0], [-0.1, -0.2, 0.1], *z, *on_axis]
+    directions = [[1, 0, 0], [1, 0, 0]] + [[0, 0, 1]] * 4 + [[1, 0, 0], [0, 1, 0], [0, 1, 0], [1, 0, 0]]
+    d = diagnosability(RigidModel(BODY), Lines(points, directions), hits(5))
+    assert d.channel_confusion[0] > 0.999 and d.channel_confusion[1] > 0.999
+    assert d.channel_confusion[2:6].max() < 0.999 and d.weak_channels[:2] == [0, 1]  # (7, 8: alone on a_y)
 
 
 def test_leverages_sum_to_the_motions_and_hits_to_the_parameters():
