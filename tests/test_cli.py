@@ -97,7 +97,8 @@ def test_plan_writes_plan_json(tmp_path):
     assert doc["diagnosability"]["cost"]["minimal_lines"] == 6 and doc["diagnosability"]["cost"]["minimal_hits"] == 3
     assert set(doc["sensors"][0]) == {"node", "point", "direction", "triaxial"}
     assert {"log_det", "condition_numbers", "d_efficiency_lower_bound"} <= set(doc["criterion"])
-    assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.95
+    # the certificate bounds every layout of the budget, diagnosable or not: the constraint costs a few per cent
+    assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.9
     assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes"} <= set(doc["predicted_std"])
     again = massline("plan", "structure", "--out", out)
     assert again.returncode == 2 and "--force" in again.stderr
