@@ -4,8 +4,8 @@ The leverage algebra on hand layouts; the default plans (the cheapest diagnosabl
 are diagnosable and the paper's minimal ones are not; and blind: one faulty channel (polarity, gain,
 direction) concealed in virtual tests of the default and the minimal plan (virtual/scenarios.py), diagnosed
 from the UFF, scored as the blind suite scores it (tests/blind_measures.py): located at its channel on the
-default plan, not on the minimal one (no redundancy). ``python tests/test_diagnosability.py SEEDS`` prints
-the full table for the three bodies.
+default plan, not on the minimal one (no redundancy). ``python tests/test_diagnosability.py SEEDS [BODY ...]``
+prints the full table (default: the three bodies).
 """
 
 from __future__ import annotations
@@ -150,7 +150,7 @@ if __name__ == "__main__":
     seeds = range(int(sys.argv[1]) if len(sys.argv) > 1 else 10)
     with tempfile.TemporaryDirectory() as folder:
         print(f"{'body':>10} {'plan':>8} {'lines×hits':>10} {'worst σ':>8} {'fault':>17} located / cases")
-        for name in ("structure", "plate", "bracket"):
+        for name in sys.argv[2:] or ("structure", "plate", "bracket"):
             _, p = default_plan(name)
             sizes = {"default": p, "minimal": p.minimal}
             for (label, fault), (ok, n, _) in table(name, seeds, Path(folder)).items():
