@@ -88,8 +88,8 @@ class Diagnosability:
         n = len(self.channel_leverage)
         if n <= self.motions + 1:
             out.append(
-                f"{n} channels for {self.motions} rigid motions leave no redundancy: a faulty channel is seen, "
-                f"never located (diagnosis needs {self.motions + 2})"
+                f"{n} channels for {self.motions} rigid motions leave no redundancy: a faulty channel cannot be "
+                f"located (diagnosis needs {self.motions + 2})"
             )
         elif self.weak_channels:
             out.append(f"channels {_listed(self.weak_channels)} cannot be checked by the others")

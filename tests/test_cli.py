@@ -108,7 +108,9 @@ def test_plan_minimal_is_the_papers_layout_and_says_it_cannot_locate_a_fault(tmp
     run = massline("plan", "structure", "--minimal", "--out", tmp_path)
     assert run.returncode == 0, run.stderr
     doc = json.loads((tmp_path / "plan.json").read_text())
-    assert len(doc["sensors"]) == 6 and len(doc["exciters"]) == 3 and doc["criterion"]["d_efficiency_lower_bound"] >= 0.95
+    assert (
+        len(doc["sensors"]) == 6 and len(doc["exciters"]) == 3 and doc["criterion"]["d_efficiency_lower_bound"] >= 0.95
+    )
     assert not doc["diagnosability"]["diagnosable"] and "not diagnosable" in run.stdout
     assert "no redundancy" in run.stdout
     both = massline("plan", "structure", "--minimal", "--sensors", "8", "--out", tmp_path / "x")
