@@ -15,6 +15,7 @@ from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.options import SEED, count, finite, fraction, real
 from massline.output import write_report
 from massline.placement.candidates import CandidateOptions
+from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_folder, to_json, write_atomic
 from massline.placement.information import NoiseModel
@@ -22,7 +23,7 @@ from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS
 from massline.placement.numbers import formatted, number, sigma_text, vector_text
 from massline.placement.plan_file import condition_systems, plan_to_dict
-from massline.placement.planner import Budget, plan
+from massline.placement.planner import Budget, is_plate, plan
 from massline.report_command import build_report
 from massline.support import band_phrase, plan_test, planned_band
 
@@ -50,11 +51,21 @@ def _repeatable_six(parser: argparse.ArgumentParser, flag: str, names: tuple, he
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_mesh_arguments(parser)
     parser.add_argument(
-        "--sensors", type=count(0, MAX_LINES), default=6, metavar="N", help="uniaxial accelerometers (default 6)"
+        "--sensors",
+        type=count(0, MAX_LINES),
+        metavar="N",
+        help="uniaxial accelerometers (default: the fewest that make the test diagnosable; 6 with other budget options)",
     )
-    parser.add_argument("--exciters", type=count(0, MAX_LINES), default=3, metavar="K", help="hammer hits (default 3)")
     parser.add_argument(
-        "--triaxial", type=count(0, MAX_LINES), default=0, metavar="N", help="triaxial accelerometers (3 lines each)"
+        "--exciters", type=count(0, MAX_LINES), metavar="K", help="hammer hits (default: as --sensors; 3 with others)"
+    )
+    parser.add_argument(
+        "--triaxial", type=count(0, MAX_LINES), metavar="N", help="triaxial accelerometers (3 lines each; default 0)"
+    )
+    parser.add_argument(
+        "--minimal",
+        action="store_true",
+        help="the paper's minimal layout (6 lines × 3 hits, a plate's 3 × 3): identifies, cannot locate a fault",
     )
     parser.add_argument(
         "--candidates",
@@ -169,6 +180,48 @@ def criterion_text(result) -> str:
     return "\n".join(lines)
 
 
+def chosen_budget(args: argparse.Namespace, planar: bool) -> Budget | None:
+    """The budget asked for: --minimal's, the given one (6 sensors, 3 hits, no triaxial where not given), or
+    None: the cheapest diagnosable."""
+    given = [x for x in (args.sensors, args.exciters, args.triaxial) if x is not None]
+    if args.minimal and given:
+        raise MasslineError("--minimal is a budget of its own: drop --sensors, --exciters and --triaxial")
+    if args.minimal:
+        return minimal_budget(planar)
+    if not given:
+        return None
+    return Budget(
+        6 if args.sensors is None else args.sensors,
+        3 if args.exciters is None else args.exciters,
+        args.triaxial or 0,
+    )
+
+
+def diagnosability_note(console: Console, result) -> None:
+    """Diagnosable or not, what it costs against the minimal layout, which channels could hide a fault."""
+    d = result.diagnosability
+    if d.diagnosable:
+        console.print(
+            f"diagnosable: every channel (leverage ≤ {d.channel_leverage.max():.2f}) and every hit "
+            f"(≤ {d.hit_leverage.max():.2f}) is checked by the others: one faulty channel or hit can be located"
+        )
+    else:
+        console.print("[yellow]not diagnosable:[/] " + "; ".join(d.failures))
+        weak = d.weak_channels
+        if weak:
+            console.print(
+                f"channels {', '.join(str(k + 1) for k in weak)} could hide a gain, polarity or direction fault"
+            )
+    if result.minimal is not None:
+        m = result.minimal
+        console.print(
+            f"diagnosability costs {len(result.sensors) - len(m.sensors)} lines and "
+            f"{len(result.exciters) - len(m.exciters)} hits over the minimal {len(m.sensors)} × {len(m.exciters)} "
+            f"layout (--minimal); predicted worst 1-σ {result.worst_relative_std:.2%} against its "
+            f"{m.worst_relative_std:.2%}"
+        )
+
+
 def available_memory() -> float:
     """Bytes the system can give a process without swapping (MemAvailable), or inf when unknown."""
     try:
@@ -208,27 +261,30 @@ def run(args: argparse.Namespace, console: Console) -> None:
         edge_keepout=args.edge_keepout * scale,
         seed=args.seed,
     )
-    budget = Budget(args.sensors, args.exciters, args.triaxial)
     noise = NoiseModel(args.noise_relative, args.noise_floor)
+    budget = chosen_budget(args, is_plate(body))
     with Progress(
         TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
     ) as bar:
         task = bar.add_task("planning", total=1.0)
-        result = plan(
-            body,
-            budget,
-            options,
-            noise,
-            _fixed(args.fixed_sensor, scale),
-            _fixed(args.fixed_exciter, scale),
-            relaxation=args.relaxation,
-            criterion=args.criterion,
-            progress=lambda stage, f: bar.update(task, completed=f, description=stage),
-        )
+        fixed = (_fixed(args.fixed_sensor, scale), _fixed(args.fixed_exciter, scale))
+
+        def progress(stage: str, f: float) -> None:
+            bar.update(task, completed=f, description=stage)
+
+        if budget is None:
+            result = cheapest_diagnosable(
+                body, options, noise, *fixed, args.relaxation, progress=progress, criterion=args.criterion
+            )
+        else:
+            result = plan(
+                body, budget, options, noise, *fixed, args.relaxation, criterion=args.criterion, progress=progress
+            )
     console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes))
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
     console.print(std_table(result))
     console.print(criterion_text(result))
+    diagnosability_note(console, result)
     test, _ = plan_test(body, str(args.mesh), result.sensors, result.exciters, console)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")

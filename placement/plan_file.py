@@ -8,7 +8,10 @@ mesh frame), ``criterion`` (``name`` D, A or E, its ``value``, ``bounds`` and
 by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound
 and efficiency is against the best layout changing the sensors alone or the exciters alone,
 the other side held at the plan's: placement/certification.py),
-``noise``, ``predicted_std`` (identify's std keys). NaN (unobservable) is written as null.
+``noise``, ``predicted_std`` (identify's std keys), ``diagnosability`` (``diagnosable``, per-channel and
+per-hit leverage, ``hidden``: the faults each channel could hide, ``failures``; ``cost``: the minimal
+layout's lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared).
+NaN (unobservable) is written as null.
 
 The test the plan sets up (absent in plans written before it was kept; their readers fall back to a
 default cord): ``suspension`` (``cords``: ``{"attachment" m, "stiffness" N/m, "length" m, "direction"}``,
@@ -112,7 +115,23 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
             "points": len(plan.candidates) if plan.candidates is not None else None,
             "lines": plan.n_candidate_lines,
         },
+        "diagnosability": {**plan.diagnosability.as_dict(), "cost": cost(plan)},
     } | (test or {})
+
+
+def cost(plan: Plan) -> dict | None:
+    """What the plan costs over the minimal layout it was compared with (None: not compared)."""
+    minimal = plan.minimal
+    if minimal is None:
+        return None
+    return {
+        "minimal_lines": len(minimal.sensors),
+        "minimal_hits": len(minimal.exciters),
+        "extra_lines": len(plan.sensors) - len(minimal.sensors),
+        "extra_hits": len(plan.exciters) - len(minimal.exciters),
+        "worst_relative_std": plan.worst_relative_std,
+        "minimal_worst_relative_std": minimal.worst_relative_std,
+    }
 
 
 def _read_lines(entries: list, what: str) -> Lines:

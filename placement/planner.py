@@ -13,7 +13,9 @@ bounds from above the best layout that changes that side alone, the other held
 the criterion's sense (D: exp((log det F − U)/p)): a lower bound against every
 layout that changes the sensors alone or the exciters alone, not both at once. A and E
 start from the D layout and climb their own criterion from there. Only layouts that the paper's
-equations can solve are admitted (rank S = 6, non-singular dynamic systems).
+equations can solve are admitted (rank S = 6, non-singular dynamic systems),
+and, when asked, only diagnosable ones (:mod:`.diagnosability`): an inadmissible
+selection is first walked by single exchanges to one that is.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from massline.placement.candidates import (
 )
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
+from massline.placement.diagnosability import Diagnosability, UndiagnosableError, diagnosability, of_coordinates
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -40,7 +43,7 @@ from massline.placement.masslines import synthesise
 from massline.placement.mesh import BodyMesh
 from massline.placement.methods import identify
 from massline.placement.model import RigidModel
-from massline.placement.selection import BlockProblem, compress, greedy, leverages, settle
+from massline.placement.selection import BlockProblem, compress, descend, greedy, leverages, settle
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
@@ -100,6 +103,12 @@ class Plan:
     value: float = np.nan
     d_bounds: dict = field(default_factory=dict)
     information: np.ndarray | None = None
+    minimal: Plan | None = None  # the paper's minimal layout this plan is compared with
+
+    @property
+    def diagnosability(self) -> Diagnosability:
+        """Can one faulty channel or hit of this layout be located (:mod:`.diagnosability`)?"""
+        return diagnosability(self.model, self.sensors, self.exciters, self.noise)
 
     @property
     def d_efficiency_lower_bound(self) -> float:
@@ -144,8 +153,10 @@ class Planner:
         fixed_sensors: Lines | None = None,
         fixed_exciters: Lines | None = None,
         criterion: Criterion = D,
+        diagnosable: bool = False,
     ):
         self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
+        self.diagnosable = diagnosable
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
         self.e_coords = model.coordinates(exciter_side.lines)
@@ -217,9 +228,29 @@ class Planner:
             return False
         return True
 
+    def violation(self, sensors: list, exciters: list) -> float:
+        """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
+        if not self.diagnosable:
+            return 0.0
+        S = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+        W = np.vstack([self.fixed_e, self.exciter_rows(exciters)])
+        return of_coordinates(self.model, S, W, self.noise).excess
+
     def admits(self, sensors: list, exciters: list) -> bool:
-        """Is the selection (candidate indices, fixed lines added) a regular layout?"""
-        return self.regular(*self.layout(sensors, exciters))
+        """Is the selection (candidate indices, fixed lines added) a regular (and, if asked, diagnosable) layout?"""
+        return self.violation(sensors, exciters) == 0 and self.regular(*self.layout(sensors, exciters))
+
+    def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
+        """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
+        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again."""
+        admissible = lambda c: self.admits(*side(c))  # noqa: E731
+        chosen = settle(problem, start, admissible, cover)
+        if admissible(chosen) or not self.diagnosable:
+            return chosen
+        walked = descend(
+            problem, chosen, lambda c: self.violation(*side(c)), lambda c: self.regular(*self.layout(*side(c)))
+        )
+        return settle(problem, walked, admissible, cover)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -234,12 +265,12 @@ class Planner:
         value = -np.inf
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
-            sensors = settle(
-                sp, sensors if sensors else greedy(sp), lambda c: self.admits(c, exciters), self.sensor_cover(exciters)
+            sensors = self.settled(
+                sp, sensors if sensors else greedy(sp), lambda c: (c, exciters), self.sensor_cover(exciters)
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
-            new_exciters = settle(ep, start, lambda c: self.admits(sensors, c), self.exciter_cover)
+            new_exciters = self.settled(ep, start, lambda c: (sensors, c), self.exciter_cover)
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
                 break
@@ -303,12 +334,15 @@ def plan_on_candidates(
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
+    diagnosable: bool = False,
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
     ``certify_seconds`` bounds the branch and bound that tightens the D certificate;
     what it reaches by then is what the plan states. ``criterion`` is "D", "A" or "E"
-    (criteria.py): A and E alternate from the D layout by their own criterion.
+    (criteria.py): A and E alternate from the D layout by their own criterion. ``diagnosable``: only
+    layouts in which one faulty channel or hit can be located are admitted (the certificate's bound covers
+    all layouts).
     """
     budget.check(model.planar)
     for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
@@ -319,14 +353,17 @@ def plan_on_candidates(
             )
     chosen = CRITERIA[criterion]
     fixed = (fixed_sensors, fixed_exciters)
-    planner = Planner(model, sensor_side, exciter_side, budget, noise, *fixed)
+    planner = Planner(model, sensor_side, exciter_side, budget, noise, *fixed, diagnosable=diagnosable)
     s_work, e_work = planner.working_sets(seed)
-    searcher = Planner(model, sensor_side.subset(s_work), exciter_side.subset(e_work), budget, noise, *fixed)
+    subsets = sensor_side.subset(s_work), exciter_side.subset(e_work)
+    searcher = Planner(model, *subsets, budget, noise, *fixed, diagnosable=diagnosable)
     best = _search(searcher, [(start,) for start in searcher.starts(starts - 1, seed)], progress)
     if chosen is not D:
-        searcher = Planner(searcher.model, searcher.s, searcher.e, budget, noise, *fixed, chosen)
+        searcher = Planner(model, *subsets, budget, noise, *fixed, chosen, diagnosable)
         best = _search(searcher, [(best[1], best[0])], progress)
     sensors, exciters = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]]
+    if diagnosable and not planner.admits(sensors, exciters):
+        raise UndiagnosableError(f"no diagnosable layout of {budget} was found among the candidates")
     if not planner.admits(sensors, exciters):
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate layouts: allow points that are "
@@ -378,9 +415,11 @@ def plan(
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
+    diagnosable: bool = False,
 ) -> Plan:
     """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified and
-    with predicted 1-σ."""
+    with predicted 1-σ (``diagnosable``: the best of the layouts in which one faulty channel or hit can be
+    located)."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
@@ -400,5 +439,6 @@ def plan(
         certify_seconds,
         progress,
         criterion,
+        diagnosable,
     )
     return replace(result, candidates=points)

@@ -134,6 +134,39 @@ def criterion_html(doc: dict) -> str:
     return html_table(None, rows, "ll", [30, 70])
 
 
+def diagnosability_html(doc: dict) -> str:
+    """Whether one faulty channel or hit can be located, its cost over the minimal layout, and each
+    channel's leverage with the faults it could hide ('' for a plan.json written before it was stated)."""
+    d = doc.get("diagnosability")
+    if not d:
+        return ""
+    verdict = "yes: one faulty channel or hit can be located" if d["diagnosable"] else "no: " + "; ".join(d["failures"])
+    rows = [["diagnosable", escape(verdict)]]
+    c = d.get("cost")
+    if c:
+        rows.append(
+            [
+                "cost over the minimal layout",
+                f"{c['extra_lines']} lines and {c['extra_hits']} hits over {c['minimal_lines']} × {c['minimal_hits']}; "
+                f"worst relative 1-σ {num(100 * c['worst_relative_std'], '.2f')} % against "
+                f"{num(100 * c['minimal_worst_relative_std'], '.2f')} %",
+            ]
+        )
+    rows.append(["hit leverage", ", ".join(num(h, ".2f") for h in d["hit_leverage"])])
+    channels = [
+        [str(k + 1), num(h, ".2f"), num(r, ".3f"), escape(", ".join(hidden) or "none")]
+        for k, (h, r, hidden) in enumerate(zip(d["channel_leverage"], d["channel_confusion"], d["hidden"]))
+    ]
+    note = (
+        f'<p class="note">A channel of leverage above {num(d["h_max"], ".2f")}, or whose fault looks like another '
+        f"channel's (signature correlation above {num(d['r_max'], '.2f')}), cannot be checked by the others: a gain, "
+        "polarity or direction fault there is absorbed or blamed elsewhere. A hit of leverage above "
+        f"{num(d['h_max'], '.2f')} is one the others cannot do without.</p>"
+    )
+    head = ["channel", "leverage", "confusion", "faults it could hide"]
+    return html_table(None, rows, "ll", [30, 70]) + html_table(head, channels, "lrrl", [15, 15, 15, 55]) + note
+
+
 def band_html(rows: list[BandRow], fe_note: str) -> str:
     """The predicted massline band for each suspension, and how the elastic modes were found."""
     out = []
@@ -194,6 +227,9 @@ def report_html(
         "numbers them.</p></section>",
         "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + "</section>",
         "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>",
+        "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"
+        if doc.get("diagnosability")
+        else "",
         "<section><h2>Massline band and suspension</h2>" + band_html(bands, fe_note) + "</section>",
     ]
     return (

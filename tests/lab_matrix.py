@@ -49,7 +49,12 @@ REDUNDANT = ("--sensors", "12", "--triaxial", "2", "--exciters", "4")
 PLANS = {  # massline plan options per body: 3-D bodies with redundancy (the minimal 6 × 3 can check nothing)
     "bracket": REDUNDANT,
     "structure": REDUNDANT,
-    "plate": (),
+    "plate": (
+        "--sensors",
+        "6",
+        "--exciters",
+        "3",
+    ),  # the layout the matrix was measured on (before the diagnosable default)
 }
 BOUNDS = {"mass": 0.3, "cog_mm": 1.0, "moments": 1.0, "tensor": 1.5}  # %, mm, %, % (Frobenius)
 TRANSVERSE = (Effect.parse("transverse_sensitivity=0.03@all"),)
