@@ -8,6 +8,8 @@ several starts, until neither side improves. Each side's convex relaxation
 bounds the best layout from above; the plan states the certified D-efficiency
 exp((log det F − U)/p) of the worse side. Only layouts that the paper's
 equations can solve are admitted (rank S = 6, non-singular dynamic systems).
+On a mesh the chosen points then slide off the candidate grid on their flat
+faces (:mod:`.sliding`), which raises log det F beyond the certified layout.
 """
 
 from __future__ import annotations
@@ -28,16 +30,19 @@ from massline.placement.candidates import (
 )
 from massline.placement.certificate import certify
 from massline.placement.errors import MasslineError, SingularLayoutError
-from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
+from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.mesh import BodyMesh
 from massline.placement.methods import identify
 from massline.placement.model import RigidModel
+from massline.placement.mountable import Surface, snap
 from massline.placement.selection import BlockProblem, compress, greedy, leverages, settle
+from massline.placement.sliding import Slide, slide
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
+CONDITION_SLACK = 2.0  # sliding may raise the paper's condition numbers by this factor at most
 
 
 @dataclass(frozen=True)
@@ -71,8 +76,10 @@ class Budget:
 class Plan:
     """A layout with its certificate and predicted accuracy.
 
-    ``sensor_nodes`` / ``exciter_nodes`` index the candidate points.
-    ``bounds`` holds the relaxation's upper bound U for each side.
+    ``sensors`` / ``exciters`` hold the fixed lines first; ``sensor_nodes`` / ``exciter_nodes``
+    index the candidate points (where a slid point started), −1 for a fixed line.
+    ``bounds`` holds the relaxation's upper bound U for each side, over the candidates;
+    ``sliding`` how sliding off the candidate grid changed log det F.
     """
 
     model: RigidModel
@@ -87,15 +94,57 @@ class Plan:
     noise: NoiseModel
     candidates: CandidatePoints | None = None
     n_candidate_lines: dict = field(default_factory=dict)
+    sliding: Slide | None = None
+
+    @property
+    def candidate_log_det(self) -> float:
+        """log det F of the layout chosen among the candidates, before sliding."""
+        return self.log_det if self.sliding is None else self.sliding.before
 
     @property
     def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) for the worse of the two sides."""
-        return float(np.exp((self.log_det - max(self.bounds.values())) / self.model.p))
+        """exp((log det F − U)/p) of the candidate layout for the worse of the two sides: its D-efficiency
+        against the best layout of candidates is at least this."""
+        return float(np.exp((self.candidate_log_det - max(self.bounds.values())) / self.model.p))
 
     @property
     def worst_relative_std(self) -> float:
         return worst_relative_std(self.model, self.predicted_std)
+
+
+def assessed(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel) -> tuple[float, dict, dict]:
+    """log det F, the condition numbers of the paper's solve and the predicted 1-σ of a layout."""
+    F = fisher(model, model.coordinates(sensors), model.coordinates(exciters), noise)
+    found = identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
+    return log_det(F), found.condition, predicted_std(model, F)
+
+
+def regular(model: RigidModel, sensors: Lines, exciters: Lines) -> bool:
+    """The paper's equations solve this layout (exact masslines identify the body)."""
+    try:
+        identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
+    except SingularLayoutError:
+        return False
+    return True
+
+
+def no_worse_conditioned(model: RigidModel, reference: dict) -> Callable[[Lines, Lines], bool]:
+    """Test of a layout: the paper's equations solve it with condition numbers at most CONDITION_SLACK times
+    those of ``reference``."""
+
+    def test(sensors: Lines, exciters: Lines) -> bool:
+        try:
+            found = identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
+        except SingularLayoutError:
+            return False
+        return all(found.condition[k] <= CONDITION_SLACK * v for k, v in reference.items())
+
+    return test
+
+
+def fixed_nodes(fixed: Lines | None, nodes: np.ndarray) -> np.ndarray:
+    """Candidate point of each line of a layout with the fixed lines first: −1 for those."""
+    return np.concatenate([np.full(0 if fixed is None else len(fixed), -1), nodes]).astype(int)
 
 
 def is_plate(body: BodyMesh) -> bool:
@@ -193,16 +242,11 @@ class Planner:
         return self.e.any_line(off)
 
     def regular(self, sensors: Lines, exciters: Lines) -> bool:
-        """The paper's equations solve this layout (exact masslines identify the body)."""
-        try:
-            identify(synthesise(self.model.nominal, sensors, exciters), "plate" if self.model.planar else "method2")
-        except SingularLayoutError:
-            return False
-        return True
+        return regular(self.model, sensors, exciters)
 
     def admits(self, sensors: list, exciters: list) -> bool:
         """Is the selection (candidate indices, fixed lines added) a regular layout?"""
-        return self.regular(*self.layout(sensors, exciters))
+        return regular(self.model, *self.layout(sensors, exciters))
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -281,11 +325,15 @@ def plan_on_candidates(
     what it reaches by then is what the plan states.
     """
     budget.check(model.planar)
-    for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
+    sides = (
+        ("sensor", sensor_side, budget.sensors, "--sensor-base"),
+        ("exciter", exciter_side, budget.exciters, "--tip"),
+    )
+    for name, side, need, option in sides:
         if len(side) < need:
             raise MasslineError(
-                f"only {len(side)} {name} candidates for a budget of {need}: "
-                "sample more points (--candidates) or relax the exclusions"
+                f"only {len(side)} {name} candidates for a budget of {need}: sample more points (--candidates), "
+                f"relax the exclusions or give a smaller {option} (flat places clear of edges are few)"
             )
     planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
     s_work, e_work = planner.working_sets(seed)
@@ -304,7 +352,8 @@ def plan_on_candidates(
     if not planner.admits(sensors, exciters):
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate layouts: allow points that are "
-            "not all in one line or plane, and hits in several directions"
+            "not all in one line or plane, and hits in several directions (relax the exclusions, "
+            "--sensor-base or --tip)"
         )
     deadline = time.perf_counter() + certify_seconds
     for _ in range(3):
@@ -325,22 +374,52 @@ def plan_on_candidates(
         # the certificate's search met a better layout: adopt it, then certify both sides anew
         value, sensors, exciters = max(improved, key=lambda c: c[0])
     S_all, E_all = planner.layout(sensors, exciters)
-    F = ep.information(exciters)
-    found = identify(synthesise(model.nominal, S_all, E_all), "plate" if model.planar else "method2")
+    value, condition, std = assessed(model, S_all, E_all, noise)
     progress("done", 1.0)
     return Plan(
         model,
-        planner.lines(sensor_side, sensors),
-        sensor_side.node[sensor_side.line_index(sensors)],
-        planner.lines(exciter_side, exciters),
-        exciter_side.node[exciter_side.line_index(exciters)],
-        log_det(F),
+        S_all,
+        fixed_nodes(fixed_sensors, sensor_side.node[sensor_side.line_index(sensors)]),
+        E_all,
+        fixed_nodes(fixed_exciters, exciter_side.node[exciter_side.line_index(exciters)]),
+        value,
         {"sensors": U_s, "exciters": U_e},
-        found.condition,
-        predicted_std(model, F),
+        condition,
+        std,
         noise,
         None,
         {"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)},
+    )
+
+
+def snapped(mesh, lines: Lines | None, what: str) -> Lines | None:
+    """Fixed lines with their points moved onto the surface (refused when farther than ``mountable.snap`` allows)."""
+    if lines is None:
+        return None
+    return Lines(snap(mesh, lines.points, what), lines.directions, lines.triaxial)
+
+
+def slid(plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions) -> Plan:
+    """The plan with its points slid on their flat patches, no worse conditioned (CONDITION_SLACK)."""
+    moved = slide(
+        surface,
+        plan.model,
+        plan.noise,
+        (plan.sensors, plan.exciters),
+        (plan.sensor_nodes, plan.exciter_nodes),
+        points,
+        options,
+        no_worse_conditioned(plan.model, plan.condition),
+    )
+    value, condition, std = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
+    return replace(
+        plan,
+        sensors=moved.sensors,
+        exciters=moved.exciters,
+        log_det=value,
+        condition=condition,
+        predicted_std=std,
+        sliding=moved,
     )
 
 
@@ -357,11 +436,15 @@ def plan(
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
 ) -> Plan:
-    """The best layout of ``budget`` on the body's surface, certified and with predicted 1-σ."""
+    """The best layout of ``budget`` on the body's surface, certified, slid off the candidate grid on the
+    flat faces, with predicted 1-σ. Fixed lines are snapped onto the surface."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
-    points = candidate_points(body.mesh, options)
+    surface = Surface.of(body.mesh)
+    fixed_sensors = snapped(body.mesh, fixed_sensors, "fixed sensor")
+    fixed_exciters = snapped(body.mesh, fixed_exciters, "fixed exciter")
+    points = candidate_points(body.mesh, options, surface)
     sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
     result = plan_on_candidates(
         RigidModel(body.nominal, planar),
@@ -377,4 +460,5 @@ def plan(
         certify_seconds,
         progress,
     )
-    return replace(result, candidates=points)
+    progress("sliding the points on their faces", 0.95)
+    return slid(replace(result, candidates=points), surface, points, options)
