@@ -164,15 +164,27 @@ class Surface:
         return int(faces[inside[0]]) if len(inside) else -1
 
 
-def snap(mesh: trimesh.Trimesh, points: np.ndarray, what: str, tolerance: float = SNAP_TOLERANCE) -> np.ndarray:
-    """The nearest surface points (n, 3) m to ``points``; refuses one farther than ``tolerance`` (m)."""
-    nearest, distance, _ = trimesh.proximity.closest_point(mesh, np.atleast_2d(points))
+def closest_on_surface(mesh: trimesh.Trimesh, point: np.ndarray) -> np.ndarray:
+    """The point (3,) of the surface nearest to ``point`` (3,), m: the nearest of each triangle's nearest."""
+    feet = trimesh.triangles.closest_point(mesh.triangles, np.tile(point, (len(mesh.faces), 1)))
+    return feet[np.argmin(np.linalg.norm(feet - point, axis=1))]
+
+
+def snap(
+    mesh: trimesh.Trimesh, points: np.ndarray, what: str, scale: float = 1.0, tolerance: float = SNAP_TOLERANCE
+) -> np.ndarray:
+    """The nearest surface points (n, 3) m to ``points`` (m); refuses one farther than ``tolerance`` (m),
+    naming it in the user's length unit of ``scale`` m (as given, e.g. 0.0254 for inches)."""
+    points = np.atleast_2d(points)
+    nearest = np.array([closest_on_surface(mesh, p) for p in points]).reshape(-1, 3)
+    distance = np.linalg.norm(nearest - points, axis=1)
     far = np.flatnonzero(distance > tolerance)
     if len(far):
         k = int(far[0])
-        where = ", ".join(f"{1e3 * c:.1f}" for c in points[k])
+        where = ", ".join(f"{c / scale:.4g}" for c in points[k])
         raise MasslineError(
-            f"{what} {k + 1} at ({where}) mm is {1e3 * distance[k]:.1f} mm from the body's surface "
-            f"(more than {1e3 * tolerance:g} mm): give a point on the surface, in the mesh's units"
+            f"{what} {k + 1} at ({where}) is {1e3 * distance[k]:.3g} mm from the body's surface (more than "
+            f"{1e3 * tolerance:g} mm; nearest surface point ({', '.join(f'{c / scale:.4g}' for c in nearest[k])})): "
+            "give a point on the surface, in the mesh's units"
         )
     return nearest

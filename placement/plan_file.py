@@ -1,10 +1,12 @@
 """plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres,
-mesh frame), ``criterion`` (``log_det``, ``condition_numbers``,
-``d_efficiency_lower_bound``, ``upper_bounds``), ``noise``, ``predicted_std``
-(identify's std keys). NaN (unobservable) is written as null.
+``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial", "fixed"}``, metres,
+mesh frame; fixed lines first, snapped onto the surface, with node null), ``criterion`` (``log_det``,
+``condition_numbers``, ``d_efficiency_lower_bound`` and ``upper_bounds`` of the candidate layout,
+``sliding``: ``candidate_log_det``, ``gain``, ``largest_move_m``), ``mounting`` (the clearance from
+edges, m, a sensor and a hit keep), ``noise``, ``predicted_std`` (identify's std keys).
+NaN (unobservable) is written as null.
 """
 
 from __future__ import annotations
@@ -22,9 +24,24 @@ from massline.placement.planner import Plan
 def _lines(lines: Lines, nodes: np.ndarray) -> list:
     groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
     return [
-        {"node": int(n), "point": p.tolist(), "direction": d.tolist(), "triaxial": groups.get(int(t))}
+        {
+            "node": int(n) if n >= 0 else None,
+            "point": p.tolist(),
+            "direction": d.tolist(),
+            "triaxial": groups.get(int(t)),
+            "fixed": bool(n < 0),
+        }
         for n, p, d, t in zip(nodes, lines.points, lines.directions, lines.triaxial)
     ]
+
+
+def _sliding(plan: Plan) -> dict:
+    moved = np.zeros(0) if plan.sliding is None else plan.sliding.moved
+    return {
+        "candidate_log_det": plan.candidate_log_det,
+        "gain": plan.log_det - plan.candidate_log_det,
+        "largest_move_m": float(moved.max(initial=0.0)),
+    }
 
 
 def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
@@ -44,7 +61,9 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float) -> dict:
             "d_efficiency_lower_bound": plan.d_efficiency_lower_bound,
             "upper_bounds": plan.bounds,
             "worst_relative_std": plan.worst_relative_std,
+            "sliding": _sliding(plan),
         },
+        "mounting": {"sensor_clearance_m": plan.clearances[0], "hit_clearance_m": plan.clearances[1]},
         "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},
         "predicted_std": plan.predicted_std,
         "candidates": {

@@ -33,7 +33,7 @@ from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
-from massline.placement.mesh import BodyMesh
+from massline.placement.mesh import UNITS, BodyMesh
 from massline.placement.methods import identify
 from massline.placement.model import RigidModel
 from massline.placement.mountable import Surface, snap
@@ -79,7 +79,8 @@ class Plan:
     ``sensors`` / ``exciters`` hold the fixed lines first; ``sensor_nodes`` / ``exciter_nodes``
     index the candidate points (where a slid point started), −1 for a fixed line.
     ``bounds`` holds the relaxation's upper bound U for each side, over the candidates;
-    ``sliding`` how sliding off the candidate grid changed log det F.
+    ``sliding`` how sliding off the candidate grid changed log det F; ``clearances`` the distance (m)
+    from edges a sensor and a hit keep (``CandidateOptions.clearances``).
     """
 
     model: RigidModel
@@ -95,6 +96,7 @@ class Plan:
     candidates: CandidatePoints | None = None
     n_candidate_lines: dict = field(default_factory=dict)
     sliding: Slide | None = None
+    clearances: tuple = (0.0, 0.0)
 
     @property
     def candidate_log_det(self) -> float:
@@ -198,6 +200,17 @@ class Planner:
         blocks = padded[side.members].reshape(len(side), -1, self.model.p)
         A0 = (sens(fixed, other) if sensors_side else sens(other, fixed)).reshape(-1, self.model.p)
         return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0)
+
+    def check_directions(self) -> None:
+        """Refuse sensor candidates (with the fixed sensors) whose lines cannot see every rigid-body motion."""
+        coords = np.vstack([self.fixed_s, self.s_coords])
+        rank = np.linalg.matrix_rank(coords, tol=1e-9 * np.abs(coords).max(initial=1.0))
+        if rank < coords.shape[1]:
+            raise MasslineError(
+                f"the places an accelerometer fits (flat, clear of every edge) face too few directions to see all "
+                f"{coords.shape[1]} rigid-body motions (rank {rank}): use triaxial accelerometers (--triaxial N), "
+                "mounting blocks (--axes) or a smaller --sensor-base"
+            )
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])
@@ -336,6 +349,7 @@ def plan_on_candidates(
                 f"relax the exclusions or give a smaller {option} (flat places clear of edges are few)"
             )
     planner = Planner(model, sensor_side, exciter_side, budget, noise, fixed_sensors, fixed_exciters)
+    planner.check_directions()
     s_work, e_work = planner.working_sets(seed)
     searcher = Planner(
         model, sensor_side.subset(s_work), exciter_side.subset(e_work), budget, noise, fixed_sensors, fixed_exciters
@@ -392,11 +406,11 @@ def plan_on_candidates(
     )
 
 
-def snapped(mesh, lines: Lines | None, what: str) -> Lines | None:
+def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
     """Fixed lines with their points moved onto the surface (refused when farther than ``mountable.snap`` allows)."""
     if lines is None:
         return None
-    return Lines(snap(mesh, lines.points, what), lines.directions, lines.triaxial)
+    return Lines(snap(body.mesh, lines.points, what, UNITS[body.units]), lines.directions, lines.triaxial)
 
 
 def slid(plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions) -> Plan:
@@ -442,8 +456,8 @@ def plan(
     budget.check(planar)
     progress("candidates", 0.0)
     surface = Surface.of(body.mesh)
-    fixed_sensors = snapped(body.mesh, fixed_sensors, "fixed sensor")
-    fixed_exciters = snapped(body.mesh, fixed_exciters, "fixed exciter")
+    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
+    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
     points = candidate_points(body.mesh, options, surface)
     sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
     result = plan_on_candidates(
@@ -461,4 +475,4 @@ def plan(
         progress,
     )
     progress("sliding the points on their faces", 0.95)
-    return slid(replace(result, candidates=points), surface, points, options)
+    return slid(replace(result, candidates=points, clearances=options.clearances), surface, points, options)
