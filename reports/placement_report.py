@@ -16,7 +16,7 @@ import numpy as np
 
 from massline import __version__
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
-from massline.reports.plan_scene import SENSOR, Scene, face_name
+from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
 
@@ -40,8 +40,18 @@ def _direction(d: np.ndarray) -> str:
     return "(" + ", ".join(num(c + 0.0, ".2f") for c in d) + ")"
 
 
-def points_table(scene: Scene) -> str:
-    """Number, plan lines, coordinates (mm), direction and the face of every accelerometer and hit."""
+def fixed_labels(doc: dict, scene: Scene) -> set:
+    """Labels of the markers whose lines the plan holds as fixed (mounted or decided before planning)."""
+    fixed = {
+        kind: {i for i, entry in enumerate(doc[key]) if entry.get("fixed")}
+        for kind, key in ((SENSOR, "sensors"), (HIT, "exciters"))
+    }
+    return {m.label for m in scene.markers if fixed.get(m.kind, set()) & set(m.lines)}
+
+
+def points_table(scene: Scene, fixed: set = frozenset()) -> str:
+    """Number (marked when ``fixed``), plan lines, coordinates (mm), direction and the face of every
+    accelerometer and hit."""
     rows = []
     for m, n, f in zip(scene.markers, scene.normals, scene.faces):
         css = "sensor" if m.kind == SENSOR else "hit"
@@ -50,7 +60,7 @@ def points_table(scene: Scene) -> str:
         face = f"oblique, n = {_direction(n)}" if face == "oblique" else face
         rows.append(
             [
-                f'<span class="{css}">{m.label}</span>',
+                f'<span class="{css}">{m.label}</span>' + (" (fixed)" if m.label in fixed else ""),
                 ", ".join(str(i + 1) for i in m.lines),
                 *(num(c * 1e3, ".1f") for c in m.point),
                 what or _direction(m.directions[0]),
@@ -106,16 +116,39 @@ def criterion_html(doc: dict) -> str:
     worst = num(100 * _float(c.get("worst_relative_std")), ".2f")
     relative, floor = (num(100 * _float(noise.get(k)), ".3g") for k in ("relative", "floor"))
     rows = [
-        ["certified D-efficiency", f"≥ {efficiency} % of the best possible layout"],
+        ["certified D-efficiency", f"≥ {efficiency} % of the best layout of candidate points"],
         ["log det F", f"{num(c['log_det'], '.3f')} over {len(names)} parameters: {escape(', '.join(names))}"],
         *[[f"condition number, {escape(k)}", num(v, ".3g")] for k, v in c.get("condition_numbers", {}).items()],
         ["worst relative 1-σ", f"{worst} % (mass, CoG against the radius of gyration, principal moments)"],
         ["noise model", f"{relative} % of each massline + {floor} % of 1/m"],
     ]
+    rows += mounting_rows(doc)
     lines = doc.get("candidates", {}).get("lines") or {}
     if lines:
         rows.append(["candidate lines", ", ".join(f"{v} {escape(k)}" for k, v in lines.items())])
     return html_table(None, rows, "ll", [30, 70])
+
+
+def mounting_rows(doc: dict) -> list:
+    """Where points may go (clearance from edges) and what sliding them on their faces gained."""
+    mounting, sliding = doc.get("mounting"), doc["criterion"].get("sliding")
+    rows = []
+    if mounting:
+        sensor, hit = (num(1e3 * _float(mounting.get(k)), ".3g") for k in ("sensor_clearance_m", "hit_clearance_m"))
+        rows.append(
+            ["mountable points", f"on flat faces, accelerometers ≥ {sensor} mm and hits ≥ {hit} mm from every edge"]
+        )
+    if sliding:
+        gain, moved = _float(sliding.get("gain")), 1e3 * _float(sliding.get("largest_move_m"))
+        rows.append(
+            [
+                "sliding off the candidate grid",
+                f"log det F + {num(gain, '.3f')} over the certified candidate layout (D-efficiency × "
+                f"{num(np.exp(gain / max(len(doc['criterion'].get('parameters', [])), 1)), '.3f')}); "
+                f"points moved up to {num(moved, '.1f')} mm on their faces",
+            ]
+        )
+    return rows
 
 
 def band_html(rows: list[BandRow], fe_note: str) -> str:
@@ -169,7 +202,7 @@ def report_html(
         '<section class="screen"><h2>Turn it</h2><p class="note">Drag to turn the body (screen only).</p>'
         + viewer_html(scene)
         + "</section>",
-        "<section><h2>Points</h2>" + points_table(scene),
+        "<section><h2>Points</h2>" + points_table(scene, fixed_labels(doc, scene)),
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",
