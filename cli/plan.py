@@ -240,7 +240,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(std_table(result))
     console.print(
         f"log det F = {result.log_det:.3f} ({'6' if result.model.planar else '10'} parameters); certified "
-        f"D-efficiency ≥ {result.d_efficiency_lower_bound:.1%} of the best candidate layout; condition numbers "
+        f"D-efficiency ≥ {result.d_efficiency_lower_bound:.1%} of the best layout of candidate points; condition numbers "
         + ", ".join(f"{k} {v:.3g}" for k, v in result.condition.items())
     )
     console.print(sliding_line(result))

@@ -7,7 +7,8 @@ found by alternating the two selection problems (greedy, then exchanges), from
 several starts, until neither side improves. Each side's convex relaxation
 bounds the best layout from above; the plan states the certified D-efficiency
 exp((log det F − U)/p) of the worse side. Only layouts that the paper's
-equations can solve are admitted (rank S = 6, non-singular dynamic systems).
+equations can solve, with a well-posed kinematic step, are admitted
+(:mod:`.admissible`: rank S = 6, non-singular dynamic systems, κ(S̃) bounded).
 On a mesh the chosen points then slide off the candidate grid on their flat
 faces (:mod:`.sliding`), which raises log det F beyond the certified layout.
 """
@@ -21,6 +22,7 @@ from typing import Callable
 import numpy as np
 
 from massline.placement.accuracy import predicted_std, worst_relative_std
+from massline.placement.admissible import regular
 from massline.placement.candidates import (
     CandidateLines,
     CandidateOptions,
@@ -29,7 +31,7 @@ from massline.placement.candidates import (
     candidate_points,
 )
 from massline.placement.certificate import certify
-from massline.placement.errors import MasslineError, SingularLayoutError
+from massline.placement.errors import MasslineError
 from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
@@ -42,7 +44,6 @@ from massline.placement.sliding import Slide, slide
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
-CONDITION_SLACK = 2.0  # sliding may raise the paper's condition numbers by this factor at most
 
 
 @dataclass(frozen=True)
@@ -105,9 +106,9 @@ class Plan:
 
     @property
     def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) of the candidate layout for the worse of the two sides: its D-efficiency
-        against the best layout of candidates is at least this."""
-        return float(np.exp((self.candidate_log_det - max(self.bounds.values())) / self.model.p))
+        """exp((log det F − U)/p) for the worse of the two sides: the plan's D-efficiency against the best
+        layout of candidate points is at least this (above 1 when sliding took it beyond every such layout)."""
+        return float(np.exp((self.log_det - max(self.bounds.values())) / self.model.p))
 
     @property
     def worst_relative_std(self) -> float:
@@ -119,29 +120,6 @@ def assessed(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseMod
     F = fisher(model, model.coordinates(sensors), model.coordinates(exciters), noise)
     found = identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
     return log_det(F), found.condition, predicted_std(model, F)
-
-
-def regular(model: RigidModel, sensors: Lines, exciters: Lines) -> bool:
-    """The paper's equations solve this layout (exact masslines identify the body)."""
-    try:
-        identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
-    except SingularLayoutError:
-        return False
-    return True
-
-
-def no_worse_conditioned(model: RigidModel, reference: dict) -> Callable[[Lines, Lines], bool]:
-    """Test of a layout: the paper's equations solve it with condition numbers at most CONDITION_SLACK times
-    those of ``reference``."""
-
-    def test(sensors: Lines, exciters: Lines) -> bool:
-        try:
-            found = identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
-        except SingularLayoutError:
-            return False
-        return all(found.condition[k] <= CONDITION_SLACK * v for k, v in reference.items())
-
-    return test
 
 
 def fixed_nodes(fixed: Lines | None, nodes: np.ndarray) -> np.ndarray:
@@ -365,7 +343,7 @@ def plan_on_candidates(
 
     if not planner.admits(sensors, exciters):
         raise MasslineError(
-            "the candidates and keep-outs leave only degenerate layouts: allow points that are "
+            "the candidates and keep-outs leave only degenerate or ill-conditioned layouts: allow points that are "
             "not all in one line or plane, and hits in several directions (relax the exclusions, "
             "--sensor-base or --tip)"
         )
@@ -414,7 +392,7 @@ def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
 
 
 def slid(plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions) -> Plan:
-    """The plan with its points slid on their flat patches, no worse conditioned (CONDITION_SLACK)."""
+    """The plan with its points slid on their flat patches, among the layouts the planner admits."""
     moved = slide(
         surface,
         plan.model,
@@ -423,7 +401,7 @@ def slid(plan: Plan, surface: Surface, points: CandidatePoints, options: Candida
         (plan.sensor_nodes, plan.exciter_nodes),
         points,
         options,
-        no_worse_conditioned(plan.model, plan.condition),
+        lambda sensors, exciters: regular(plan.model, sensors, exciters),
     )
     value, condition, std = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
     return replace(
