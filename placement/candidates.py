@@ -138,8 +138,9 @@ def candidate_points(
 ) -> CandidatePoints:
     """Samples, vertices and face centres of a closed mesh in metres that a sensor or a hit can use.
 
-    Excluded boxes and faces are taken out first (refused when they leave nothing), then the points
-    whose clearance (``mountable``) is below the hit's, then near-duplicates.
+    Refused when the exclusions (boxes, faces) leave nothing, or when no point of the surface has the
+    clearance (:mod:`.mountable`) a hit needs; then the excluded points and those short of that
+    clearance are taken out, and near-duplicates.
     """
     surface = Surface.of(mesh) if surface is None else surface
     spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
@@ -153,7 +154,7 @@ def candidate_points(
         )
     sensor, hit = options.clearances
     clearance = np.zeros(len(points))
-    roomy = surface.roomy(faces, hit) & ~out
+    roomy = surface.roomy(faces, hit)
     clearance[roomy] = surface.clearance(points[roomy], faces[roomy], max(sensor, hit))
     fits = clearance >= hit
     if not fits.any():

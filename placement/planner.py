@@ -185,9 +185,10 @@ class Planner:
         rank = np.linalg.matrix_rank(coords, tol=1e-9 * np.abs(coords).max(initial=1.0))
         if rank < coords.shape[1]:
             raise MasslineError(
-                f"the places an accelerometer fits (flat, clear of every edge) face too few directions to see all "
-                f"{coords.shape[1]} rigid-body motions (rank {rank}): use triaxial accelerometers (--triaxial N), "
-                "mounting blocks (--axes) or a smaller --sensor-base"
+                f"the places an accelerometer fits (flat, clear of every edge, not excluded) leave only degenerate "
+                f"layouts: they face too few directions to see all {coords.shape[1]} rigid-body motions (rank {rank}); "
+                "use triaxial accelerometers (--triaxial N), mounting blocks (--axes), a smaller --sensor-base or "
+                "fewer exclusions"
             )
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
