@@ -1,8 +1,8 @@
 """plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial", "fixed"}``, metres,
-mesh frame; fixed lines first, snapped onto the surface, with node null), ``criterion`` (``log_det``,
+``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres, mesh frame;
+fixed lines first, snapped onto the surface, with node null and ``"fixed": true``), ``criterion`` (``log_det``,
 ``condition_numbers``, ``d_efficiency_lower_bound`` and ``upper_bounds`` of the candidate layout,
 ``sliding``: ``candidate_log_det``, ``gain``, ``largest_move_m``), ``mounting`` (the clearance from
 edges, m, a sensor and a hit keep), ``noise``, ``predicted_std`` (identify's std keys).
@@ -29,8 +29,8 @@ def _lines(lines: Lines, nodes: np.ndarray) -> list:
             "point": p.tolist(),
             "direction": d.tolist(),
             "triaxial": groups.get(int(t)),
-            "fixed": bool(n < 0),
         }
+        | ({"fixed": True} if n < 0 else {})
         for n, p, d, t in zip(nodes, lines.points, lines.directions, lines.triaxial)
     ]
 
