@@ -1,7 +1,8 @@
 """Candidate points and lines on a body's surface, as a technician can use them.
 
-Points: the mesh vertices, the face centres and area-uniform samples, about
-``n_samples`` over the surface, thinned so that no two are closer than half the
+Points: the mesh vertices, the face centres, the midpoints of the edges inside
+flat patches (the centre of a rectangle split in two triangles, where a thin
+face has the most room) and area-uniform samples, about ``n_samples`` over the surface, thinned so that no two are closer than half the
 mean spacing; each with the outward normal of the face it lies on. Only points
 where a hit lands square (a flat patch, clear of edges by the tip's radius,
 :mod:`.mountable`) are kept; those that also take the accelerometer's base are
@@ -145,8 +146,11 @@ def candidate_points(
     surface = Surface.of(mesh) if surface is None else surface
     spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
     samples, sample_faces = trimesh.sample.sample_surface(mesh, 4 * options.n_samples, seed=options.seed)
-    points = np.vstack([mesh.vertices, mesh.triangles_center, samples])
-    faces = np.concatenate([largest_adjacent_face(mesh), np.arange(len(mesh.faces)), sample_faces])
+    inner = surface.inner_edges()
+    points = np.vstack([mesh.vertices, mesh.triangles_center, mesh.vertices[inner].mean(axis=1), samples])
+    faces = np.concatenate(
+        [largest_adjacent_face(mesh), np.arange(len(mesh.faces)), mesh.face_adjacency[surface.inner, 0], sample_faces]
+    )
     out, excluded = excluded_by(points, faces, options)
     if out.all():
         raise MasslineError(

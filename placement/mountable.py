@@ -89,6 +89,16 @@ class Surface:
         )
 
     @property
+    def inner(self) -> np.ndarray:
+        """Which face adjacencies (mesh.face_adjacency rows) lie inside one flat patch."""
+        pairs = self.patch[self.mesh.face_adjacency]
+        return pairs[:, 0] == pairs[:, 1]
+
+    def inner_edges(self) -> np.ndarray:
+        """Vertex pairs (k, 2) of the edges inside flat patches."""
+        return self.mesh.face_adjacency_edges[self.inner]
+
+    @property
     def size(self) -> float:
         """Largest extent of the body, m."""
         return float(self.mesh.extents.max())
