@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from massline.placement.accuracy import predicted_std, worst_relative_std
-from massline.placement.admissible import regular
+from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import (
     CandidateLines,
     CandidateOptions,
@@ -210,14 +210,17 @@ class Planner:
     def lines(self, side: CandidateLines, chosen) -> Lines:
         return side.lines[side.line_index(chosen)]
 
-    def sensor_cover(self, exciters: list):
-        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen."""
+    def sensor_cover(self, exciters: list, conditioning: bool = False):
+        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen; with
+        ``conditioning`` (a search's repair, not a certificate's cut), those that read well the motion an
+        ill-conditioned selection reads weakly (``admissible.weakly_seen``)."""
 
         def cover_for(sensors: list):
             rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
             _, s, Vt = np.linalg.svd(rows)
             if len(s) == rows.shape[1] and s[-1] > 1e-10 * s[0]:
-                return None  # all motions seen: the failure lies elsewhere, no cut known
+                weak = weakly_seen(self.model, rows, self.s_coords) if conditioning else None
+                return None if weak is None else self.s.any_line(weak)  # else no cut known
             q0 = Vt[-1]
             sees = np.abs(self.s_coords @ q0) > 1e-9 * np.linalg.norm(self.s_coords, axis=1)
             return self.s.any_line(sees)
@@ -254,7 +257,10 @@ class Planner:
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = settle(
-                sp, sensors if sensors else greedy(sp), lambda c: self.admits(c, exciters), self.sensor_cover(exciters)
+                sp,
+                sensors if sensors else greedy(sp),
+                lambda c: self.admits(c, exciters),
+                self.sensor_cover(exciters, conditioning=True),
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
@@ -338,11 +344,12 @@ def plan_on_candidates(
     for k, start in enumerate(start_sets):
         progress("alternating sensors and exciters", 0.8 * k / len(start_sets))
         result = searcher.alternate(start)
-        if best is None or result[2] > best[2]:
-            best = result
+        admitted = searcher.admits(result[0], result[1])
+        if best is None or (admitted, result[2]) > (best[3], best[2]):
+            best = (*result, admitted)
     sensors, exciters, value = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]], best[2]
 
-    if not planner.admits(sensors, exciters):
+    if not best[3]:
         raise MasslineError(
             "the candidates and keep-outs leave only degenerate or ill-conditioned layouts: allow points that are "
             "not all in one line or plane, and hits in several directions (relax the exclusions, "
