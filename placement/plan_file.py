@@ -18,7 +18,7 @@ import numpy as np
 
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
-from massline.placement.planner import Plan
+from massline.placement.layout import Plan
 
 
 def _lines(lines: Lines, nodes: np.ndarray) -> list:

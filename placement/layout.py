@@ -1,0 +1,102 @@
+"""A planned layout: the budget it fills, and the plan with its certificate and predicted accuracy.
+
+Lines in metres in the mesh frame; information and bounds in the model's scaled parameters
+(:mod:`.model`), so log det F is comparable between layouts of one body only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from massline.placement.accuracy import predicted_std, worst_relative_std
+from massline.placement.candidates import CandidatePoints
+from massline.placement.errors import MasslineError
+from massline.placement.information import NoiseModel, fisher, log_det
+from massline.placement.lines import Lines
+from massline.placement.masslines import synthesise
+from massline.placement.methods import identify
+from massline.placement.model import RigidModel
+from massline.placement.sliding import Slide
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Uniaxial sensor lines, triaxial accelerometers and exciters (hammer hits)."""
+
+    sensors: int = 6
+    exciters: int = 3
+    triaxial: int = 0
+
+    def check(self, planar: bool) -> None:
+        lines = self.sensors + 3 * self.triaxial
+        need = 3 if planar else 6
+        if lines < need:
+            raise MasslineError(
+                f"{lines} sensor lines cannot see the {'3 plate' if planar else '6 rigid-body'} motions: "
+                f"give at least {need} (--sensors, or --triaxial N for 3 lines each)"
+            )
+        if self.triaxial == 2 and self.sensors == 0:
+            raise MasslineError(
+                "two triaxial accelerometers alone never see rotation about the line joining them: "
+                "add a third triaxial (--triaxial 3) or uniaxial sensors (--sensors)"
+            )
+        if self.exciters < 3:
+            raise MasslineError(f"{self.exciters} exciter(s) are too few: the paper's minimum is 3 (--exciters 3)")
+        if planar and self.triaxial:
+            raise MasslineError("a plate is planned with out-of-plane lines (§2.3): drop --triaxial")
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """A layout with its certificate and predicted accuracy.
+
+    ``sensors`` / ``exciters`` hold the fixed lines first; ``sensor_nodes`` / ``exciter_nodes``
+    index the candidate points (where a slid point started), −1 for a fixed line.
+    ``bounds`` holds the relaxation's upper bound U for each side, over the candidates;
+    ``sliding`` how sliding off the candidate grid changed log det F; ``clearances`` the distance (m)
+    from edges a sensor and a hit keep (``CandidateOptions.clearances``).
+    """
+
+    model: RigidModel
+    sensors: Lines
+    sensor_nodes: np.ndarray
+    exciters: Lines
+    exciter_nodes: np.ndarray
+    log_det: float
+    bounds: dict
+    condition: dict
+    predicted_std: dict
+    noise: NoiseModel
+    candidates: CandidatePoints | None = None
+    n_candidate_lines: dict = field(default_factory=dict)
+    sliding: Slide | None = None
+    clearances: tuple = (0.0, 0.0)
+
+    @property
+    def candidate_log_det(self) -> float:
+        """log det F of the layout chosen among the candidates, before sliding."""
+        return self.log_det if self.sliding is None else self.sliding.before
+
+    @property
+    def d_efficiency_lower_bound(self) -> float:
+        """exp((log det F − U)/p) for the worse of the two sides: the plan's D-efficiency against the best
+        layout of candidate points is at least this (above 1 when sliding took it beyond every such layout)."""
+        return float(np.exp((self.log_det - max(self.bounds.values())) / self.model.p))
+
+    @property
+    def worst_relative_std(self) -> float:
+        return worst_relative_std(self.model, self.predicted_std)
+
+
+def assessed(model: RigidModel, sensors: Lines, exciters: Lines, noise: NoiseModel) -> tuple[float, dict, dict]:
+    """log det F, the condition numbers of the paper's solve and the predicted 1-σ of a layout."""
+    F = fisher(model, model.coordinates(sensors), model.coordinates(exciters), noise)
+    found = identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
+    return log_det(F), found.condition, predicted_std(model, F)
+
+
+def fixed_nodes(fixed: Lines | None, nodes: np.ndarray) -> np.ndarray:
+    """Candidate point of each line of a layout with the fixed lines first: −1 for those."""
+    return np.concatenate([np.full(0 if fixed is None else len(fixed), -1), nodes]).astype(int)
