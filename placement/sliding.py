@@ -8,8 +8,8 @@ criterion c(F) (log det F for D-optimality; any smooth function of F plugs in) a
 Projected gradient ascent: the gradient by central differences; a point whose step would leave the
 mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions) loses the step's
 component towards its nearest bound, then halves it until mountable, else stays; a backtracking line
-search accepts only layouts that improve the criterion and stay admissible (the caller's test: the
-paper's equations solve them, no worse conditioned). Lengths in metres, mesh frame.
+search accepts only layouts that improve the criterion and stay admissible (the caller's test, e.g.
+:mod:`.admissible`). Lengths in metres, mesh frame.
 """
 
 from __future__ import annotations
