@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
 from massline.placement.layout import Plan
+from massline.placement.lines import Lines
 
 
 def _lines(lines: Lines, nodes: np.ndarray) -> list:
