@@ -37,7 +37,7 @@ from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS, BodyMesh
 from massline.placement.model import RigidModel
 from massline.placement.mountable import Surface, snap
-from massline.placement.selection import BlockProblem, compress, greedy, leverages, settle
+from massline.placement.selection import BlockProblem, best_gains, compress, greedy, leverages, settle
 from massline.placement.sliding import slide
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
@@ -157,8 +157,30 @@ class Planner:
         return regular(self.model, sensors, exciters)
 
     def admits(self, sensors: list, exciters: list) -> bool:
-        """Is the selection (candidate indices, fixed lines added) a regular layout?"""
-        return regular(self.model, *self.layout(sensors, exciters))
+        """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
+        (uniaxial or triaxial) per point?"""
+        nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
+        return len(set(nodes.tolist())) == len(nodes) and regular(self.model, *self.layout(sensors, exciters))
+
+    @property
+    def sensor_node(self) -> np.ndarray:
+        """The candidate point of each sensor candidate."""
+        return self.s.node[self.s.members[:, 0]]
+
+    def separated(self, problem: BlockProblem, sensors: list) -> list:
+        """Each accelerometer on a point another one holds (the later one) exchanged for the candidate of its
+        group, on a free point, that adds the most information."""
+        chosen = list(sensors)
+        for position in reversed(range(len(chosen))):
+            taken = np.delete(self.sensor_node[chosen], position)
+            if self.sensor_node[chosen[position]] not in taken:
+                continue
+            free = (problem.group == problem.group[chosen[position]]) & ~np.isin(self.sensor_node, taken)
+            free[chosen] = False
+            M = problem.information(np.delete(chosen, position)) + problem.regulariser()
+            best = best_gains(problem.blocks, np.linalg.inv(M), free)[0]
+            chosen[position] = int(best[0]) if len(best) else chosen[position]
+        return chosen
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -175,7 +197,7 @@ class Planner:
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = settle(
                 sp,
-                sensors if sensors else greedy(sp),
+                self.separated(sp, sensors if sensors else greedy(sp)),
                 lambda c: self.admits(c, exciters),
                 self.sensor_cover(exciters, conditioning=True),
             )

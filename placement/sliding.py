@@ -6,7 +6,8 @@ directions kept. The lines' coordinates ℓ = (d, r × d) are linear in r, so th
 criterion c(F) (log det F for D-optimality; any smooth function of F plugs in) are smooth in (a, b).
 
 Projected gradient ascent: the gradient by central differences; a point whose step would leave the
-mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions) loses the step's
+mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions, a base's width
+from the other accelerometers) loses the step's
 component towards its nearest bound, then halves it until mountable, else stays; a backtracking line
 search accepts only layouts that improve the criterion and stay admissible (the caller's test, e.g.
 :mod:`.admissible`). Lengths in metres, mesh frame.
@@ -153,21 +154,38 @@ class Slider:
                 out[m] -= min(g[m] @ a, 0.0) * a
         return out
 
+    def apart(self, m: int, point: np.ndarray, positions: np.ndarray) -> bool:
+        """Does an accelerometer at ``point`` keep a base's width (twice its need) from the other accelerometers
+        at ``positions`` (M, 3), or at least the distance it had? Hits may share a point."""
+        others = (self.mounts.side == 0) & (np.arange(len(positions)) != m)
+        if self.mounts.side[m] != 0 or not others.any():
+            return True
+        before = np.linalg.norm(positions[others] - positions[m], axis=1)
+        after = np.linalg.norm(positions[others] - point, axis=1)
+        return bool(np.all(after >= np.minimum(2 * self.mounts.need[m], before)))
+
     def moved(self, x: np.ndarray, step: np.ndarray) -> np.ndarray:
-        """Offsets after ``step``; a point that would leave its mountable region loses the step's component
-        towards its nearest bound, then halves it until mountable, else stays."""
-        new, here = x.copy(), self.points(x)
+        """Offsets after ``step``; a point that would leave its mountable region, or come onto another
+        accelerometer, loses the step's component towards its nearest bound, then halves it until it may go,
+        else stays."""
+        new = x.copy()
         for m, d in enumerate(step):
-            if self.mountable(m, here[m] + d @ self.mounts.basis[m]):
-                new[m] = x[m] + d
-                continue
-            a = self.away(m, here[m])
-            d = d - min(d @ a, 0.0) * a
-            for _ in range(TRIES):
-                if self.mountable(m, here[m] + d @ self.mounts.basis[m]):
-                    new[m] = x[m] + d
-                    break
-                d = d / 2
+            positions = self.points(new)
+
+            def may(d: np.ndarray) -> bool:
+                point = positions[m] + d @ self.mounts.basis[m]
+                return self.apart(m, point, positions) and self.mountable(m, point)
+
+            if not may(d):
+                a = self.away(m, positions[m])
+                d = d - min(d @ a, 0.0) * a
+                for _ in range(TRIES):
+                    if may(d):
+                        break
+                    d = d / 2
+                else:
+                    continue
+            new[m] = x[m] + d
         return new
 
     def run(self, iterations: int = ITERATIONS) -> Slide:
