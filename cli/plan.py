@@ -14,7 +14,7 @@ from rich.table import Table
 from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.options import SEED, count, finite, fraction, real
 from massline.output import write_report
-from massline.placement.candidates import CandidateOptions
+from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
 from massline.placement.errors import MasslineError
 from massline.placement.files import claim_folder, to_json, write_atomic
@@ -29,6 +29,7 @@ from massline.support import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
+MAX_FOOTPRINT_MM = 1000.0  # an accelerometer base or a hammer tip, across
 MAX_CANDIDATES = 2_000_000  # sample points; memory is checked against the machine as well
 # Peak memory of a plan, measured on the bundled structure (2 cores): 0.57 / 1.37 / 4.18 GB at 1e5 / 3e5 / 1e6
 # sample points, ~170 MB + 4.0 kB per point; --axes 3.8 GB at 3e5 (×3.2); a margin for other meshes.
@@ -80,14 +81,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--exclude-faces", type=count(0, 2**31), nargs="+", default=[], metavar="F", help="face indices to avoid"
     )
     parser.add_argument(
+        "--sensor-base",
+        type=real(0, MAX_FOOTPRINT_MM, "mm"),
+        default=SENSOR_BASE * 1e3,
+        metavar="MM",
+        help="accelerometer base across (mm, default 10): sensors go on flat faces, half of it clear of every edge",
+    )
+    parser.add_argument(
+        "--tip",
+        type=real(0, MAX_FOOTPRINT_MM, "mm"),
+        default=HAMMER_TIP * 1e3,
+        metavar="MM",
+        help="hammer tip across (mm, default 6): hits land on flat faces, half of it clear of every edge",
+    )
+    parser.add_argument(
         "--edge-keepout",
         type=real(0, unit="mesh units"),
         default=0.0,
         metavar="D",
-        help="distance from sharp edges (mesh units)",
+        help="keep at least D from every edge, sensors and hits alike (mesh units; default: half the base or tip)",
     )
-    _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted")
-    _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided")
+    _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted, snapped onto the surface")
+    _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
     parser.add_argument(
         "--noise-relative",
         type=fraction(low_open=True),
@@ -114,10 +129,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
 
 
-def _fixed(rows, scale) -> Lines | None:
+def _fixed(rows, scale, option: str) -> Lines | None:
+    """The lines of a repeated six-number option, points in m; a zero direction is refused."""
     if not rows:
         return None
     rows = np.asarray(rows, dtype=float)
+    for k, row in enumerate(rows, 1):
+        if np.linalg.norm(row[3:]) == 0:
+            raise MasslineError(f"{option} {k}: the direction DX DY DZ is zero: give the measuring or hit direction")
     return Lines(rows[:, :3] * scale, rows[:, 3:])
 
 
@@ -128,12 +147,29 @@ def layout_table(title: str, lines: Lines, nodes) -> Table:
     for k, (n, p, d, t) in enumerate(zip(nodes, lines.points, lines.directions, lines.triaxial), 1):
         table.add_row(
             str(k),
-            str(n),
+            str(n) if n >= 0 else "fixed",
             *(formatted(v * 1e3, ".1f") for v in p),
             vector_text(d, 3),
             "" if t < 0 else str(t),
         )
     return table
+
+
+def sliding_line(plan) -> str:
+    """How far sliding the points on their flat faces moved them and what it gained over the candidate layout."""
+    gain = plan.log_det - plan.candidate_log_det
+    moved = 0.0 if plan.sliding is None else float(plan.sliding.moved.max(initial=0.0))
+    sensor, hit = (1e3 * c for c in plan.clearances)
+    by_criterion = (
+        ""
+        if plan.criterion.name == "D" or plan.sliding is None
+        else f"raised {plan.criterion.title} by {plan.sliding.gain:.3g} and "
+    )
+    return (
+        f"sliding the points on their flat faces (up to {1e3 * moved:.1f} mm; sensors ≥ {sensor:.3g} mm and hits "
+        f"≥ {hit:.3g} mm from every edge) {by_criterion}changed log det F by {gain:+.3f} over the best candidate "
+        f"layout (D-efficiency × {np.exp(gain / plan.model.p):.3f})"
+    )
 
 
 def std_table(plan) -> Table:
@@ -258,6 +294,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         axes=args.axes,
         exclude_boxes=tuple((tuple(np.array(b[:3]) * scale), tuple(np.array(b[3:]) * scale)) for b in args.exclude_box),
         exclude_faces=tuple(args.exclude_faces),
+        sensor_base=args.sensor_base * 1e-3,
+        hammer_tip=args.tip * 1e-3,
         edge_keepout=args.edge_keepout * scale,
         seed=args.seed,
     )
@@ -267,7 +305,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
     ) as bar:
         task = bar.add_task("planning", total=1.0)
-        fixed = (_fixed(args.fixed_sensor, scale), _fixed(args.fixed_exciter, scale))
+        fixed = (
+            _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
+            _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
+        )
 
         def progress(stage: str, f: float) -> None:
             bar.update(task, completed=f, description=stage)
@@ -284,6 +325,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
     console.print(std_table(result))
     console.print(criterion_text(result))
+    console.print(sliding_line(result))
     diagnosability_note(console, result)
     test, _ = plan_test(body, str(args.mesh), result.sensors, result.exciters, console)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)

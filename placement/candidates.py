@@ -1,13 +1,15 @@
 """Candidate points and lines on a body's surface, as a technician can use them.
 
-Points: the mesh vertices, the face centres and area-uniform samples, about
-``n_samples`` over the surface, thinned so that no two are closer than half the
-mean spacing; each with the outward normal of the face it lies on. Lines
-at each point: the surface normal (a hammer hit, a uniaxial accelerometer
-glued on the face) and, optionally, the three global axes (mounting blocks).
-A triaxial accelerometer is one candidate of three global-axis lines through a
-point. Regions can be excluded (boxes, faces, a keep-out distance from sharp
-edges).
+Points: the mesh vertices, the face centres, the midpoints of the edges inside
+flat patches (the centre of a rectangle split in two triangles, where a thin
+face has the most room) and area-uniform samples, about ``n_samples`` over the surface, thinned so that no two are closer than half the
+mean spacing; each with the outward normal of the face it lies on. Only points
+where a hit lands square (a flat patch, clear of edges by the tip's radius,
+:mod:`.mountable`) are kept; those that also take the accelerometer's base are
+the sensor candidates. Lines at each point: the surface normal (a hammer hit, a
+uniaxial accelerometer glued on the face) and, optionally, the three global axes
+(mounting blocks). A triaxial accelerometer is one candidate of three global-axis
+lines through a point. Regions can be excluded (boxes, faces).
 """
 
 from __future__ import annotations
@@ -20,8 +22,10 @@ from scipy.spatial import cKDTree
 
 from massline.placement.errors import MasslineError
 from massline.placement.lines import AXES, Lines
+from massline.placement.mountable import Surface
 
-SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor should keep away from
+SENSOR_BASE = 10e-3  # m across: the base of a typical uniaxial or triaxial modal accelerometer
+HAMMER_TIP = 6e-3  # m across: a modal hammer's tip
 
 
 @dataclass(frozen=True)
@@ -30,7 +34,9 @@ class CandidateOptions:
 
     ``exclude_boxes``: ((lo, hi), ...) regions with no candidate;
     ``exclude_faces``: face indices with no candidate;
-    ``edge_keepout``: distance (m) to keep from sharp edges;
+    ``sensor_base``, ``hammer_tip``: size across (m) of the accelerometer's base and of the hammer's tip;
+    a point takes one where the flat disk of half that size around it is clear of edges (:mod:`.mountable`);
+    ``edge_keepout``: a larger distance (m) to keep from edges, sensors and hits alike;
     ``axes``: add the global axes as line directions (mounting blocks).
     """
 
@@ -38,18 +44,32 @@ class CandidateOptions:
     axes: bool = False
     exclude_boxes: tuple = ()
     exclude_faces: tuple = ()
+    sensor_base: float = SENSOR_BASE
+    hammer_tip: float = HAMMER_TIP
     edge_keepout: float = 0.0
     seed: int = 0
+
+    @property
+    def clearances(self) -> tuple[float, float]:
+        """The clearance (m) a sensor and a hit need: half the base or tip, at least the keep-out."""
+        return max(self.sensor_base / 2, self.edge_keepout), max(self.hammer_tip / 2, self.edge_keepout)
 
 
 @dataclass(frozen=True, eq=False)
 class CandidatePoints:
-    """Points (n, 3) m, outward normals (n, 3), the face each lies on (n,)."""
+    """Points (n, 3) m, outward normals (n, 3), the face each lies on (n,), how many points each exclusion
+    took, whether an accelerometer fits at each (n,) (every point takes a hit), and each one's clearance (m)."""
 
     points: np.ndarray
     normals: np.ndarray
     faces: np.ndarray
     excluded: dict = field(default_factory=dict)
+    sensor_fit: np.ndarray | None = None
+    clearance: np.ndarray | None = None
+
+    def sensor_points(self) -> np.ndarray:
+        """Indices of the points an accelerometer fits on."""
+        return np.arange(len(self)) if self.sensor_fit is None else np.flatnonzero(self.sensor_fit)
 
     def __len__(self) -> int:
         return len(self.points)
@@ -77,28 +97,6 @@ class CandidatePoints:
         return Lines.triaxials(self.points), np.repeat(np.arange(len(self)), 3)
 
 
-def sharp_edges(mesh: trimesh.Trimesh, degrees: float = SHARP_EDGE_DEG) -> np.ndarray:
-    """End points (k, 2, 3) of the edges where the surface creases more than ``degrees``."""
-    sharp = mesh.face_adjacency_angles > np.radians(degrees)
-    return mesh.vertices[mesh.face_adjacency_edges[sharp]]
-
-
-def distance_to_segments(points: np.ndarray, segments: np.ndarray, chunk: int = 2048) -> np.ndarray:
-    """Distance from each point to the nearest of the segments (k, 2, 3)."""
-    if len(segments) == 0:
-        return np.full(len(points), np.inf)
-    a, b = segments[:, 0], segments[:, 1]
-    ab = b - a
-    length2 = np.maximum(np.einsum("kd,kd->k", ab, ab), 1e-300)
-    out = np.empty(len(points))
-    for start in range(0, len(points), chunk):
-        p = points[start : start + chunk, None, :]
-        t = np.clip(np.einsum("nkd,kd->nk", p - a, ab) / length2, 0, 1)
-        nearest = a + t[..., None] * ab
-        out[start : start + chunk] = np.linalg.norm(p - nearest, axis=2).min(axis=1)
-    return out
-
-
 def thin(points: np.ndarray, radius: float) -> np.ndarray:
     """Indices of points kept, in order, so that no two kept ones are closer than ``radius``.
 
@@ -122,34 +120,58 @@ def largest_adjacent_face(mesh: trimesh.Trimesh) -> np.ndarray:
     return adjacent[np.arange(len(adjacent)), np.argmax(area, axis=1)]
 
 
-def candidate_points(mesh: trimesh.Trimesh, options: CandidateOptions = CandidateOptions()) -> CandidatePoints:
-    """Samples, vertices and face centres of a closed mesh in metres, after exclusions."""
-    spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
-    samples, sample_faces = trimesh.sample.sample_surface(mesh, 4 * options.n_samples, seed=options.seed)
-    points = np.vstack([mesh.vertices, mesh.triangles_center, samples])
-    faces = np.concatenate([largest_adjacent_face(mesh), np.arange(len(mesh.faces)), sample_faces])
-    first = thin(points, 0.5 * spacing)
-    points, faces = points[first], faces[first]
-    normals = mesh.face_normals[faces]
-    keep = np.ones(len(points), dtype=bool)
-    excluded = {}
+def excluded_by(points: np.ndarray, faces: np.ndarray, options: CandidateOptions) -> tuple[np.ndarray, dict]:
+    """Which points (m) the boxes and faces of ``options`` exclude, and how many each took."""
+    out, counts = np.zeros(len(points), dtype=bool), {}
     for lo, hi in options.exclude_boxes:
         inside = np.all((points >= np.asarray(lo)) & (points <= np.asarray(hi)), axis=1)
-        excluded[f"box {lo}–{hi}"] = int((inside & keep).sum())
-        keep &= ~inside
+        counts[f"box {lo}–{hi}"] = int((inside & ~out).sum())
+        out |= inside
     if options.exclude_faces:
         on = np.isin(faces, np.asarray(options.exclude_faces, dtype=int))
-        excluded["faces"] = int((on & keep).sum())
-        keep &= ~on
-    if options.edge_keepout > 0:
-        near = distance_to_segments(points, sharp_edges(mesh)) < options.edge_keepout
-        excluded["edge keep-out"] = int((near & keep).sum())
-        keep &= ~near
-    if not keep.any():
+        counts["faces"] = int((on & ~out).sum())
+        out |= on
+    return out, counts
+
+
+def candidate_points(
+    mesh: trimesh.Trimesh, options: CandidateOptions = CandidateOptions(), surface: Surface | None = None
+) -> CandidatePoints:
+    """Samples, vertices and face centres of a closed mesh in metres that a sensor or a hit can use.
+
+    Refused when the exclusions (boxes, faces) leave nothing, or when no point of the surface has the
+    clearance (:mod:`.mountable`) a hit needs; then the excluded points and those short of that
+    clearance are taken out, and near-duplicates.
+    """
+    surface = Surface.of(mesh) if surface is None else surface
+    spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
+    samples, sample_faces = trimesh.sample.sample_surface(mesh, 4 * options.n_samples, seed=options.seed)
+    inner = surface.inner_edges()
+    points = np.vstack([mesh.vertices, mesh.triangles_center, mesh.vertices[inner].mean(axis=1), samples])
+    faces = np.concatenate(
+        [largest_adjacent_face(mesh), np.arange(len(mesh.faces)), mesh.face_adjacency[surface.inner, 0], sample_faces]
+    )
+    out, excluded = excluded_by(points, faces, options)
+    if out.all():
         raise MasslineError(
             f"no candidate point is left on the surface after the exclusions ({excluded}); relax the keep-outs"
         )
-    return CandidatePoints(points[keep], normals[keep], faces[keep], excluded)
+    sensor, hit = options.clearances
+    clearance = np.zeros(len(points))
+    roomy = surface.roomy(faces, hit)
+    clearance[roomy] = surface.clearance(points[roomy], faces[roomy], max(sensor, hit))
+    fits = clearance >= hit
+    if not fits.any():
+        raise MasslineError(
+            f"no place on the surface is flat and {1e3 * hit:.3g} mm clear of every edge, as a hammer hit needs "
+            "(it is all edges, corners, small or curved faces): give a smaller --tip (or --edge-keepout)"
+        )
+    excluded["edges, corners, small or curved faces"] = int((~fits & ~out).sum())
+    usable = np.flatnonzero(fits & ~out)
+    kept = usable[thin(points[usable], 0.5 * spacing)]
+    return CandidatePoints(
+        points[kept], mesh.face_normals[faces[kept]], faces[kept], excluded, clearance[kept] >= sensor, clearance[kept]
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,31 +211,38 @@ class CandidateLines:
         return np.append(mask, False)[self.members].any(axis=1)
 
 
+def side_lines(points: CandidatePoints, index: np.ndarray, axes: bool, planar: bool, triaxial: bool) -> CandidateLines:
+    """One side's candidates at the points ``index``: normals (and axes, and triaxials); nodes index ``points``.
+
+    A plate gets its out-of-plane lines only (§2.3).
+    """
+    at = CandidatePoints(points.points[index], points.normals[index], points.faces[index])
+    if planar:
+        on_faces = np.abs(at.normals[:, 2]) > 1 - 1e-6
+        if on_faces.sum() < 3:
+            raise MasslineError(
+                "fewer than 3 candidate points on the plate's faces: relax the exclusions, or give a smaller "
+                "--sensor-base or --tip"
+            )
+        lines = Lines(at.points[on_faces], np.tile([0.0, 0.0, 1.0], (int(on_faces.sum()), 1)))
+        return replace(CandidateLines.single(lines), node=index[on_faces])
+    lines, node = at.lines(axes)
+    members = np.arange(len(lines))[:, None]
+    group = np.zeros(len(lines), int)
+    if triaxial:
+        tri, tri_node = at.triaxial_lines()
+        members = np.vstack(
+            [np.pad(members, ((0, 0), (0, 2)), constant_values=-1), len(lines) + np.arange(3 * len(at)).reshape(-1, 3)]
+        )
+        group = np.concatenate([group, np.ones(len(at), int)])
+        lines, node = lines + tri, np.concatenate([node, tri_node])
+    return CandidateLines(lines, members, group, index[node])
+
+
 def candidate_lines(
     points: CandidatePoints, axes: bool, planar: bool, triaxial: bool
 ) -> tuple[CandidateLines, CandidateLines]:
-    """Sensor and exciter candidates at the points: normals (and axes), triaxials for sensors.
-
-    A plate gets its out-of-plane lines only (§2.3), the same for both sides.
-    """
-    if planar:
-        on_faces = np.abs(points.normals[:, 2]) > 1 - 1e-6
-        if on_faces.sum() < 3:
-            raise MasslineError("fewer than 3 candidate points on the plate's faces: relax the exclusions")
-        pts = points.points[on_faces]
-        lines = Lines(pts, np.tile([0.0, 0.0, 1.0], (len(pts), 1)))
-        side = replace(CandidateLines.single(lines), node=np.flatnonzero(on_faces))
-        return side, side
-    lines, node = points.lines(axes)
-    members = np.arange(len(lines))[:, None]
-    group = np.zeros(len(lines), int)
-    sensor_lines, sensor_node = lines, node
-    if triaxial:
-        tri, tri_node = points.triaxial_lines()
-        offset = len(lines)
-        members = np.vstack(
-            [np.pad(members, ((0, 0), (0, 2)), constant_values=-1), offset + np.arange(3 * len(points)).reshape(-1, 3)]
-        )
-        group = np.concatenate([group, np.ones(len(points), int)])
-        sensor_lines, sensor_node = lines + tri, np.concatenate([node, tri_node])
-    return CandidateLines(sensor_lines, members, group, sensor_node), replace(CandidateLines.single(lines), node=node)
+    """Sensor candidates where an accelerometer fits (triaxials among them when asked), exciter candidates at
+    every point."""
+    sensors = side_lines(points, points.sensor_points(), axes, planar, triaxial)
+    return sensors, side_lines(points, np.arange(len(points)), axes, planar, False)

@@ -1,13 +1,14 @@
 """plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres,
-mesh frame), ``criterion`` (``name`` D, A or E, its ``value``, ``bounds`` and
-``efficiency_lower_bound``; ``smallest_eigenvalue`` of the scaled information;
-``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system
-by the paper's equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound
-and efficiency is against the best layout changing the sensors alone or the exciters alone,
-the other side held at the plan's: placement/certification.py),
+``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres, mesh frame;
+fixed lines first, snapped onto the surface, with node null and ``"fixed": true``), ``criterion`` (``name``
+D, A or E, its ``value``, ``bounds`` and ``efficiency_lower_bound``; ``smallest_eigenvalue`` of the scaled
+information; ``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system by the paper's
+equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound and efficiency is against
+the best layout of candidate points changing the sensors alone or the exciters alone, the other side held at
+the plan's: placement/certification.py; ``sliding``: ``candidate_log_det``, ``gain`` in log det,
+``criterion_gain``, ``largest_move_m``), ``mounting`` (the clearance from edges, m, a sensor and a hit keep),
 ``noise``, ``predicted_std`` (identify's std keys), ``diagnosability`` (``diagnosable``, per-channel and
 per-hit leverage, ``hidden``: the faults each channel could hide, ``failures``; ``cost``: the minimal
 layout's lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared).
@@ -31,16 +32,32 @@ import numpy as np
 
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
+from massline.placement.layout import Plan
 from massline.placement.lines import Lines
-from massline.placement.planner import Plan
 
 
 def _lines(lines: Lines, nodes: np.ndarray) -> list:
     groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
     return [
-        {"node": int(n), "point": p.tolist(), "direction": d.tolist(), "triaxial": groups.get(int(t))}
+        {
+            "node": int(n) if n >= 0 else None,
+            "point": p.tolist(),
+            "direction": d.tolist(),
+            "triaxial": groups.get(int(t)),
+        }
+        | ({"fixed": True} if n < 0 else {})
         for n, p, d, t in zip(nodes, lines.points, lines.directions, lines.triaxial)
     ]
+
+
+def _sliding(plan: Plan) -> dict:
+    moved = np.zeros(0) if plan.sliding is None else plan.sliding.moved
+    return {
+        "candidate_log_det": plan.candidate_log_det,
+        "gain": plan.log_det - plan.candidate_log_det,
+        "criterion_gain": 0.0 if plan.sliding is None else plan.sliding.gain,
+        "largest_move_m": float(moved.max(initial=0.0)),
+    }
 
 
 def condition_systems(planar: bool) -> dict:
@@ -108,7 +125,9 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
             "d_efficiency_lower_bound": plan.d_efficiency_lower_bound,
             "upper_bounds": plan.d_bounds,
             "worst_relative_std": plan.worst_relative_std,
+            "sliding": _sliding(plan),
         },
+        "mounting": {"sensor_clearance_m": plan.clearances[0], "hit_clearance_m": plan.clearances[1]},
         "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},
         "predicted_std": plan.predicted_std,
         "candidates": {

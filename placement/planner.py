@@ -13,19 +13,21 @@ bounds from above the best layout that changes that side alone, the other held
 the criterion's sense (D: exp((log det F − U)/p)): a lower bound against every
 layout that changes the sensors alone or the exciters alone, not both at once. A and E
 start from the D layout and climb their own criterion from there. Only layouts that the paper's
-equations can solve are admitted (rank S = 6, non-singular dynamic systems),
-and, when asked, only diagnosable ones (:mod:`.diagnosability`): an inadmissible
-selection is first walked by single exchanges to one that is.
+equations can solve, with a well-posed kinematic step and one accelerometer per point, are admitted
+(:mod:`.admissible`: rank S = 6, non-singular dynamic systems, κ(S̃) bounded), and, when asked, only
+diagnosable ones (:mod:`.diagnosability`): an inadmissible selection is first walked by single exchanges
+to one that is. On a mesh the chosen points then slide off the candidate grid on their flat faces
+(:mod:`.sliding`), which raises the criterion beyond the certified layout.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
 
-from massline.placement.accuracy import predicted_std, worst_relative_std
+from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import (
     CandidateLines,
     CandidateOptions,
@@ -35,99 +37,19 @@ from massline.placement.candidates import (
 )
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
-from massline.placement.diagnosability import Diagnosability, UndiagnosableError, diagnosability, of_coordinates
-from massline.placement.errors import MasslineError, SingularLayoutError
-from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
+from massline.placement.diagnosability import UndiagnosableError, diagnosability, of_coordinates
+from massline.placement.errors import MasslineError
+from massline.placement.information import NoiseModel, weighted_sensitivities
+from massline.placement.layout import Budget, Plan, assessed, fixed_nodes
 from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.placement.mesh import BodyMesh
-from massline.placement.methods import identify
+from massline.placement.mesh import UNITS, BodyMesh
 from massline.placement.model import RigidModel
-from massline.placement.selection import BlockProblem, compress, descend, greedy, leverages, settle
+from massline.placement.mountable import Surface, snap
+from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
+from massline.placement.sliding import slide
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
-
-
-@dataclass(frozen=True)
-class Budget:
-    """Uniaxial sensor lines, triaxial accelerometers and exciters (hammer hits)."""
-
-    sensors: int = 6
-    exciters: int = 3
-    triaxial: int = 0
-
-    def check(self, planar: bool) -> None:
-        lines = self.sensors + 3 * self.triaxial
-        need = 3 if planar else 6
-        if lines < need:
-            raise MasslineError(
-                f"{lines} sensor lines cannot see the {'3 plate' if planar else '6 rigid-body'} motions: "
-                f"give at least {need} (--sensors, or --triaxial N for 3 lines each)"
-            )
-        if self.triaxial == 2 and self.sensors == 0:
-            raise MasslineError(
-                "two triaxial accelerometers alone never see rotation about the line joining them: "
-                "add a third triaxial (--triaxial 3) or uniaxial sensors (--sensors)"
-            )
-        if self.exciters < 3:
-            raise MasslineError(f"{self.exciters} exciter(s) are too few: the paper's minimum is 3 (--exciters 3)")
-        if planar and self.triaxial:
-            raise MasslineError("a plate is planned with out-of-plane lines (§2.3): drop --triaxial")
-
-
-@dataclass(frozen=True, eq=False)
-class Plan:
-    """A layout with its certificate and predicted accuracy.
-
-    ``sensor_nodes`` / ``exciter_nodes`` index the candidate points.
-    ``bounds`` holds the upper bound U of the plan's criterion for each side
-    (``value`` is the layout's), ``d_bounds`` that of log det F: U of "sensors"
-    bounds every sensor selection with the plan's exciters, U of "exciters" every
-    exciter selection with the plan's sensors (certification.py).
-    """
-
-    model: RigidModel
-    sensors: Lines
-    sensor_nodes: np.ndarray
-    exciters: Lines
-    exciter_nodes: np.ndarray
-    log_det: float
-    bounds: dict
-    condition: dict
-    predicted_std: dict
-    noise: NoiseModel
-    candidates: CandidatePoints | None = None
-    n_candidate_lines: dict = field(default_factory=dict)
-    criterion: Criterion = D
-    value: float = np.nan
-    d_bounds: dict = field(default_factory=dict)
-    information: np.ndarray | None = None
-    minimal: Plan | None = None  # the paper's minimal layout this plan is compared with
-
-    @property
-    def diagnosability(self) -> Diagnosability:
-        """Can one faulty channel or hit of this layout be located (:mod:`.diagnosability`)?"""
-        return diagnosability(self.model, self.sensors, self.exciters, self.noise)
-
-    @property
-    def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) for the worse of the two sides: against one-side changes."""
-        return float(np.exp((self.log_det - max(self.d_bounds.values())) / self.model.p))
-
-    @property
-    def efficiency_lower_bound(self) -> float:
-        """The certified efficiency in the plan's criterion, for the worse of the two sides."""
-        return self.criterion.efficiency(self.value, max(self.bounds.values()), self.model.p)
-
-    @property
-    def smallest_eigenvalue(self) -> float:
-        """λ_min of the scaled information: 1/√λ_min is the worst relative 1-σ of any parameter combination."""
-        return float(np.linalg.eigvalsh(self.information)[0])
-
-    @property
-    def worst_relative_std(self) -> float:
-        return worst_relative_std(self.model, self.predicted_std)
 
 
 def is_plate(body: BodyMesh) -> bool:
@@ -180,6 +102,18 @@ class Planner:
         A0 = weighted_sensitivities(self.model, fixed, other, self.noise).reshape(-1, self.model.p)
         return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0, self.criterion)
 
+    def check_directions(self) -> None:
+        """Refuse sensor candidates (with the fixed sensors) whose lines cannot see every rigid-body motion."""
+        coords = np.vstack([self.fixed_s, self.s_coords])
+        rank = np.linalg.matrix_rank(coords, tol=1e-9 * np.abs(coords).max(initial=1.0))
+        if rank < coords.shape[1]:
+            raise MasslineError(
+                f"the places an accelerometer fits (flat, clear of every edge, not excluded) leave only degenerate "
+                f"layouts: they face too few directions to see all {coords.shape[1]} rigid-body motions (rank {rank}); "
+                "use triaxial accelerometers (--triaxial N), mounting blocks (--axes), a smaller --sensor-base or "
+                "fewer exclusions"
+            )
+
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])
         return self._problem(self.s, self.s_coords, other, self.fixed_s, (self.budget.sensors, self.budget.triaxial))
@@ -197,14 +131,17 @@ class Planner:
     def lines(self, side: CandidateLines, chosen) -> Lines:
         return side.lines[side.line_index(chosen)]
 
-    def sensor_cover(self, exciters: list):
-        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen."""
+    def sensor_cover(self, exciters: list, conditioning: bool = False):
+        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen; with
+        ``conditioning`` (a search's repair, not a certificate's cut), those that read well the motion an
+        ill-conditioned selection reads weakly (``admissible.weakly_seen``)."""
 
         def cover_for(sensors: list):
             rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
             _, s, Vt = np.linalg.svd(rows)
             if len(s) == rows.shape[1] and s[-1] > 1e-10 * s[0]:
-                return None  # all motions seen: the failure lies elsewhere, no cut known
+                weak = weakly_seen(self.model, rows, self.s_coords) if conditioning else None
+                return None if weak is None else self.s.any_line(weak)  # else no cut known
             q0 = Vt[-1]
             sees = np.abs(self.s_coords @ q0) > 1e-9 * np.linalg.norm(self.s_coords, axis=1)
             return self.s.any_line(sees)
@@ -221,12 +158,7 @@ class Planner:
         return self.e.any_line(off)
 
     def regular(self, sensors: Lines, exciters: Lines) -> bool:
-        """The paper's equations solve this layout (exact masslines identify the body)."""
-        try:
-            identify(synthesise(self.model.nominal, sensors, exciters), "plate" if self.model.planar else "method2")
-        except SingularLayoutError:
-            return False
-        return True
+        return regular(self.model, sensors, exciters)
 
     def violation(self, sensors: list, exciters: list) -> float:
         """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
@@ -237,8 +169,34 @@ class Planner:
         return of_coordinates(self.model, S, W, self.noise).excess
 
     def admits(self, sensors: list, exciters: list) -> bool:
-        """Is the selection (candidate indices, fixed lines added) a regular (and, if asked, diagnosable) layout?"""
-        return self.violation(sensors, exciters) == 0 and self.regular(*self.layout(sensors, exciters))
+        """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
+        (uniaxial or triaxial) per point (and, if asked, a diagnosable one)?"""
+        nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
+        return (
+            len(set(nodes.tolist())) == len(nodes)
+            and self.violation(sensors, exciters) == 0
+            and self.regular(*self.layout(sensors, exciters))
+        )
+
+    @property
+    def sensor_node(self) -> np.ndarray:
+        """The candidate point of each sensor candidate."""
+        return self.s.node[self.s.members[:, 0]]
+
+    def separated(self, problem: BlockProblem, sensors: list) -> list:
+        """Each accelerometer on a point another one holds (the later one) exchanged for the candidate of its
+        group, on a free point, that adds the most information."""
+        chosen = list(sensors)
+        for position in reversed(range(len(chosen))):
+            taken = np.delete(self.sensor_node[chosen], position)
+            if self.sensor_node[chosen[position]] not in taken:
+                continue
+            free = (problem.group == problem.group[chosen[position]]) & ~np.isin(self.sensor_node, taken)
+            free[chosen] = False
+            M = problem.information(np.delete(chosen, position)) + problem.regulariser()
+            best = best_gains(problem.blocks, np.linalg.inv(M), free)[0]
+            chosen[position] = int(best[0]) if len(best) else chosen[position]
+        return chosen
 
     def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
         """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
@@ -266,7 +224,10 @@ class Planner:
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = self.settled(
-                sp, sensors if sensors else greedy(sp), lambda c: (c, exciters), self.sensor_cover(exciters)
+                sp,
+                self.separated(sp, sensors if sensors else greedy(sp)),
+                lambda c: (c, exciters),
+                self.sensor_cover(exciters, conditioning=True),
             )
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
@@ -309,14 +270,16 @@ class Planner:
         return starts
 
 
-def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, float]:
-    """The best alternation over the starts (exciter sets), by the searcher's criterion."""
+def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, float, bool]:
+    """The best alternation over the starts (exciter sets), by the searcher's criterion: an admitted layout
+    before any other, then the greater value; with whether it is admitted."""
     best = None
     for k, start in enumerate(starts):
         progress("alternating sensors and exciters", 0.8 * k / len(starts))
         result = searcher.alternate(*start)
-        if best is None or result[2] > best[2]:
-            best = result
+        admitted = searcher.admits(result[0], result[1])
+        if best is None or (admitted, result[2]) > (best[3], best[2]):
+            best = (*result, admitted)
     return best
 
 
@@ -345,15 +308,20 @@ def plan_on_candidates(
     all layouts).
     """
     budget.check(model.planar)
-    for name, side, need in (("sensor", sensor_side, budget.sensors), ("exciter", exciter_side, budget.exciters)):
+    sides = (
+        ("sensor", sensor_side, budget.sensors, "--sensor-base"),
+        ("exciter", exciter_side, budget.exciters, "--tip"),
+    )
+    for name, side, need, option in sides:
         if len(side) < need:
             raise MasslineError(
-                f"only {len(side)} {name} candidates for a budget of {need}: "
-                "sample more points (--candidates) or relax the exclusions"
+                f"only {len(side)} {name} candidates for a budget of {need}: sample more points (--candidates), "
+                f"relax the exclusions or give a smaller {option} (flat places clear of edges are few)"
             )
     chosen = CRITERIA[criterion]
     fixed = (fixed_sensors, fixed_exciters)
     planner = Planner(model, sensor_side, exciter_side, budget, noise, *fixed, diagnosable=diagnosable)
+    planner.check_directions()
     s_work, e_work = planner.working_sets(seed)
     subsets = sensor_side.subset(s_work), exciter_side.subset(e_work)
     searcher = Planner(model, *subsets, budget, noise, *fixed, diagnosable=diagnosable)
@@ -362,12 +330,13 @@ def plan_on_candidates(
         searcher = Planner(model, *subsets, budget, noise, *fixed, chosen, diagnosable)
         best = _search(searcher, [(best[1], best[0])], progress)
     sensors, exciters = [int(i) for i in s_work[best[0]]], [int(i) for i in e_work[best[1]]]
-    if diagnosable and not planner.admits(sensors, exciters):
+    if diagnosable and not best[3]:
         raise UndiagnosableError(f"no diagnosable layout of {budget} was found among the candidates")
-    if not planner.admits(sensors, exciters):
+    if not best[3]:
         raise MasslineError(
-            "the candidates and keep-outs leave only degenerate layouts: allow points that are "
-            "not all in one line or plane, and hits in several directions"
+            "the candidates and keep-outs leave only degenerate or ill-conditioned layouts: allow points that are "
+            "not all in one line or plane, and hits in several directions (relax the exclusions, "
+            "--sensor-base or --tip)"
         )
     progress("certifying", 0.85)
     if chosen is D:
@@ -379,27 +348,57 @@ def plan_on_candidates(
             Planner(model, sensor_side, exciter_side, budget, noise, *fixed, chosen), sensors, exciters
         )
     S_all, E_all = planner.layout(sensors, exciters)
-    F = planner.exciter_problem(planner.sensor_rows(sensors)).information(exciters)
-    found = identify(synthesise(model.nominal, S_all, E_all), "plate" if model.planar else "method2")
+    assessment = assessed(model, S_all, E_all, noise)
     progress("done", 1.0)
     return Plan(
         model,
-        planner.lines(sensor_side, sensors),
-        sensor_side.node[sensor_side.line_index(sensors)],
-        planner.lines(exciter_side, exciters),
-        exciter_side.node[exciter_side.line_index(exciters)],
-        log_det(F),
-        bounds,
-        found.condition,
-        predicted_std(model, F),
-        noise,
-        None,
-        {"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)},
-        chosen,
-        chosen.value(F),
-        d_bounds,
-        F,
+        S_all,
+        fixed_nodes(fixed_sensors, sensor_side.node[sensor_side.line_index(sensors)]),
+        E_all,
+        fixed_nodes(fixed_exciters, exciter_side.node[exciter_side.line_index(exciters)]),
+        bounds=bounds,
+        noise=noise,
+        n_candidate_lines={"sensors": len(sensor_side.lines), "exciters": len(exciter_side.lines)},
+        criterion=chosen,
+        value=chosen.value(assessment["information"]),
+        d_bounds=d_bounds,
+        candidate_log_det=assessment["log_det"],
+        **assessment,
     )
+
+
+def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
+    """Fixed lines with their points moved onto the surface (refused when farther than ``mountable.snap`` allows)."""
+    if lines is None:
+        return None
+    return Lines(snap(body.mesh, lines.points, what, UNITS[body.units]), lines.directions, lines.triaxial)
+
+
+def slid(
+    plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions, diagnosable: bool = False
+) -> Plan:
+    """The plan with its points slid on their flat patches by its criterion, among the layouts the planner
+    admits (regular, and diagnosable when asked)."""
+
+    def admitted(sensors: Lines, exciters: Lines) -> bool:
+        return regular(plan.model, sensors, exciters) and (
+            not diagnosable or diagnosability(plan.model, sensors, exciters, plan.noise).diagnosable
+        )
+
+    moved = slide(
+        surface,
+        plan.model,
+        plan.noise,
+        (plan.sensors, plan.exciters),
+        (plan.sensor_nodes, plan.exciter_nodes),
+        points,
+        options,
+        admitted,
+        plan.criterion.value,
+    )
+    assessment = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
+    value = plan.criterion.value(assessment["information"])
+    return replace(plan, sensors=moved.sensors, exciters=moved.exciters, value=value, sliding=moved, **assessment)
 
 
 def plan(
@@ -417,13 +416,16 @@ def plan(
     criterion: str = "D",
     diagnosable: bool = False,
 ) -> Plan:
-    """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified and
-    with predicted 1-σ (``diagnosable``: the best of the layouts in which one faulty channel or hit can be
-    located)."""
+    """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified, slid off
+    the candidate grid on the flat faces, with predicted 1-σ (``diagnosable``: the best of the layouts in which
+    one faulty channel or hit can be located). Fixed lines are snapped onto the surface."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
-    points = candidate_points(body.mesh, options)
+    surface = Surface.of(body.mesh)
+    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
+    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
+    points = candidate_points(body.mesh, options, surface)
     sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
     result = plan_on_candidates(
         RigidModel(body.nominal, planar),
@@ -441,4 +443,7 @@ def plan(
         criterion,
         diagnosable,
     )
-    return replace(result, candidates=points)
+    progress("sliding the points on their faces", 0.95)
+    return slid(
+        replace(result, candidates=points, clearances=options.clearances), surface, points, options, diagnosable
+    )

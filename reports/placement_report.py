@@ -16,11 +16,13 @@ import numpy as np
 
 from massline import __version__
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
-from massline.reports.plan_scene import SENSOR, Scene, face_name
+from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
 
-ONE_SIDE = "the best layout changing the sensors alone or the exciters alone"  # what the bounds cover
+ONE_SIDE = (
+    "the best layout of candidate points changing the sensors alone or the exciters alone"  # what the bounds cover
+)
 
 
 @dataclass(frozen=True)
@@ -44,8 +46,18 @@ def _direction(d: np.ndarray) -> str:
     return "(" + ", ".join(num(c + 0.0, ".2f") for c in d) + ")"
 
 
-def points_table(scene: Scene) -> str:
-    """Number, plan lines, coordinates (mm), direction and the face of every accelerometer and hit."""
+def fixed_labels(doc: dict, scene: Scene) -> set:
+    """Labels of the markers whose lines the plan holds as fixed (mounted or decided before planning)."""
+    fixed = {
+        kind: {i for i, entry in enumerate(doc[key]) if entry.get("fixed")}
+        for kind, key in ((SENSOR, "sensors"), (HIT, "exciters"))
+    }
+    return {m.label for m in scene.markers if fixed.get(m.kind, set()) & set(m.lines)}
+
+
+def points_table(scene: Scene, fixed: set = frozenset()) -> str:
+    """Number (marked when ``fixed``), plan lines, coordinates (mm), direction and the face of every
+    accelerometer and hit."""
     rows = []
     for m, n, f in zip(scene.markers, scene.normals, scene.faces):
         css = "sensor" if m.kind == SENSOR else "hit"
@@ -54,7 +66,7 @@ def points_table(scene: Scene) -> str:
         face = f"oblique, n = {_direction(n)}" if face == "oblique" else face
         rows.append(
             [
-                f'<span class="{css}">{m.label}</span>',
+                f'<span class="{css}">{m.label}</span>' + (" (fixed)" if m.label in fixed else ""),
                 ", ".join(str(i + 1) for i in m.lines),
                 *(num(c * 1e3, ".1f") for c in m.point),
                 what or _direction(m.directions[0]),
@@ -128,6 +140,7 @@ def criterion_html(doc: dict) -> str:
         ["worst relative 1-σ", f"{worst} % (mass, CoG against the radius of gyration, principal moments)"],
         ["noise model", f"{relative} % of each massline + {floor} % of 1/m"],
     ]
+    rows += mounting_rows(doc)
     lines = doc.get("candidates", {}).get("lines") or {}
     if lines:
         rows.append(["candidate lines", ", ".join(f"{v} {escape(k)}" for k, v in lines.items())])
@@ -165,6 +178,28 @@ def diagnosability_html(doc: dict) -> str:
     )
     head = ["channel", "leverage", "confusion", "faults it could hide"]
     return html_table(None, rows, "ll", [30, 70]) + html_table(head, channels, "lrrl", [15, 15, 15, 55]) + note
+
+
+def mounting_rows(doc: dict) -> list:
+    """Where points may go (clearance from edges) and what sliding them on their faces gained."""
+    mounting, sliding = doc.get("mounting"), doc["criterion"].get("sliding")
+    rows = []
+    if mounting:
+        sensor, hit = (num(1e3 * _float(mounting.get(k)), ".3g") for k in ("sensor_clearance_m", "hit_clearance_m"))
+        rows.append(
+            ["mountable points", f"on flat faces, accelerometers ≥ {sensor} mm and hits ≥ {hit} mm from every edge"]
+        )
+    if sliding:
+        gain, moved = _float(sliding.get("gain")), 1e3 * _float(sliding.get("largest_move_m"))
+        rows.append(
+            [
+                "sliding off the candidate grid",
+                f"log det F {num(gain, '+.3f')} over the certified candidate layout (D-efficiency × "
+                f"{num(np.exp(gain / max(len(doc['criterion'].get('parameters', [])), 1)), '.3f')}); "
+                f"points moved up to {num(moved, '.1f')} mm on their faces",
+            ]
+        )
+    return rows
 
 
 def band_html(rows: list[BandRow], fe_note: str) -> str:
@@ -221,7 +256,7 @@ def report_html(
         '<section class="screen"><h2>Turn it</h2><p class="note">Drag to turn the body (screen only).</p>'
         + viewer_html(scene)
         + "</section>",
-        "<section><h2>Points</h2>" + points_table(scene),
+        "<section><h2>Points</h2>" + points_table(scene, fixed_labels(doc, scene)),
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",

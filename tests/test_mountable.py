@@ -1,0 +1,181 @@
+"""Plans a test engineer can carry out: points on flat faces clear of edges, fixed points snapped, sliding."""
+
+import json
+
+import numpy as np
+import pytest
+import trimesh
+from conftest import FIXTURE_MESHES, bundled
+from test_cli import massline
+
+from massline.placement.candidates import CandidateOptions, candidate_points
+from massline.placement.errors import MasslineError
+from massline.placement.information import fisher, log_det
+from massline.placement.lines import Lines
+from massline.placement.mesh import load_body
+from massline.placement.mountable import Surface, feature_edges, foot_on_segments
+from massline.placement.planner import Budget, plan
+from massline.uff.reader import read_uff, to_recording
+
+MINIMAL = {"plate": Budget(3, 3), "structure": Budget(6, 3), "bracket": Budget(6, 3)}
+# The real CAD parts that load, their units, a budget their flat places allow and the options: flat places
+# facing two or three directions only (uniaxial normals cannot see every motion) take triaxials; the tray's
+# 3.2 mm rims take a 2 mm hammer tip.
+CAD = {
+    "plate_holes.STL": ("mm", Budget(0, 3, 3), CandidateOptions()),
+    "1002_tray_bottom.STL": ("mm", Budget(0, 3, 3), CandidateOptions(hammer_tip=2e-3)),
+    "featuretype.STL": ("in", Budget(6, 3), CandidateOptions()),
+    "idler_riser.STL": ("in", Budget(0, 3, 3), CandidateOptions()),
+    "angle_block.STL": ("in", Budget(0, 3, 3), CandidateOptions()),
+    "ADIS16480.STL": ("m", Budget(6, 3), CandidateOptions()),
+}
+IDLER_BORE = (0.375, 0.15, 0.25)  # inches: on the axis of the 0.2 in hole through the idler's foot
+
+
+def brute_clearance(surface: Surface, points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Every segment of the point's own patch and every feature edge, measured one by one."""
+    out = []
+    for p, f in zip(points, faces):
+        mine = (surface.owner < 0) | (surface.owner == surface.patch[f])
+        seg = surface.segments[mine]
+        out.append(np.linalg.norm(p - foot_on_segments(np.tile(p, (len(seg), 1)), seg[:, 0], seg[:, 1]), axis=1).min())
+    return np.array(out)
+
+
+def edge_distance(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:
+    """Distance (m) from each point to the nearest feature edge, in space."""
+    edges = feature_edges(mesh)
+    return np.array(
+        [
+            np.linalg.norm(p - foot_on_segments(np.tile(p, (len(edges), 1)), edges[:, 0], edges[:, 1]), axis=1).min()
+            for p in points
+        ]
+    )
+
+
+def assert_mountable(body, p):
+    """Every planned point that is not fixed is on a flat patch holding its footprint, clear of every edge."""
+    surface = Surface.of(body.mesh)
+    for lines, nodes, need in (
+        (p.sensors, p.sensor_nodes, p.clearances[0]),
+        (p.exciters, p.exciter_nodes, p.clearances[1]),
+    ):
+        points = lines.points[nodes >= 0]
+        start = p.candidates.faces[nodes[nodes >= 0]]
+        faces = np.array([surface.locate(q, surface.patch[f]) for q, f in zip(points, start)])
+        assert (faces >= 0).all(), "a point left its flat patch"
+        assert (edge_distance(body.mesh, points) >= need * (1 - 1e-9)).all()
+        assert (brute_clearance(surface, points, faces) >= need * (1 - 1e-9)).all()
+
+
+@pytest.mark.parametrize("name,units", [("structure", "m"), ("idler_riser.STL", "in"), ("ADIS16480.STL", "m")])
+def test_clearance_search_is_exact(name, units):
+    body = bundled(name) if units == "m" and "." not in name else load_body(FIXTURE_MESHES / name, units, density=2700)
+    surface = Surface.of(body.mesh)
+    points, faces = trimesh.sample.sample_surface(body.mesh, 300, seed=1)
+    reach = 0.006
+    found = surface.clearance(points, faces, reach)
+    np.testing.assert_allclose(found, np.minimum(brute_clearance(surface, points, faces), reach), atol=1e-12)
+
+
+def test_no_candidate_near_an_edge_or_off_a_flat_face():
+    body = bundled("bracket")
+    points = candidate_points(body.mesh, CandidateOptions())
+    sensors = points.points[points.sensor_fit]
+    assert edge_distance(body.mesh, points.points).min() >= 0.003 - 1e-12
+    assert edge_distance(body.mesh, sensors).min() >= 0.005 - 1e-12
+    assert 0 < len(sensors) < len(points)
+
+
+@pytest.fixture(scope="module")
+def bundled_plans():
+    return {name: plan(bundled(name), budget) for name, budget in MINIMAL.items()}
+
+
+@pytest.mark.parametrize("name", list(MINIMAL))
+def test_bundled_plans_are_mountable_and_sliding_gains(bundled_plans, name):
+    p = bundled_plans[name]
+    assert_mountable(bundled(name), p)
+    assert p.sliding.gain > 0 and p.log_det == pytest.approx(p.candidate_log_det + p.sliding.gain)
+    F = fisher(p.model, p.model.coordinates(p.sensors), p.model.coordinates(p.exciters), p.noise)
+    assert log_det(F) == pytest.approx(p.log_det, rel=1e-12)
+    assert p.d_efficiency_lower_bound >= 0.95
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(CAD))
+def test_cad_plans_are_mountable(name):
+    units, budget, options = CAD[name]
+    body = load_body(FIXTURE_MESHES / name, units, density=2700)
+    p = plan(body, budget, options, certify_seconds=5.0)
+    assert_mountable(body, p)
+    assert p.sliding.gain >= 0
+
+
+def test_broken_meshes_are_refused(tmp_path):
+    busted = massline("plan", FIXTURE_MESHES / "busted.STL", "--units", "mm", "--density", "2700", "--out", tmp_path)
+    assert busted.returncode == 2 and "flat" in busted.stderr and "--tip" in busted.stderr
+    soup = massline("plan", FIXTURE_MESHES / "soup.stl", "--units", "m", "--density", "2700", "--out", tmp_path)
+    assert soup.returncode == 2 and "soup" in soup.stderr
+
+
+def test_uniaxial_normals_that_cannot_see_every_motion_are_refused(tmp_path):
+    run = massline("plan", FIXTURE_MESHES / "idler_riser.STL", "--units", "in", "--density", "2700", "--out", tmp_path)
+    assert run.returncode == 2 and "--triaxial" in run.stderr and "--sensor-base" in run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1
+
+
+def test_a_base_larger_than_the_faces_is_refused(tmp_path):
+    run = massline("plan", "plate", "--sensor-base", "150", "--out", tmp_path)
+    assert run.returncode == 2 and "--sensor-base" in run.stderr
+
+
+def test_fixed_sensor_is_snapped_onto_the_surface():
+    body = bundled("structure")
+    fixed = Lines([[0.006, 0.06, 0.1515]], [[0.0, 0.0, 2.0]])  # 1.5 mm above the column's top
+    p = plan(body, Budget(6, 3), fixed_sensors=fixed, certify_seconds=2.0)
+    np.testing.assert_allclose(p.sensors.points[0], [0.006, 0.06, 0.15], atol=1e-12)
+    np.testing.assert_allclose(p.sensors.directions[0], [0.0, 0.0, 1.0])
+    assert p.sensor_nodes[0] == -1 and len(p.sensors) == 7
+
+
+def test_fixed_point_off_the_surface_is_refused_with_its_distance():
+    body = bundled("structure")
+    with pytest.raises(MasslineError, match=r"--fixed-exciter 1 at \(0.08, 0.06, 0.15\) is 68 mm from"):
+        plan(body, Budget(6, 3), fixed_exciters=Lines([[0.08, 0.06, 0.15]], [[0.0, 0.0, 1.0]]))
+
+
+def test_fixed_sensor_in_the_idlers_bore_is_refused(tmp_path):
+    run = massline(
+        "plan", FIXTURE_MESHES / "idler_riser.STL", "--units", "in", "--density", "2700", "--triaxial", "3",
+        "--sensors", "0", "--fixed-sensor", *map(str, IDLER_BORE), "0", "0", "1", "--out", tmp_path,
+    )  # fmt: skip
+    assert run.returncode == 2 and "mm from the body's surface" in run.stderr
+
+
+def test_fixed_sensor_with_no_direction_is_refused(tmp_path):
+    run = massline("plan", "structure", "--fixed-sensor", "0.006", "0.06", "0.15", "0", "0", "0", "--out", tmp_path)
+    assert run.returncode == 2 and "direction" in run.stderr
+
+
+@pytest.mark.slow
+def test_fixed_points_are_in_plan_json_the_table_and_the_simulated_test(tmp_path):
+    out = tmp_path / "plan"
+    run = massline(
+        "plan", "structure", "--out", out, "--fixed-sensor", "0.006", "0.06", "0.151", "0", "0", "1",
+        "--fixed-exciter", "0.16", "0.06", "0.006", "-1", "0", "0",
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert "fixed" in run.stdout and "raised log det F by" in run.stdout
+    doc = json.loads((out / "plan.json").read_text())
+    assert doc["sensors"][0] == {"node": None, "point": [0.006, 0.06, 0.15], "direction": [0.0, 0.0, 1.0],
+                                 "triaxial": None, "fixed": True}  # fmt: skip
+    assert doc["exciters"][0]["fixed"] and "fixed" not in doc["exciters"][1]
+    assert doc["criterion"]["sliding"]["gain"] > 0
+    assert "(fixed)" in (out / "report.html").read_text()
+    uff = tmp_path / "test.uff"
+    assert massline("simulate", out / "plan.json", "--rigid", "--out", uff).returncode == 0
+    recording = to_recording(read_uff(uff))
+    assert recording.frf.shape[:2] == (7, 4)
+    np.testing.assert_allclose(recording.sensors.points[0], [0.006, 0.06, 0.15], atol=1e-6)
+    np.testing.assert_allclose(recording.exciters.points[0], [0.16, 0.06, 0.006], atol=1e-6)
