@@ -28,8 +28,8 @@ from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
-from massline.virtual.suspension import Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.suspension import Cord, Suspension, hung_over
+from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
 
 EXACT = Acquisition(100.0, 200, Noise(0, 0), dc_line=False)
 TRIAXIAL_POINTS = [[0.08, 0.12, 0.05], [0.16, 0.03, 0.1]]
@@ -161,8 +161,11 @@ def test_a_loaded_virtual_test_gives_the_bare_body(loaded_test, grams, seed):
     """14 housings of 10 g (3.5 % of the 4 kg body) or 25 g (8.8 %): --sensor-mass recovers the bare body within
     mass 0.3 %, CoG 1 mm, principal moments 1 %, J_G 1.5 % (Frobenius); without it, the body is the loaded one."""
     body, sensors, exciters, modes, cord, effects, fmax = loaded_test
+    masses, points = accelerometer_masses(sensors, grams / 1e3)
+    loaded_cog = (body.mass * body.cog + masses @ points) / (body.mass + masses.sum())
+    rehung = hung_over(cord, loaded_cog)  # the lab re-hangs the body level with its accelerometers on
     rec, truth = run(
-        body, sensors, exciters, modes, cord, effects, Acquisition(fmax, 2000, sensor_mass=grams / 1e3), seed
+        body, sensors, exciters, modes, rehung, effects, Acquisition(fmax, 2000, sensor_mass=grams / 1e3), seed
     )
     found = identify_recording(rec, None, draws=20, sensor_mass=grams / 1e3)
     assert found.housings.count == len(truth["added_masses"]["mass"]) == 14
