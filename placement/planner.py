@@ -31,22 +31,21 @@ from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import (
     CandidateLines,
     CandidateOptions,
-    CandidatePoints,
     candidate_lines,
     candidate_points,
 )
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
-from massline.placement.diagnosability import UndiagnosableError, diagnosability, of_coordinates
+from massline.placement.diagnosability import UndiagnosableError, of_coordinates
 from massline.placement.errors import MasslineError
 from massline.placement.information import NoiseModel, weighted_sensitivities
 from massline.placement.layout import Budget, Plan, assessed, fixed_nodes
 from massline.placement.lines import Lines
-from massline.placement.mesh import UNITS, BodyMesh
+from massline.placement.mesh import BodyMesh
 from massline.placement.model import RigidModel
-from massline.placement.mountable import Surface, snap
+from massline.placement.mountable import Surface
+from massline.placement.on_surface import slid, snapped
 from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
-from massline.placement.sliding import slide
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
@@ -365,40 +364,6 @@ def plan_on_candidates(
         candidate_log_det=assessment["log_det"],
         **assessment,
     )
-
-
-def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
-    """Fixed lines with their points moved onto the surface (refused when farther than ``mountable.snap`` allows)."""
-    if lines is None:
-        return None
-    return Lines(snap(body.mesh, lines.points, what, UNITS[body.units]), lines.directions, lines.triaxial)
-
-
-def slid(
-    plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions, diagnosable: bool = False
-) -> Plan:
-    """The plan with its points slid on their flat patches by its criterion, among the layouts the planner
-    admits (regular, and diagnosable when asked)."""
-
-    def admitted(sensors: Lines, exciters: Lines) -> bool:
-        return regular(plan.model, sensors, exciters) and (
-            not diagnosable or diagnosability(plan.model, sensors, exciters, plan.noise).diagnosable
-        )
-
-    moved = slide(
-        surface,
-        plan.model,
-        plan.noise,
-        (plan.sensors, plan.exciters),
-        (plan.sensor_nodes, plan.exciter_nodes),
-        points,
-        options,
-        admitted,
-        plan.criterion.value,
-    )
-    assessment = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
-    value = plan.criterion.value(assessment["information"])
-    return replace(plan, sensors=moved.sensors, exciters=moved.exciters, value=value, sliding=moved, **assessment)
 
 
 def plan(
