@@ -179,8 +179,9 @@ def _free_lines(bench: Bench, taken: list, count: int, rng: np.random.Generator)
 
 
 def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band) -> tuple[dict, dict]:
-    """One fault drawn: its truth (name, size, 0-based lines) and what it changes in the test."""
-    low, high = band
+    """One fault drawn: its truth (name, size, 0-based lines) and what it changes in the test. A support or
+    elastic fault is sized against ``band``, or the soft support's planned band where no band holds (foam)."""
+    low, high = band if np.isfinite(band[0]) else bench.planned_band("soft")
     if name == "suspension":
         size = float(rng.uniform(*RANGES[name])) * low
         point = bench.body.cog + rng.uniform(0.01, 0.05) * UP  # a single cord must hang above the CoG
