@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-FLOOR = 0.01  # a massline under this share of the largest is held to the tolerance of this share
+NULL = 1e-9  # a massline this small against the largest is none
 
 
 @dataclass(frozen=True)
@@ -66,8 +66,7 @@ class Band:
 def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
     """max_ij |H_ij(f) − A_ij| / |A_ij| at each frequency: the FRF farthest from its massline, relative.
 
-    A weak FRF (|A_ij| under FLOOR × the largest: a sensor nearly square to all a hit drives, whose massline
-    the noise of any real test swamps) is held to the tolerance of FLOOR × the largest, not of its own.
+    An FRF with no massline (|A_ij| ≤ NULL × the largest: a sensor square to all a hit drives) has none to hold.
 
     Parameters
     ----------
@@ -76,8 +75,9 @@ def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
     massline : (n_s, n_e) array
         The masslines A_ij, (m/s²)/N.
     """
-    size = np.maximum(np.abs(massline), FLOOR * np.abs(massline).max())
-    return np.max(np.abs(frf - massline[..., None]) / size[..., None], axis=(0, 1))
+    size = np.abs(massline)
+    kept = size > NULL * size.max()
+    return np.max(np.abs(frf[kept] - massline[kept][:, None]) / size[kept][:, None], axis=0)
 
 
 def held_band(frequencies: np.ndarray, strays: np.ndarray, tolerance: float) -> tuple[float, float]:
