@@ -11,7 +11,7 @@ diagnosis library drawn from a realistic range (``RANGES``) at a random place:
 * ``every_sensor_mass``: every accelerometer housing weighs 5–30 g (capped at ``LOADING_CAP`` of
   the body's mass in all), the tool being given the bare mesh body;
 * ``suspension``: the body rests on a support much stiffer than planned (its bounce
-  at 0.2–0.4 of the planned band's lower edge), attached at a random point;
+  at 0.2–0.4 of the planned band's lower edge, :func:`placing_band`), attached at a random point;
 * ``residual_flexibility``: the body is softer than its mesh says (a joint, a
   different alloy): its elastic modes at 2–4 × the planned band's upper edge.
 
@@ -208,12 +208,26 @@ def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band)
     return {"size": size, "where": where}, {"effect": Effect(name, size, where)}
 
 
+def placing_band(bench: Bench, band: tuple) -> tuple[float, float]:
+    """The band (Hz) a support or elastic fault is placed against: the test's planned band, the soft support's
+    where the test's support plans none (foam, stiff), or where no FRF run holds at all, 3 × the soft support's
+    top mode to f1 / 3 (the massline's room between them)."""
+    if np.isfinite(band).all():
+        return band
+    soft = bench.planned_band("soft")
+    if np.isfinite(soft).all():
+        return soft
+    model = SuspendedBody(bench.body, bench.modes, support(bench, "soft", np.zeros(0), np.zeros((0, 3))))
+    return 3 * float(model.suspension_frequencies.max()), float(bench.modes.frequencies_hz[0]) / 3
+
+
 def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions):
     band = bench.planned_band(conditions.support)
+    placing = placing_band(bench, band)
     effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
     taken, drawn, changes = [], [], {}
     for name in names:
-        truth, change = _fault(bench, name, rng, taken, band)
+        truth, change = _fault(bench, name, rng, taken, placing)
         drawn.append(
             {
                 "name": name,
