@@ -16,7 +16,6 @@ equations can solve are admitted (rank S = 6, non-singular dynamic systems).
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
@@ -30,9 +29,8 @@ from massline.placement.candidates import (
     candidate_lines,
     candidate_points,
 )
-from massline.placement.certificate import TARGETS, certify
+from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
-from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.errors import MasslineError, SingularLayoutError
 from massline.placement.information import NoiseModel, log_det, weighted_sensitivities
 from massline.placement.lines import Lines
@@ -283,57 +281,6 @@ class Planner:
         return starts
 
 
-def _certify_sides(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float, targets):
-    """Both sides' D bounds at the layout, and the layouts better on one side that the search met."""
-    deadline = time.perf_counter() + seconds
-    sp = planner.sensor_problem(planner.exciter_rows(exciters))
-    ep = planner.exciter_problem(planner.sensor_rows(sensors))
-    U_s, better_s = certify(
-        sp,
-        sensors,
-        relaxation,
-        lambda c: planner.admits(c, exciters),
-        planner.sensor_cover(exciters),
-        seconds / 2,
-        targets,
-    )
-    remaining = max(deadline - time.perf_counter(), 0.0)
-    U_e, better_e = certify(
-        ep, exciters, relaxation, lambda c: planner.admits(sensors, c), planner.exciter_cover, remaining, targets
-    )
-    value = ep.value(exciters)
-    improved = [(sp.value(better_s), better_s, exciters), (ep.value(better_e), sensors, better_e)]
-    return {"sensors": U_s, "exciters": U_e}, [
-        c for c in improved if c[0] > value + 1e-9 and planner.admits(c[1], c[2])
-    ]
-
-
-def _certify_d(planner: Planner, sensors: list, exciters: list, relaxation: str, seconds: float):
-    """Both sides' D bounds (certificate.py). At the first target a better layout the search meets
-    is adopted and both sides certified anew (up to three times); the time left tightens the
-    bounds of the final layout towards the last target. Returns the sensors, exciters and bounds."""
-    deadline = time.perf_counter() + seconds
-    for _ in range(3):
-        remaining = max(deadline - time.perf_counter(), 0.0)
-        bounds, improved = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[:1])
-        if not improved or time.perf_counter() > deadline:
-            break
-        _, sensors, exciters = max(improved, key=lambda c: c[0])
-    if not improved and time.perf_counter() < deadline:
-        remaining = deadline - time.perf_counter()
-        tighter = _certify_sides(planner, sensors, exciters, relaxation, remaining, TARGETS[1:])[0]
-        bounds = {side: min(bounds[side], tighter[side]) for side in bounds}
-    return sensors, exciters, bounds
-
-
-def _certify_criterion(planner: Planner, sensors: list, exciters: list) -> dict:
-    """Both sides' bounds of an A or E plan (criterion_relaxation.py)."""
-    return {
-        "sensors": relax_criterion(planner.sensor_problem(planner.exciter_rows(exciters)), planner.criterion, sensors),
-        "exciters": relax_criterion(planner.exciter_problem(planner.sensor_rows(sensors)), planner.criterion, exciters),
-    }
-
-
 def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, float]:
     """The best alternation over the starts (exciter sets), by the searcher's criterion."""
     best = None
@@ -390,11 +337,11 @@ def plan_on_candidates(
         )
     progress("certifying", 0.85)
     if chosen is D:
-        sensors, exciters, d_bounds = _certify_d(planner, sensors, exciters, relaxation, certify_seconds)
+        sensors, exciters, d_bounds = certify_d(planner, sensors, exciters, relaxation, certify_seconds)
         bounds = d_bounds
     else:
-        d_bounds = _certify_d(planner, sensors, exciters, relaxation, 0.0)[2]
-        bounds = _certify_criterion(
+        d_bounds = certify_d(planner, sensors, exciters, relaxation, 0.0)[2]
+        bounds = certify_criterion(
             Planner(model, sensor_side, exciter_side, budget, noise, *fixed, chosen), sensors, exciters
         )
     S_all, E_all = planner.layout(sensors, exciters)
