@@ -11,10 +11,10 @@ from test_uff_reader import assert_command_refuses
 from massline.identify.diagnose.diagnosis import base_fit
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout
-from massline.identify.diagnose.mass_loading import unit_mass
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.pipeline import identify_recording
+from massline.identify.sensor_mass import point_mass_theta
 from massline.identify.tails import BandData
 from massline.placement.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters
@@ -99,7 +99,7 @@ def test_discrete_screen_names_a_flip_and_a_swap(structure):
 def test_point_mass_vector_is_the_parameters_of_a_point_mass():
     p = np.array([0.1, -0.2, 0.3])
     heavy = RigidBody(2.0, np.zeros(3), np.diag([1.0, 2.0, 3.0]))
-    loaded_theta = heavy.theta + 0.5 * unit_mass(p)
+    loaded_theta = heavy.theta + point_mass_theta(0.5, p)
     m, c = 2.5, 0.5 * p / 2.5
     assert RigidBody.from_theta(loaded_theta).mass == pytest.approx(m)
     np.testing.assert_allclose(RigidBody.from_theta(loaded_theta).cog, c, atol=1e-15)

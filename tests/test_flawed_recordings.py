@@ -150,10 +150,10 @@ def test_the_clean_recording_is_right_and_quiet(bracket, cord_test, tmp_path):
 
 
 def test_short_record(bracket, tmp_path):
-    """An impact test of 400 lines to the analyser's 800 Hz: Δf 2 Hz, the 0.5–2.8 Hz support modes unresolved
-    and broadened by the window (the lab's rule wants 25 600 lines)."""
+    """An impact test of 400 lines to 800 Hz: Δf 2 Hz, the 0.5–2.8 Hz support modes unresolved and broadened by
+    the window (the lab's rule wants 25 600 lines)."""
     body, sensors, exciters, _, cord = bracket
-    setup = Acquisition(lines=400, impact=ImpactTest(response_noise=0.01))
+    setup = Acquisition(800.0, 400, impact=ImpactTest(response_noise=0.01))
     recording, truth = run(body, sensors, exciters, None, cord, TRANSVERSE, setup, 0)
     assert truth["fmax_hz"] == 800.0
     assert_never_silently_wrong(from_file(tmp_path, recording), body, ["too short a record"])

@@ -39,11 +39,6 @@ EVIDENCE = 10.0  # and fit better than any other hypothesis by this much
 SHARED = 1e-3  # m: channels this close share a housing
 
 
-def unit_mass(point: np.ndarray, planar: bool = False) -> np.ndarray:
-    """φ(p): θ of a 1 kg point mass at ``point`` (m), in 3-D or the plate's parameters."""
-    return point_mass_theta(1.0, point, planar)
-
-
 @dataclass(frozen=True, eq=False)
 class MassLoading:
     """The loading found: every housing alike, or one.
@@ -115,7 +110,7 @@ def mass_loading(found: Estimate, sensors: Lines, nominal: RigidBody) -> MassLoa
         return None
     fits = []
     for every, channels, points in hypotheses(sensors):
-        phi = sum(unit_mass(r, planar) for r in points)
+        phi = sum(point_mass_theta(1.0, r, planar) for r in points)  # φ
         weight = float(phi @ information @ phi)
         mass = float(phi @ information @ delta) / weight
         rest = delta - mass * phi
