@@ -43,10 +43,18 @@ def main(seed: int, names) -> None:
                 print(json.dumps({"bench": name, "seed": seed, "fault": fault, "skipped": str(error)}), flush=True)
                 continue
             start = time.perf_counter()
-            found = diagnose_recording(to_recording(read_uff(path)), truth["planned_band_hz"] and tuple(truth["planned_band_hz"]), b.body)
+            found = diagnose_recording(
+                to_recording(read_uff(path)), truth["planned_band_hz"] and tuple(truth["planned_band_hz"]), b.body
+            )
             r = outcome(found, truth, b.body, b.planar)
-            row = {"bench": name, "seed": seed, "fault": fault, "right": r["right"], "named": r["named"],
-                   "seconds": round(time.perf_counter() - start, 1)}
+            row = {
+                "bench": name,
+                "seed": seed,
+                "fault": fault,
+                "right": r["right"],
+                "named": r["named"],
+                "seconds": round(time.perf_counter() - start, 1),
+            }
             print(json.dumps(row), flush=True)
 
 

@@ -155,7 +155,9 @@ class Problem:
         if not self.n_support:
             return 0
         s, e = self.line_vectors(np.zeros((len(self.layout.sensors), 2)), (), ())
-        return int(np.linalg.matrix_rank(np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e).reshape(-1, self.n_support)))
+        return int(
+            np.linalg.matrix_rank(np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e).reshape(-1, self.n_support))
+        )
 
     def support_basis(self) -> np.ndarray:
         """(q, q, n_support): the symmetric unit matrices of X's upper-triangle entries."""
