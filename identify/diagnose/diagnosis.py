@@ -10,11 +10,16 @@ The procedure of the mismatch notes (§6), on the band's spectral lines:
 3. Continuous effects, forward: every block of the library is ranked by its score
    statistic at the current fit, the best few and the two tail laws are refitted in
    full, and the best is kept when (a) BIC drops by more than ``EVIDENCE``, (b) it
-   explains at least ``MATERIAL`` of the noise variance over the band (a law the data
-   show but that changes nothing worth a line is not a finding), and (c) its fitted
+   explains at least ``MATERIAL`` of the noise variance over the band, in the residual
+   or, for an effect, in the masslines it moves (a law the data show but that changes
+   nothing worth a line is not a finding), and (c) its fitted
    values are physically plausible. Effects at the same place whose BIC is within
    ``AMBIGUOUS`` of the best cannot be told apart by the data and are reported with it.
 4. A backward pass drops any effect that the others made redundant.
+5. When the support's tail is found, steps 3–4 again with that tail the rigid body's,
+   s_iᵀ X e_j shared by every FRF (:mod:`massline.identify.tails`): a fault on a line
+   changes it as it changes the massline, so it cannot hide in free per-FRF tails. The
+   model with the lower BIC is kept (per-FRF tails stay for tails no rigid support makes).
 
 Faults come first among the findings, then the test physics (DESIGN.md). The properties before and
 after, and mass loading against a mesh, are identify's on the recording as it came and as corrected

@@ -104,7 +104,7 @@ class Fit:
 
     @property
     def masslines(self) -> np.ndarray:
-        return self.problem.masslines(*self.parts[:2], self.blocks, self.parts[2])
+        return self.problem.predicted(self.x, self.blocks)[..., 0]
 
     @property
     def support_matrix(self) -> np.ndarray | None:

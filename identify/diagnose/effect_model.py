@@ -11,6 +11,10 @@ that is zero in the nominal model:
         f_j = unit(d_j + T_j β_j)          hit direction (C1)
         r_j' = r_j + T_j γ_j               hit point (C2)
 
+On a support of stiffness K the FRFs carry its tail s_iᵀ X e_j/(x − x_s) on the same lines, X = M⁻¹KM⁻¹/ω_mid²
+(:mod:`massline.identify.tails`); when the data's support is *shared*, X (symmetric) is fitted with θ, and
+every effect changes the tail on its line as it changes the massline.
+
 T_i holds two unit vectors ⊥ d_i: what lies along the line is unobservable. Every
 τ_i is estimated under the datasheet's prior (transverse sensitivity, 3 %);
 the ``sensor_direction`` effect widens that prior for one accelerometer to a
@@ -200,12 +204,6 @@ class Problem:
         p, d, _, gain, f, r = self.lines(tau, blocks, values)
         return line_coordinates(p, d * gain[:, None], self.layout.planar), line_coordinates(r, f, self.layout.planar)
 
-    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
-        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
-        s, e = self.line_vectors(tau, blocks, values)
-        M = self.model.mass_matrix(self.model.scale * theta_scaled)
-        return s @ np.linalg.solve(M, e.T)
-
     def predicted(self, x: np.ndarray, blocks) -> np.ndarray:
         """(n_s, n_e, m): the masslines, and when the support is shared its tails s_iᵀ X e_j on the same lines
         (an effect on a line changes both)."""
@@ -262,7 +260,7 @@ class Problem:
     def residual(self, x: np.ndarray, blocks) -> np.ndarray:
         """Weighted residual: L(â − A, b̂ − b)/σ per FRF (√κ(â − A)/σ with per-FRF tails), then the prior rows
         τ/t (t widened where released)."""
-        theta, tau, values = self.unpack(x, blocks)
+        _, tau, _ = self.unpack(x, blocks)
         rows = [self.whitened(self.data.targets - self.predicted(x, blocks)).ravel()]
         if self.n_tau:
             scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
