@@ -11,7 +11,8 @@ diagnosis library drawn from a realistic range (``RANGES``) at a random place:
 * ``every_sensor_mass``: every accelerometer housing weighs 5–30 g (capped at ``LOADING_CAP`` of
   the body's mass in all), the tool being given the bare mesh body;
 * ``suspension``: the body rests on a support much stiffer than planned (its bounce
-  at 0.2–0.4 of the planned band's lower edge), attached at a random point;
+  at 0.2–0.4 of the planned band's lower edge, the soft cord's where the test's support plans
+  none), attached at a random point;
 * ``residual_flexibility``: the body is softer than its mesh says (a joint, a
   different alloy): its elastic modes at 2–4 × the planned band's upper edge.
 
@@ -210,10 +211,11 @@ def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band)
 
 def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions):
     band = bench.planned_band(conditions.support)
+    placing = band if np.isfinite(band).all() else bench.planned_band()  # no band on this support: the soft one's
     effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
     taken, drawn, changes = [], [], {}
     for name in names:
-        truth, change = _fault(bench, name, rng, taken, band)
+        truth, change = _fault(bench, name, rng, taken, placing)
         drawn.append(
             {
                 "name": name,
