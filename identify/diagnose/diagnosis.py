@@ -211,13 +211,18 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
             moved = 0.0 if isinstance(what, str) else massline_change(current, trial, band)
             material = max(explained, moved) > MATERIAL * noise**2 or by_prior
             if gain > EVIDENCE and material and ok:
-                chosen = (trial, what, trial_laws, gain, explained)
+                chosen = (
+                    trial,
+                    what,
+                    trial_laws,
+                    {"delta_bic": gain, "explained": explained, "massline_change": moved},
+                )
                 break
         if chosen is None:
             return current, laws, accepted
-        trial, what, laws, gain, explained = chosen
+        trial, what, laws, evidence = chosen
         alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial, shared)
-        accepted.append((what, {"delta_bic": gain, "explained": explained, "alternatives": alternatives}))
+        accepted.append((what, {**evidence, "alternatives": alternatives}))
         current = trial
 
 
