@@ -210,7 +210,7 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
             by_prior = not isinstance(what, str) and what.effect == "sensor_direction"  # judged by its prior
             moved = 0.0 if isinstance(what, str) else massline_change(current, trial, band)
             material = max(explained, moved) > MATERIAL * noise**2 or by_prior
-            if gain > EVIDENCE and material and ok:
+            if gain > EVIDENCE and material and ok and (isinstance(what, str) or seen_per_frf(current, trial, band)):
                 chosen = (
                     trial,
                     what,
@@ -224,6 +224,17 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
         alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial, shared)
         accepted.append((what, {**evidence, "alternatives": alternatives}))
         current = trial
+
+
+def seen_per_frf(current: Fit, trial: Fit, band: BandData) -> bool:
+    """Whether an effect fitted with the support's tail shared also lowers the BIC by ``EVIDENCE`` with each
+    FRF's own tail: a fault is in the data whatever the tail's form, while what the shared form's small
+    misfits (a support of several modes, the elastic tail's shape) lend an effect is not."""
+    if not current.problem.data.shared:
+        return True
+    laws = current.problem.data.laws
+    without = refit(current, band, laws, current.blocks)
+    return without.bic - refit(trial, band, laws, trial.blocks).bic > EVIDENCE
 
 
 def massline_change(current: Fit, trial: Fit, band: BandData) -> float:
