@@ -92,6 +92,13 @@ class Reduced:
         The tail coefficients at â_ij (of ``tail_columns``).
     poles : dict
         Each admitted law's pole, in x = ω²/ω_mid².
+    free : bool
+        Each FRF's own first- and second-order tails (identify's band fit).
+    support : (n_s, n_e) array or None
+        b̂_ij, the support column's coefficient at the joint minimum, (m/s²)/N: set when the support's tail is
+        shared (left to the model as s_iᵀ X e_j); None when it is projected out per FRF.
+    coupling : (2, 2) array or None
+        K₂, the curvature of every RSS_ij in (A, b) when shared.
     """
 
     massline: np.ndarray
