@@ -1,4 +1,5 @@
-"""The blind suite's stiff-cord fault cases, named right or not: ``python tests/stiff_cases.py SEED [BENCH...]``.
+"""The blind suite's stiff-cord fault cases, named right or not: ``python tests/stiff_cases.py SEED [BENCH...]``
+(``FAULTS=a,b`` only those; ``None`` the clean test).
 
 The virtual tests are cached as UFF files (with their truth) under $STIFF_CACHE (default /tmp/stiff) so that
 two versions of the diagnosis are compared on the same files.
@@ -36,7 +37,10 @@ def main(seed: int, names) -> None:
     for name in names:
         b = bench(name)
         faults = PLANAR_FAULTS if name == "plate" else FAULTS
+        chosen = os.environ.get("FAULTS", "").split(",") if os.environ.get("FAULTS") else None
         for fault in [f for f in faults if f != "suspension"] + [None]:
+            if chosen is not None and str(fault) not in chosen:
+                continue
             try:
                 path, truth = case_file(b, name, fault, seed)
             except ValueError as error:  # no planned band on the stiff cord to place an elastic mode against
