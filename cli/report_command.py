@@ -60,7 +60,7 @@ def planned_bands(doc: dict) -> tuple[list[BandRow], str] | None:
     fe = doc.get("elastic", {})
     note = (
         f"Chosen by the plan: the support whose band is widest where every FRF stays within {100 * band.tolerance:g} "
-        "% of its own massline (the tightest of 1, 2 and 5 % that holds a band an octave wide); `massline simulate` "
+        "% of its massline's scale (the tightest of 1, 2 and 5 % that holds a band an octave wide); `massline simulate` "
         "hangs the body on it and `simulate --check` predicts the same band. Elastic modes of the free body from "
         f"the finite-element model simulate builds ({fe.get('dofs')} DOF, quadratic tetrahedra of "
         f"{1e3 * fe.get('element_size', float('nan')):.1f} mm, E = {fe.get('youngs', float('nan')) / 1e9:.0f} GPa, "
@@ -87,7 +87,7 @@ def predicted_bands(body: BodyMesh, mesh_name: str | None, sensors, exciters, co
             continue
         rows.append(band_row(role, suspension.describe(), band))
     note = (
-        "Every FRF within the tolerance of its own massline. Elastic modes of the free body from a finite-element "
+        "Every FRF within the tolerance of its massline's scale. Elastic modes of the free body from a finite-element "
         f"model (coarse: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm, E = "
         f"{material.youngs / 1e9:.0f} GPa, ν = {material.poisson:g}): "
         + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:3])

@@ -7,7 +7,7 @@ accelerance in g/N (Testlab, ME'scope "Gs/N"), while the geometry comes from CAD
 
 The body hangs on the plan's support (plan.json's ``suspension``; a plan without one: a soft cord above the
 CoG) unless ``--suspension`` gives another. Also the pre-test check: where the massline band lies under the
-support simulated, by the plan's rule (every FRF within the tolerance of its massline), and the plan's
+support simulated, by the plan's rule (every FRF within the tolerance of its massline's scale), and the plan's
 support when it widens the band (``--check`` stops there).
 """
 
@@ -133,7 +133,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
-    table = Table(title="Predicted massline band (every FRF within the tolerance of its own massline)")
+    table = Table(title="Predicted massline band (every FRF within the tolerance of its massline's scale)")
     for col in ("suspension", "top susp. mode (Hz)", "band (Hz)", "every FRF within", "1st elastic (Hz)", "width"):
         table.add_column(col, justify="right")
     for name, band, _ in rows:

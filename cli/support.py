@@ -78,7 +78,7 @@ def planned_band(doc: dict) -> Band | None:
 
 
 def band_phrase(band: Band) -> str:
-    """'15.8–51.8 Hz (every FRF within 5 % of its massline)', or why there is none."""
+    """'15.8–51.8 Hz (every FRF within 5 % of its massline's scale)', or why there is none."""
     if not band.exists:
-        return f"no band (no FRF run stays within {100 * band.tolerance:g} % of its massline)"
-    return f"{band.low:.1f}–{band.high:.1f} Hz (every FRF within {100 * band.tolerance:g} % of its massline)"
+        return f"no band (no FRF run stays within {100 * band.tolerance:g} % of its massline's scale)"
+    return f"{band.low:.1f}–{band.high:.1f} Hz (every FRF within {100 * band.tolerance:g} % of its massline's scale)"

@@ -5,8 +5,12 @@ One type for the band wherever it comes from: predicted before the test from the
 (:func:`massline.identify.band_choice.choose_band`) or given by the engineer (``--band LO HI``).
 
 One rule for a predicted band (:func:`held_band`): the widest run of frequencies where every single FRF
-stays within the tolerance of its own massline, |H_ij(f) − A_ij| ≤ tol·|A_ij| — not the norm of the
-matrix, which lets the weak FRFs stray far while the strong ones hold.
+stays within the tolerance of its massline's scale, |H_ij(f) − A_ij| ≤ tol·s_ij — not the norm of the
+matrix, which lets the weak FRFs stray far while the strong ones hold. The scale s_ij = √(a_i b_j) is the
+geometric mean of the largest massline sensor i reads (a_i, its channel's level, which sets its noise) and
+the largest hit j drives (b_j): a strong FRF is judged against itself, a weak one (a sensor nearly square to
+the motion a hit drives, |A_ij| ≈ 10⁻³ s_ij) against the level its own channel and hit work at, not against
+a near-zero massline that no frequency holds to within a few per cent.
 """
 
 from __future__ import annotations
@@ -15,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NULL = 1e-9  # a massline this small against the largest is none
+NULL = 1e-9  # a scale this small against the largest is none
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,8 @@ class Band:
     rule : str
         How the band was chosen: "predicted", "found" or "given".
     tolerance : float
-        Relative deviation of every FRF from its own massline allowed inside a predicted band (nan otherwise).
+        Deviation of every FRF from its massline allowed inside a predicted band, relative to its scale
+        (:func:`frf_scales`; nan otherwise).
     """
 
     low: float
@@ -63,10 +68,18 @@ class Band:
         return self.ratio > other.ratio
 
 
-def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
-    """max_ij |H_ij(f) − A_ij| / |A_ij| at each frequency: the FRF farthest from its massline, relative.
+def frf_scales(massline: np.ndarray) -> np.ndarray:
+    """s_ij = √(max_l |A_il| · max_k |A_kj|) (n_s, n_e), (m/s²)/N: the level FRF ij is judged on, its sensor's
+    largest massline times its hit's, square-rooted. |A_ij| ≤ s_ij, with equality for the strongest FRF of a
+    row and column."""
+    size = np.abs(massline)
+    return np.sqrt(size.max(axis=1)[:, None] * size.max(axis=0)[None, :])
 
-    An FRF with no massline (|A_ij| ≤ NULL × the largest: a sensor square to all a hit drives) has none to hold.
+
+def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
+    """max_ij |H_ij(f) − A_ij| / s_ij at each frequency: the FRF farthest from its massline, against its scale.
+
+    A sensor or hit with no massline at all (s_ij ≤ NULL × the largest) has none to hold.
 
     Parameters
     ----------
@@ -75,9 +88,9 @@ def stray(frf: np.ndarray, massline: np.ndarray) -> np.ndarray:
     massline : (n_s, n_e) array
         The masslines A_ij, (m/s²)/N.
     """
-    size = np.abs(massline)
-    kept = size > NULL * size.max()
-    return np.max(np.abs(frf[kept] - massline[kept][:, None]) / size[kept][:, None], axis=0)
+    scale = frf_scales(massline)
+    kept = scale > NULL * scale.max()
+    return np.max(np.abs(frf[kept] - massline[kept][:, None]) / scale[kept][:, None], axis=0)
 
 
 def held_band(frequencies: np.ndarray, strays: np.ndarray, tolerance: float) -> tuple[float, float]:

@@ -11,7 +11,7 @@ from test_cli import massline
 
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
-from massline.placement.band import Band, held_band, stray
+from massline.placement.band import Band, frf_scales, held_band, stray
 from massline.placement.masslines import synthesise
 from massline.placement.plan_file import band_from_dict, band_to_dict
 from massline.placement.planner import plan
@@ -29,10 +29,19 @@ def test_held_band_is_the_widest_run_where_every_frf_holds():
     f = np.geomspace(1, 1000, 301)
     A = np.array([[1.0, 0.01]])
     frf = np.broadcast_to(A[:, :, None], (1, 2, len(f))).astype(complex).copy()
-    frf[0, 1] += 0.01 * 0.03 * ((f / 100) ** 2 + (5 / f) ** 2)  # the weak FRF strays most
+    frf[0, 1] += 0.1 * 0.03 * ((f / 100) ** 2 + (5 / f) ** 2)  # the weak FRF strays most against √(1 · 0.01)
     low, high = held_band(f, stray(frf, A), 0.03)
     assert 5 < low < 8 and 60 < high < 100  # (5/f)² + (f/100)² ≤ 1
     assert np.isnan(held_band(f, stray(frf, A), 1e-6)[0])
+
+
+def test_a_weak_frf_is_judged_on_its_sensors_and_hits_level():
+    """s_ij = √(a_i b_j): a near-zero massline between a strong sensor and a strong hit is held to their level;
+    the strongest FRF of its row and column, to itself."""
+    A = np.array([[1.0, 1e-3], [0.5, 2.0]])
+    assert np.allclose(frf_scales(A), [[1.0, np.sqrt(2.0)], [np.sqrt(2.0), 2.0]])
+    frf = A[:, :, None] + np.array([[0.0, 0.02], [0.0, 0.0]])[:, :, None]  # 20× its own massline off
+    assert np.isclose(stray(frf, A)[0], 0.02 / np.sqrt(2.0))
 
 
 def test_the_support_and_band_round_trip_through_plan_json(structure):

@@ -99,7 +99,9 @@ def test_default_plans_are_diagnosable_and_minimal_ones_are_not(name):
     assert p.diagnosability.diagnosable, p.diagnosability.failures
     assert not p.minimal.diagnosability.diagnosable
     assert len(p.exciters) >= 4 and len(p.sensors) >= (5 if p.model.planar else 8)
-    assert p.worst_relative_std <= p.minimal.worst_relative_std  # more lines and hits: no worse
+    assert p.log_det >= p.minimal.log_det  # more lines and hits: more information (D), though its worst
+    # 1-σ may be larger: the bracket's diagnosable 10 × 4 is 1.8 % against the minimal 6 × 3's 1.4 % (the
+    # report states the cost; --criterion E plans for the worst 1-σ)
 
 
 def bench(name: str, plan) -> Bench:

@@ -3,7 +3,7 @@
 Zone B of Appendix A is the band where the accelerance of the suspended, elastic body stays close to the
 free rigid body's massline H₀ = S M_O⁻¹ Wᵀ: above the suspension modes (zone A, error ≈ (f_s/f)²) and below
 the first elastic mode (zone C, error ≈ (f/f_a)²). A band is held when every single FRF stays within the
-tolerance of its own massline (:func:`massline.placement.band.held_band`); a weak FRF (a sensor nearly
+tolerance of its massline's scale (:func:`massline.placement.band.held_band`); a weak FRF (a sensor nearly
 square to the motion a hit drives) strays most, so the tolerance is the tightest of ``TOLERANCES`` at which
 the band is at least ``MIN_RATIO`` wide.
 """
@@ -27,7 +27,8 @@ BISECTIONS = 12  # halvings of a grid step (1.4 % of f) that place each band edg
 
 
 def strays(model: SuspendedBody, sensors: Lines, exciters: Lines, frequencies: np.ndarray) -> np.ndarray:
-    """max_ij |H_ij(f) − A_ij|/|A_ij| at each frequency (Hz): how far the farthest FRF sits from its massline."""
+    """max_ij |H_ij(f) − A_ij|/s_ij at each frequency (Hz): how far the farthest FRF sits from its massline, against
+    its scale (:func:`massline.placement.band.frf_scales`)."""
     H = model.accelerance(frequencies, sensors.points, sensors.directions, exciters.points, exciters.directions)
     return stray(H, synthesise(model.loaded, sensors, exciters).values)  # the accelerometers are weighed too
 
