@@ -19,14 +19,25 @@ lines is then a parabola in its massline,
 
 so a rigid-body model is fitted to the n_s × n_e numbers â_ij with weights
 κ/σ_ij², while every χ², BIC and relative residual still counts each spectral
-line. σ_ij, the noise of one real component of one line, comes from a free
+line.
+
+The support acts on the rigid body, so its tail need not be free per FRF: on a
+support of stiffness K the rigid accelerance is S(M − K/ω²)⁻¹Wᵀ = SM⁻¹Wᵀ +
+S M⁻¹KM⁻¹ Wᵀ/ω² + O(ω⁻⁴), exact with the pole for a support of one spring, so
+b_ij = s_iᵀ X e_j with one symmetric X shared by every FRF. For that *shared*
+form the support column s is kept and only the other tail columns are projected
+out, and each FRF's RSS is a parabola in the pair (A, b),
+
+    RSS_ij(A, b) = rss_ij + [A − â_ij, b − b̂_ij] K₂ [A − â_ij, b − b̂_ij]ᵀ,
+
+with one 2×2 curvature K₂ for every FRF (they share the design). σ_ij, the noise of one real component of one line, comes from a free
 fit of each FRF (massline, B/ω² + B₂/ω⁴, Cω² + Dω⁴ per FRF), whose residual is
 the measurement scatter.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -81,6 +92,13 @@ class Reduced:
         The tail coefficients at â_ij (of ``tail_columns``).
     poles : dict
         Each admitted law's pole, in x = ω²/ω_mid².
+    free : bool
+        Each FRF's own first- and second-order tails (identify's band fit).
+    support : (n_s, n_e) array or None
+        b̂_ij, the support column's coefficient at the joint minimum, (m/s²)/N: set when the support's tail is
+        shared (left to the model as s_iᵀ X e_j); None when it is projected out per FRF.
+    coupling : (2, 2) array or None
+        K₂, the curvature of every RSS_ij in (A, b) when shared.
     """
 
     massline: np.ndarray
@@ -89,23 +107,47 @@ class Reduced:
     tails: np.ndarray
     poles: dict = field(default_factory=dict)
     free: bool = False
+    support: np.ndarray | None = None
+    coupling: np.ndarray | None = None
 
     @property
     def laws(self) -> frozenset:
         return frozenset(TAIL_LAWS) if self.free else frozenset(self.poles)
 
     @property
-    def n_tail_parameters(self) -> int:
-        """Per-FRF coefficients and the shared poles."""
-        return self.tails.shape[2] * self.massline.size + len(self.poles)
+    def shared(self) -> bool:
+        """Whether the support tail is left to the model (b_ij = s_iᵀ X e_j) rather than fitted per FRF."""
+        return self.support is not None
 
-    def rss_at(self, A: np.ndarray) -> np.ndarray:
-        """RSS_ij of every FRF with masslines A (n_s, n_e)."""
-        return self.rss + self.kappa * (A - self.massline) ** 2
+    @property
+    def n_tail_parameters(self) -> int:
+        """Per-FRF coefficients and the shared poles (a shared support's X is the model's)."""
+        return (self.tails.shape[2] - self.shared) * self.massline.size + len(self.poles)
+
+    @property
+    def targets(self) -> np.ndarray:
+        """(n_s, n_e, m): â_ij, and b̂_ij when the support is shared."""
+        return np.stack([self.massline] + ([self.support] if self.shared else []), axis=-1)
+
+    @property
+    def curvature(self) -> np.ndarray:
+        """(m, m): [[κ]], or K₂ of the pair (A, b) when the support is shared, ((m/s²)/N)⁻² per line."""
+        return self.coupling if self.shared else np.array([[self.kappa]])
+
+    @property
+    def whitening(self) -> np.ndarray:
+        """Upper-triangular L with LᵀL = ``curvature``: ‖L d‖² is the RSS a deviation d adds."""
+        return np.linalg.cholesky(self.curvature).T
+
+    def rss_at(self, A: np.ndarray, b: np.ndarray | None = None) -> np.ndarray:
+        """RSS_ij of every FRF with masslines A (n_s, n_e) and, when shared, support tails b."""
+        d = np.stack([A] + ([b] if self.shared else []), axis=-1) - self.targets
+        return self.rss + np.einsum("ija,ab,ijb->ij", d, self.curvature, d)
 
 
 def _project_out(X: np.ndarray, Y: np.ndarray, u: np.ndarray):
-    """(I − QQᵀ) of the unit massline column u and of the data Y (…, 2n), Q spanning X's columns."""
+    """(I − QQᵀ) of the kept columns u (the massline's, (2n,) or (2n, m)) and of the data Y (…, 2n), Q spanning
+    X's columns."""
     if X.shape[1] == 0:
         return u, Y
     Q, _ = np.linalg.qr(X)
@@ -176,6 +218,17 @@ class BandData:
     def at_poles(self, poles: dict) -> Reduced:
         """The reduction with the tails of ``poles`` projected out (one QR shared by all FRFs)."""
         return self._reduce(tail_columns(self.omega, poles), poles)
+
+    def shared_support(self, laws: frozenset) -> Reduced:
+        """The reduction for ``laws`` (with "suspension", at the same poles) keeping the support column s:
+        the other tails projected out, (â, b̂) = K₂⁻¹ [Pu, Ps]ᵀ PY and K₂ = [Pu, Ps]ᵀ[Pu, Ps]."""
+        per_frf = self.reduced(laws)
+        X = tail_columns(self.omega, per_frf.poles)
+        D, PY = _project_out(X[:, 1:], self.values, np.column_stack([self.unit, X[:, 0]]))
+        K2 = D.T @ D
+        ab = np.linalg.solve(K2, (PY @ D)[..., None])[..., 0]
+        rss = np.sum((PY - ab @ D.T) ** 2, axis=2)
+        return replace(per_frf, rss=rss, massline=ab[..., 0], support=ab[..., 1], coupling=K2, kappa=K2[0, 0])
 
     def _reduce(self, X: np.ndarray, poles: dict, free: bool = False) -> Reduced:
         u, PY = _project_out(X, self.values, self.unit)

@@ -8,9 +8,9 @@ from conftest import bundled
 from test_cli import massline
 from test_uff_reader import assert_command_refuses
 
-from massline.identify.diagnose.diagnosis import base_fit
+from massline.identify.diagnose.diagnosis import base_fit, diagnose
 from massline.identify.diagnose.effect_fit import fit
-from massline.identify.diagnose.effect_model import Block, Layout
+from massline.identify.diagnose.effect_model import Block, Layout, line_coordinates
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.pipeline import identify_recording
@@ -20,6 +20,7 @@ from massline.placement.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
+from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
 from massline.uff.reader import read_uff, to_recording
 from massline.uff.writer import write_uff
@@ -211,3 +212,28 @@ def test_screens_without_a_model_locate_a_flipped_channel_and_an_extra_mode(stru
     assert flip["channel_consistency"][4] == pytest.approx(2.0, abs=0.05)  # its reading against the others': −1×
     assert max(clean["channel_consistency"]) < 0.05
     assert np.median(part["seventh_singular_value"]) > 0.01
+
+
+def test_a_gain_cannot_hide_in_a_stiff_support_shared_by_the_rigid_body(structure):
+    """A rigid body on one stiff spring (exact FRFs S'(M − K/ω²)⁻¹Wᵀ, support mode at half the band's lower edge,
+    1e-4 noise) with channel 4 reading 12 % low: named at its channel with the support's tail s_iᵀ X e_j shared
+    by every FRF, and X = M⁻¹KM⁻¹/ω_mid² on the hits' lines (the 1/ω² term, exact with the pole for one spring)."""
+    rng = np.random.default_rng(5)
+    layout = Layout.of(twelve_lines(), structure_exciters(), False)
+    S = line_coordinates(layout.sensors.points, layout.sensors.directions, False)
+    E = line_coordinates(layout.exciters.points, layout.exciters.directions, False)
+    M = RigidModel(structure, False).mass_matrix(structure.theta)
+    cord = line_coordinates((structure.cog + [0.0, 0.0, 0.2])[None], np.array([[0.0, 0.0, 1.0]]), False)[0]
+    K = 2 * np.outer(cord, cord) * (2 * np.pi * 20.0) ** 2 / (cord @ np.linalg.solve(M, cord))
+    f = np.linspace(40.0, 60.0, 200)
+    w = 2 * np.pi * f
+    H = np.einsum("ia,fab,jb->ijf", S, np.linalg.inv(M[None] - K[None] / w[:, None, None] ** 2), E)
+    H[3] *= 0.88
+    H = H * (1 + 1e-4 * (rng.normal(size=H.shape) + 1j * rng.normal(size=H.shape)))
+    found = diagnose(BandData(f, H.astype(complex)), layout)
+    fault = [x for x in found.findings if x.kind == "fault"][0]
+    assert (fault.effect, fault.channels) == ("sensor_gain", (3,))
+    assert fault.parameters["gain"] == pytest.approx(0.88, abs=0.005)
+    assert found.after.problem.data.shared
+    X = np.linalg.solve(M, np.linalg.solve(M, K).T) / (w[0] * w[-1])  # four hits see X on their four lines
+    np.testing.assert_allclose(found.after.support_matrix @ E.T, X @ E.T, atol=1e-3 * np.abs(X @ E.T).max())

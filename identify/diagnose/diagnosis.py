@@ -10,11 +10,16 @@ The procedure of the mismatch notes (§6), on the band's spectral lines:
 3. Continuous effects, forward: every block of the library is ranked by its score
    statistic at the current fit, the best few and the two tail laws are refitted in
    full, and the best is kept when (a) BIC drops by more than ``EVIDENCE``, (b) it
-   explains at least ``MATERIAL`` of the noise variance over the band (a law the data
-   show but that changes nothing worth a line is not a finding), and (c) its fitted
+   explains at least ``MATERIAL`` of the noise variance over the band, in the residual
+   or, for an effect, in the masslines it moves (a law the data show but that changes
+   nothing worth a line is not a finding), and (c) its fitted
    values are physically plausible. Effects at the same place whose BIC is within
    ``AMBIGUOUS`` of the best cannot be told apart by the data and are reported with it.
 4. A backward pass drops any effect that the others made redundant.
+5. When the support's tail is found, steps 3–4 again with that tail the rigid body's,
+   s_iᵀ X e_j shared by every FRF (:mod:`massline.identify.tails`): a fault on a line
+   changes it as it changes the massline, so it cannot hide in free per-FRF tails. The
+   model with the lower BIC is kept (per-FRF tails stay for tails no rigid support makes).
 
 Faults come first among the findings, then the test physics (DESIGN.md). The properties before and
 after, and mass loading against a mesh, are identify's on the recording as it came and as corrected
@@ -88,9 +93,13 @@ def corrected_band(band: BandData, flips, swaps) -> BandData:
     return BandData(band.frequencies, frf)
 
 
-def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float) -> Problem:
-    """The fit problem on ``band`` with the tail ``laws`` (or "free": identify's per-FRF tails)."""
-    data = band.free if laws == "free" else band.reduced(laws)
+def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float, shared=False) -> Problem:
+    """The fit problem on ``band`` with the tail ``laws`` (or "free": identify's per-FRF tails); ``shared``: the
+    support's tail is the rigid body's, s_iᵀ X e_j, on the model's lines (:mod:`massline.identify.tails`)."""
+    if laws == "free":
+        data = band.free
+    else:
+        data = band.shared_support(laws) if shared and "suspension" in laws else band.reduced(laws)
     return Problem(layout, data, band.noise, model, transverse, band.n_values, band.energy)
 
 
@@ -120,10 +129,10 @@ def base_fit(band: BandData, layout: Layout, laws: frozenset, transverse: float)
     return fit(problem_for(band, layout, laws, RigidModel(start, layout.planar), transverse))
 
 
-def refit(current: Fit, band: BandData, laws: frozenset, blocks) -> Fit:
-    """The model with ``laws`` and ``blocks``, started from ``current``."""
-    problem = problem_for(band, current.problem.layout, laws, current.problem.model, current.problem.transverse)
-    return fit(problem, blocks, current)
+def refit(current: Fit, band: BandData, laws: frozenset, blocks, shared: bool = False) -> Fit:
+    """The model with ``laws`` and ``blocks`` (the support's tail ``shared`` or per FRF), started from ``current``."""
+    lay, model, transverse = current.problem.layout, current.problem.model, current.problem.transverse
+    return fit(problem_for(band, lay, laws, model, transverse, shared), blocks, current)
 
 
 def plausible(result: Fit, block: Block) -> bool:
@@ -175,8 +184,9 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
     return tuple(flips), tuple(swaps), corrected_band(band, flips, swaps), current, findings
 
 
-def forward_stage(band: BandData, start: Fit, noise: float) -> tuple[Fit, frozenset, list]:
-    """Add the best-supported continuous effect while it passes evidence, materiality and plausibility."""
+def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tuple[Fit, frozenset, list]:
+    """Add the best-supported continuous effect while it passes evidence, materiality and plausibility (the
+    support's tail ``shared`` or per FRF)."""
     current, laws, accepted = start, frozenset(), []
     energy = float(np.sum(band.energy))
     layout = start.problem.layout
@@ -185,9 +195,9 @@ def forward_stage(band: BandData, start: Fit, noise: float) -> tuple[Fit, frozen
         taken = set(current.blocks)
         scored = [(score(current, b, J) - penalty(current.problem, b), b) for b in layout.candidates()]
         scored = sorted((s for s in scored if s[1] not in taken), key=lambda s: -s[0])[:REFITS]
-        options = [(refit(current, band, laws, current.blocks + (b,)), b, laws) for _, b in scored]
+        options = [(refit(current, band, laws, current.blocks + (b,), shared), b, laws) for _, b in scored]
         options += [
-            (refit(current, band, laws | {law}, current.blocks), law, laws | {law})
+            (refit(current, band, laws | {law}, current.blocks, shared), law, laws | {law})
             for law in TAIL_LAWS
             if law not in laws
         ]
@@ -198,19 +208,44 @@ def forward_stage(band: BandData, start: Fit, noise: float) -> tuple[Fit, frozen
             explained = (np.sum(current.rss) - np.sum(trial.rss)) / energy
             ok = isinstance(what, str) or plausible(trial, what)
             by_prior = not isinstance(what, str) and what.effect == "sensor_direction"  # judged by its prior
-            material = explained > MATERIAL * noise**2 or by_prior
-            if gain > EVIDENCE and material and ok:
-                chosen = (trial, what, trial_laws, gain, explained)
+            moved = 0.0 if isinstance(what, str) else massline_change(current, trial, band)
+            material = max(explained, moved) > MATERIAL * noise**2 or by_prior
+            if gain > EVIDENCE and material and ok and (isinstance(what, str) or seen_per_frf(current, trial, band)):
+                chosen = (
+                    trial,
+                    what,
+                    trial_laws,
+                    {"delta_bic": gain, "explained": explained, "massline_change": moved},
+                )
                 break
         if chosen is None:
             return current, laws, accepted
-        trial, what, laws, gain, explained = chosen
-        alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial)
-        accepted.append((what, {"delta_bic": gain, "explained": explained, "alternatives": alternatives}))
+        trial, what, laws, evidence = chosen
+        alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial, shared)
+        accepted.append((what, {**evidence, "alternatives": alternatives}))
         current = trial
 
 
-def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, best: Fit) -> list[str]:
+def seen_per_frf(current: Fit, trial: Fit, band: BandData) -> bool:
+    """Whether an effect fitted with the support's tail shared also lowers the BIC by ``EVIDENCE`` with each
+    FRF's own tail: a fault is in the data whatever the tail's form, while what the shared form's small
+    misfits (a support of several modes, the elastic tail's shape) lend an effect is not."""
+    if not current.problem.data.shared:
+        return True
+    laws = current.problem.data.laws
+    without = refit(current, band, laws, current.blocks)
+    return without.bic - refit(trial, band, laws, trial.blocks).bic > EVIDENCE
+
+
+def massline_change(current: Fit, trial: Fit, band: BandData) -> float:
+    """How far an effect moves the masslines, as a share of the band's energy: n Σ_ij (ΔA_ij)² / Σ_ij |H_ij|²
+    over the n lines. Tails that are nearly collinear with the massline over a narrow band can mimic most of
+    an effect in the residual; what it changes in the rigid body's lines is its size all the same."""
+    change = len(band.frequencies) * np.sum((trial.masslines - current.masslines) ** 2)
+    return float(change / np.sum(band.energy))
+
+
+def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, best: Fit, shared: bool) -> list[str]:
     """Other effects at the same place (sharing a channel, or the same exciter) that fit within
     ``AMBIGUOUS`` of the chosen one: the data cannot tell them apart."""
     layout = current.problem.layout
@@ -223,13 +258,15 @@ def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, 
     same = [b for b in layout.candidates() if b != chosen and place(b) & place(chosen)]
     close = []
     for b in same:
-        trial = refit(current, band, laws, current.blocks + (b,))
+        trial = refit(current, band, laws, current.blocks + (b,), shared)
         if trial.bic - best.bic < AMBIGUOUS and b.effect != chosen.effect:
             close.append(b.effect)
     return sorted(set(close))
 
 
-def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list) -> tuple[Fit, frozenset, list]:
+def backward_stage(
+    band: BandData, result: Fit, laws: frozenset, accepted: list, shared: bool
+) -> tuple[Fit, frozenset, list]:
     """Drop an accepted effect when the model without it is within ``EVIDENCE`` of the model with it."""
     kept = []
     for what, evidence in accepted:
@@ -237,12 +274,23 @@ def backward_stage(band: BandData, result: Fit, laws: frozenset, accepted: list)
             trial_laws, blocks = laws - {what}, result.blocks
         else:
             trial_laws, blocks = laws, tuple(b for b in result.blocks if b != what)
-        trial = refit(result, band, trial_laws, blocks)
+        trial = refit(result, band, trial_laws, blocks, shared)
         if trial.bic - result.bic < EVIDENCE:
             result, laws = trial, trial_laws
         else:
             kept.append((what, evidence))
     return result, laws, kept
+
+
+def search(band: BandData, start: Fit, noise: float, shared: bool) -> tuple[Fit, frozenset, list]:
+    """The forward then the backward stage, the support's tail ``shared`` (the rigid body's) or per FRF.
+
+    A support acts on the rigid body: its tail s_iᵀ X e_j changes with a fault on line i or j as the massline
+    does, so a fault cannot hide in it as it can in free per-FRF tails; the per-FRF form stays for tails no
+    rigid support makes (``diagnose`` keeps the form with the lower BIC).
+    """
+    result, laws, accepted = forward_stage(band, start, noise, shared)
+    return backward_stage(band, result, laws, accepted, shared)
 
 
 def with_model_form(result: Fit, other: Fit) -> Fit:
@@ -252,7 +300,8 @@ def with_model_form(result: Fit, other: Fit) -> Fit:
     FRF's own first- and second-order tails are the model-free alternative. Where they disagree
     the data cannot choose, and the difference is as much the properties' uncertainty as the noise.
     """
-    delta = (other.x - result.x)[: result.problem.model.p]
+    p = result.problem.model.p
+    delta = other.x[:p] - result.x[:p]
     spread = result.spread.copy()
     spread[: len(delta), : len(delta)] += np.outer(delta, delta)
     return replace(result, spread=spread)
@@ -280,8 +329,10 @@ def diagnose(
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
     flips, swaps, fixed, start, findings = discrete_stage(before, band)
-    result, laws, accepted = forward_stage(fixed, start, noise)
-    result, laws, accepted = backward_stage(fixed, result, laws, accepted)
+    result, laws, accepted = search(fixed, start, noise, shared=False)
+    if "suspension" in laws:
+        rigid = search(fixed, start, noise, shared=True)
+        result, laws, accepted = min((result, laws, accepted), rigid, key=lambda r: r[0].bic)
     findings += [accepted_finding(result, fixed, what, evidence, resonances) for what, evidence in accepted]
     estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)
     if estimation is not None and covers(estimation, band):

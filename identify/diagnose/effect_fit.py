@@ -54,7 +54,7 @@ class Fit:
 
     def block_std(self, block: Block) -> np.ndarray:
         """1-σ of a block's values (empty for a widened axis prior: see ``tau_std``)."""
-        k = self.problem.model.p + self.problem.n_tau
+        k = self.problem.head
         for b in self.blocks:
             n = 0 if b.effect == "sensor_direction" else self.problem.layout.size(b)
             if b == block:
@@ -70,9 +70,10 @@ class Fit:
 
     @property
     def n_parameters(self) -> int:
-        """Free parameters: θ, the effect blocks' and the tails' (widened priors are counted in ``bic``)."""
+        """Free parameters: θ, the effect blocks' and the tails' (a shared support's X among them; widened priors
+        are counted in ``bic``)."""
         lay = self.problem.layout
-        tails = self.problem.data.n_tail_parameters
+        tails = self.problem.data.n_tail_parameters + self.problem.support_rank
         free = [lay.size(b) for b in self.blocks if b.effect != "sensor_direction"]
         return self.problem.model.p + sum(free) + tails
 
@@ -103,12 +104,17 @@ class Fit:
 
     @property
     def masslines(self) -> np.ndarray:
-        return self.problem.masslines(*self.parts[:2], self.blocks, self.parts[2])
+        return self.problem.predicted(self.x, self.blocks)[..., 0]
+
+    @property
+    def support_matrix(self) -> np.ndarray | None:
+        """The shared support's X (None with per-FRF tails)."""
+        return self.problem.support_matrix(self.x) if self.problem.n_support else None
 
     @property
     def rss(self) -> np.ndarray:
-        """RSS_ij over every line of every FRF at the fitted masslines."""
-        return self.problem.data.rss_at(self.masslines)
+        """RSS_ij over every line of every FRF at the fitted masslines (and shared support tails)."""
+        return self.problem.data.rss_at(*np.moveaxis(self.problem.predicted(self.x, self.blocks), -1, 0))
 
 
 def rejected(problem: Problem, blocks: tuple, x0: np.ndarray) -> Fit:

@@ -11,6 +11,10 @@ that is zero in the nominal model:
         f_j = unit(d_j + T_j β_j)          hit direction (C1)
         r_j' = r_j + T_j γ_j               hit point (C2)
 
+On a support of stiffness K the FRFs carry its tail s_iᵀ X e_j/(x − x_s) on the same lines, X = M⁻¹KM⁻¹/ω_mid²
+(:mod:`massline.identify.tails`); when the data's support is *shared*, X (symmetric) is fitted with θ, and
+every effect changes the tail on its line as it changes the massline.
+
 T_i holds two unit vectors ⊥ d_i: what lies along the line is unobservable. Every
 τ_i is estimated under the datasheet's prior (transverse sensitivity, 3 %);
 the ``sensor_direction`` effect widens that prior for one accelerometer to a
@@ -23,6 +27,7 @@ fit weighs every massline by the spectral lines behind it (:mod:`massline.identi
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -137,6 +142,40 @@ class Problem:
         """Transverse components estimated: none for a plate or when the axes are taken as exact."""
         return 0 if self.layout.planar or self.transverse <= 0 else 2 * len(self.layout.sensors)
 
+    @property
+    def n_support(self) -> int:
+        """Entries of the shared support's symmetric X (6×6, a plate's 3×3); none for per-FRF tails."""
+        q = 3 if self.layout.planar else 6
+        return q * (q + 1) // 2 if self.data.shared else 0
+
+    @property
+    def head(self) -> int:
+        """Where the effect blocks' values start in x: after θ̃, τ and X."""
+        return self.model.p + self.n_tau + self.n_support
+
+    @cached_property
+    def support_rank(self) -> int:
+        """X's entries the FRFs determine: s_iᵀ X e_j sees X only on the lines' span (four hits: not all 21)."""
+        if not self.n_support:
+            return 0
+        s, e = self.line_vectors(np.zeros((len(self.layout.sensors), 2)), (), ())
+        return int(
+            np.linalg.matrix_rank(np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e).reshape(-1, self.n_support))
+        )
+
+    def support_basis(self) -> np.ndarray:
+        """(q, q, n_support): the symmetric unit matrices of X's upper-triangle entries."""
+        q = 3 if self.layout.planar else 6
+        rows, cols = np.triu_indices(q)
+        basis = np.zeros((q, q, len(rows)))
+        basis[rows, cols, np.arange(len(rows))] = 1.0
+        basis[cols, rows, np.arange(len(rows))] = 1.0
+        return basis
+
+    def support_matrix(self, x: np.ndarray) -> np.ndarray:
+        """X (q, q): the support's tail b_ij = s_iᵀ X e_j, M⁻¹KM⁻¹/ω_mid² for a support of stiffness K, kg⁻²·N/m."""
+        return self.support_basis() @ x[self.model.p + self.n_tau : self.head]
+
     def lines(self, tau: np.ndarray, blocks, values):
         """The lines as measured: sensor points, unit axes, their norms before normalising, gains; hit
         directions and points."""
@@ -160,16 +199,26 @@ class Problem:
                 r[j] += U[j] @ v
         return p, d, norm, gain, f, r
 
-    def masslines(self, theta_scaled: np.ndarray, tau: np.ndarray, blocks, values) -> np.ndarray:
-        """Predicted masslines (n_s, n_e) at scaled parameters, transverse readings and effect values."""
+    def line_vectors(self, tau: np.ndarray, blocks, values) -> tuple[np.ndarray, np.ndarray]:
+        """The sensors' line coordinates with their gains (n_s, q) and the hits' (n_e, q), as measured."""
         p, d, _, gain, f, r = self.lines(tau, blocks, values)
-        s = line_coordinates(p, d * gain[:, None], self.layout.planar)
-        e = line_coordinates(r, f, self.layout.planar)
-        M = self.model.mass_matrix(self.model.scale * theta_scaled)
-        return s @ np.linalg.solve(M, e.T)
+        return line_coordinates(p, d * gain[:, None], self.layout.planar), line_coordinates(r, f, self.layout.planar)
+
+    def predicted(self, x: np.ndarray, blocks) -> np.ndarray:
+        """(n_s, n_e, m): the masslines, and when the support is shared its tails s_iᵀ X e_j on the same lines
+        (an effect on a line changes both)."""
+        theta, tau, values = self.unpack(x, blocks)
+        s, e = self.line_vectors(tau, blocks, values)
+        A = s @ np.linalg.solve(self.model.mass_matrix(self.model.scale * theta), e.T)
+        return np.stack([A] + ([s @ self.support_matrix(x) @ e.T] if self.n_support else []), axis=-1)
+
+    def whitened(self, deviation: np.ndarray) -> np.ndarray:
+        """L d / σ_ij of deviations d (n_s, n_e, m, …) from the targets: rows of the weighted residual."""
+        rows = np.einsum("ab,ijb...->ija...", self.data.whitening, deviation)
+        return rows / self.sigma.reshape(self.sigma.shape + (1,) * (deviation.ndim - 2))
 
     def jacobian(self, x: np.ndarray, blocks) -> np.ndarray:
-        """∂r/∂x: analytic in θ̃ (∂M⁻¹ = −M⁻¹ B_k M⁻¹) and τ (∂d'/∂τ = (I − d'd'ᵀ) T / ‖d + Tτ‖),
+        """∂r/∂x: analytic in θ̃ (∂M⁻¹ = −M⁻¹ B_k M⁻¹), τ (∂d'/∂τ = (I − d'd'ᵀ) T / ‖d + Tτ‖) and X (linear),
         central differences in the few effect values."""
         theta, tau, values = self.unpack(x, blocks)
         p, d, norm, gain, f, r = self.lines(tau, blocks, values)
@@ -177,23 +226,27 @@ class Problem:
         e = line_coordinates(r, f, self.layout.planar)
         M_inv = np.linalg.inv(self.model.mass_matrix(self.model.scale * theta))
         U, V = s @ M_inv, e @ M_inv
-        w = np.sqrt(self.data.kappa) / self.sigma
-        n_s, n_e = w.shape
-        columns = [(np.einsum("ia,kab,jb->ijk", U, self.model.basis, V) * w[..., None]).reshape(n_s * n_e, -1)]
+        n_s, n_e = len(s), len(e)
+        m = 2 if self.n_support else 1
+        dP = np.zeros((n_s, n_e, m, self.head))
+        dP[:, :, 0, : self.model.p] = -np.einsum("ia,kab,jb->ijk", U, self.model.basis, V)
         if self.n_tau:
             projector = np.eye(3) - np.einsum("na,nb->nab", d, d)
             delta = np.einsum("nab,nbc->nac", projector, self.layout.sensor_bases) / norm[:, None, None]
             ds = gain[:, None, None] * np.concatenate([delta, np.cross(p[:, :, None], delta, axis=1)], axis=1)
-            dH = np.einsum("iac,ja->ijc", ds, V)
-            J_tau = np.zeros((n_s, n_e, n_s, 2))
-            J_tau[np.arange(n_s), :, np.arange(n_s)] = -dH * w[..., None]
-            columns.append(J_tau.reshape(n_s * n_e, -1))
-        J = np.hstack(columns)
+            W = np.stack([V] + ([e @ self.support_matrix(x)] if self.n_support else []))  # ∂(A, b)/∂s_i
+            tau_columns = self.model.p + 2 * np.arange(n_s)
+            for c in range(2):
+                dP[np.arange(n_s), :, :, tau_columns + c] = np.einsum("ia,mja->ijm", ds[:, :, c], W)
+        if self.n_support:
+            dP[:, :, 1, self.model.p + self.n_tau :] = np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e)
+        J = -self.whitened(dP).reshape(-1, self.head)
         if self.n_tau:
             scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
-            prior = np.hstack([np.zeros((self.n_tau, self.model.p)), np.diag(np.repeat(1 / scale, 2))])
+            prior = np.zeros((self.n_tau, self.head))
+            prior[:, self.model.p : self.model.p + self.n_tau] = np.diag(np.repeat(1 / scale, 2))
             J = np.vstack([J, prior])
-        extra = range(self.model.p + self.n_tau, len(x))
+        extra = range(self.head, len(x))
         return np.hstack([J, jacobian(self, x, blocks, extra)]) if len(extra) else J
 
     def released(self, blocks) -> np.ndarray:
@@ -205,10 +258,10 @@ class Problem:
         return mask
 
     def residual(self, x: np.ndarray, blocks) -> np.ndarray:
-        """Weighted residual: masslines (â − H)√κ/σ, then the prior rows τ/t (t widened where released)."""
-        theta, tau, values = self.unpack(x, blocks)
-        H = self.masslines(theta, tau, blocks, values)
-        rows = [((self.data.massline - H) * np.sqrt(self.data.kappa) / self.sigma).ravel()]
+        """Weighted residual: L(â − A, b̂ − b)/σ per FRF (√κ(â − A)/σ with per-FRF tails), then the prior rows
+        τ/t (t widened where released)."""
+        _, tau, _ = self.unpack(x, blocks)
+        rows = [self.whitened(self.data.targets - self.predicted(x, blocks)).ravel()]
         if self.n_tau:
             scale = np.where(self.released(blocks), MISALIGNMENT, self.transverse)
             rows.append((tau / scale[:, None]).ravel())
@@ -217,7 +270,7 @@ class Problem:
     def unpack(self, x: np.ndarray, blocks):
         p, n_tau = self.model.p, self.n_tau
         tau = x[p : p + n_tau].reshape(-1, 2)
-        values, k = [], p + n_tau
+        values, k = [], self.head
         for block in blocks:
             n = 0 if block.effect == "sensor_direction" else self.layout.size(block)
             values.append(x[k : k + n])
@@ -225,7 +278,8 @@ class Problem:
         return x[:p], tau, values
 
     def start(self, previous, blocks) -> np.ndarray:
-        """Parameters to start from: the previous fit's where it had them, zeros for new blocks.
+        """Parameters to start from: the previous fit's where it had them, zeros for new blocks, and a shared
+        support's X the previous fit's or the least-squares one of the b̂_ij on the lines.
 
         ``previous``: an earlier fit of this problem (its ``parts`` and ``blocks``), or None.
         """
@@ -235,7 +289,20 @@ class Problem:
             theta, tau, values = previous.parts
             old = dict(zip(previous.blocks, values))
         sizes = [0 if b.effect == "sensor_direction" else self.layout.size(b) for b in blocks]
-        return np.concatenate([theta, np.ravel(tau), *(old.get(b, np.zeros(n)) for b, n in zip(blocks, sizes))])
+        values = [old.get(b, np.zeros(n)) for b, n in zip(blocks, sizes)]
+        if not self.n_support:
+            X = np.zeros(0)
+        elif previous is not None and previous.problem.n_support == self.n_support:
+            X = previous.x[previous.problem.model.p + previous.problem.n_tau : previous.problem.head]
+        else:
+            X = self.support_fit(tau.reshape(-1, 2), blocks, values)
+        return np.concatenate([theta, np.ravel(tau), X, *values])
+
+    def support_fit(self, tau: np.ndarray, blocks, values) -> np.ndarray:
+        """X's entries that best give the b̂_ij on the lines (weighted least squares: linear in X)."""
+        s, e = self.line_vectors(tau, blocks, values)
+        design = np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e) / self.sigma[..., None]
+        return np.linalg.lstsq(design.reshape(-1, self.n_support), (self.data.support / self.sigma).ravel())[0]
 
 
 def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:

@@ -62,6 +62,8 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonanc
             "tail_max": float(size.max()),
             "mode_hz": None if not np.isfinite(mode) else float(mode),
         }
+        if what == "suspension":  # its tail the rigid body's, s_iᵀ X e_j on every FRF, or each FRF's own
+            evidence = {**evidence, "tail": "rigid_body" if result.problem.data.shared else "per_frf"}
         return Finding(what, (), None, parameters, evidence)
     layout = result.problem.layout
     theta, tau, values = result.parts

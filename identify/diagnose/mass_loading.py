@@ -6,7 +6,8 @@ A point mass m at p adds m φ(p) to the parameters θ = (m, m c, J_O), with
 
 or, on a plate, to its six θ_p = (m, m c_x, m c_y, J_xx, J_yy, J_xy) about O (§2.3) the same entries of φ(p).
 
-Given the difference Δθ = θ̂ − θ_mesh of identify's estimate and its covariance C, two kinds of loading
+Given the difference Δθ = θ̂ − θ_mesh of identify's estimate (or the diagnosis's, ``weighed``) and its
+covariance C, two kinds of loading
 are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀC⁻¹Δθ / φᵀC⁻¹φ, with
 χ² = ‖Δθ − m̂ φ‖²_C⁻¹ saying how well it explains the difference:
 
@@ -88,6 +89,15 @@ def si_covariance(found: Estimate) -> np.ndarray:
     return found.covariance * np.outer(found.model.scale, found.model.scale)
 
 
+def weighed(found: Estimate, fit) -> tuple[np.ndarray, np.ndarray, bool]:
+    """θ̂ (SI), its covariance and ``planar`` to weigh a loading on: identify's, or the diagnosis's final ``fit``
+    when its support's tail is the rigid body's (shared by every FRF: on a stiff support's narrow band identify's
+    per-FRF tails leave θ loose and the shared support pins it)."""
+    if fit is not None and fit.problem.data.shared and fit.body is not None:
+        return fit.theta, fit.covariance, fit.problem.layout.planar
+    return found.model.theta, si_covariance(found), found.model.planar
+
+
 def hypotheses(sensors: Lines) -> list[tuple[bool, tuple, np.ndarray]]:
     """(every, channels, housing points) of each loading weighed: every housing, then each one."""
     points = housing_points(sensors, SHARED)
@@ -97,11 +107,12 @@ def hypotheses(sensors: Lines) -> list[tuple[bool, tuple, np.ndarray]]:
     return ([(True, (), points)] if len(points) > 1 else []) + single
 
 
-def mass_loading(found: Estimate, sensors: Lines, nominal: RigidBody) -> MassLoading | None:
-    """The loading that best explains identify's θ̂ − θ_mesh, when the evidence says one does."""
-    planar = found.model.planar
-    delta = found.model.theta - RigidModel(nominal, planar).theta
-    covariance, p = si_covariance(found), len(delta)
+def mass_loading(
+    theta: np.ndarray, covariance: np.ndarray, planar: bool, sensors: Lines, nominal: RigidBody
+) -> MassLoading | None:
+    """The loading that best explains θ̂ − θ_mesh (θ̂ SI with its ``covariance``), when the evidence says one does."""
+    delta = theta - RigidModel(nominal, planar).theta
+    p = len(delta)
     if not (np.isfinite(delta).all() and np.isfinite(covariance).all()):
         return None
     information = np.linalg.pinv(covariance)

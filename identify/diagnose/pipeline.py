@@ -22,7 +22,7 @@ from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.finding import faults_first, finding_payload
-from massline.identify.diagnose.mass_loading import MassLoading, mass_loading
+from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import Identification, identify_recording, is_planar, properties_payload, usable_lines
@@ -213,7 +213,10 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     }
     result = diagnose(data, layout, transverse, wide, resonances)
     after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
-    loading = None if nominal is None or after is None else mass_loading(after.best, recording.sensors, nominal)
+    if nominal is None or after is None:
+        loading = None
+    else:
+        loading = mass_loading(*weighed(after.best, result.after), recording.sensors, nominal)
     if loading is not None:
         findings = faults_first(findings + [loading.finding()])
     return DiagnosisRun(
