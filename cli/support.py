@@ -10,6 +10,7 @@ from __future__ import annotations
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
+from massline.fe_cache import cached_modes
 from massline.meshargs import plan_material
 from massline.placement.band import Band
 from massline.placement.mesh import BodyMesh
@@ -18,28 +19,36 @@ from massline.virtual.band import choose_support, support_candidates
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
+from massline.virtual.tetmesh import default_size
 
 MODES = 20  # elastic modes of the FE model (simulate's default --modes)
 
 
 def elastic_modes(body: BodyMesh, material: Material, size: float | None, n: int, console: Console):
-    """FE model of the body and its n lowest elastic modes, with a progress bar over the stages."""
-    with Progress(
-        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
-    ) as bar:
-        task = bar.add_task("meshing", total=4)
-        stages = iter(range(4))
+    """FE model of the body and its n lowest elastic modes, with a progress bar over the stages; kept in the
+    cache folder and read back from it by the next command on the same model (:mod:`massline.fe_cache`)."""
+    size = default_size(body.mesh) if size is None else float(size)
 
-        def progress(stage: str) -> None:
-            bar.update(task, completed=next(stages), description=stage)
+    def solve():
+        with Progress(
+            TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+        ) as bar:
+            task = bar.add_task("meshing", total=4)
+            stages = iter(range(4))
 
-        fe = ElasticBody.from_mesh(body.mesh, material, size, body.name, progress)
-        modes = fe.modes(n, progress)
-        bar.update(task, completed=4)
+            def progress(stage: str) -> None:
+                bar.update(task, completed=next(stages), description=stage)
+
+            modes = ElasticBody.from_mesh(body.mesh, material, size, body.name, progress).modes(n, progress)
+            bar.update(task, completed=4)
+        return modes
+
+    modes, kept = cached_modes(body.mesh, material, size, n, solve)
     console.print(
-        f"FE model: {fe.n_dofs} DOF, quadratic tetrahedra of {fe.element_size * 1e3:.1f} mm; elastic modes "
+        f"FE model: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm; elastic modes "
         + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
         + " … Hz"
+        + (" (kept from an earlier run)" if kept else "")
     )
     return modes
 

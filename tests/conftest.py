@@ -1,5 +1,7 @@
 """Shared bodies and paths for the tests."""
 
+import os
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -9,6 +11,11 @@ from massline.placement.mesh import load_body
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 FIXTURE_MESHES = SHARED / "fixtures" / "meshes"
+
+
+def pytest_configure(config):
+    """One FE-model cache for the session, shared by its workers and the commands they run (never the user's)."""
+    os.environ.setdefault("MASSLINE_CACHE", tempfile.mkdtemp(prefix="massline-fe-"))
 
 
 def bundled(name: str):
