@@ -1,6 +1,7 @@
 """Shared bodies and paths for the tests."""
 
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -14,8 +15,15 @@ FIXTURE_MESHES = SHARED / "fixtures" / "meshes"
 
 
 def pytest_configure(config):
-    """One FE-model cache for the session, shared by its workers and the commands they run (never the user's)."""
-    os.environ.setdefault("MASSLINE_CACHE", tempfile.mkdtemp(prefix="massline-fe-"))
+    """One FE-model cache for the session, shared by its workers and the commands they run (never the user's);
+    the process that made it (xdist's controller, whose environment the workers inherit) removes it at the end."""
+    if "MASSLINE_CACHE" not in os.environ:
+        os.environ["MASSLINE_CACHE"] = config._massline_cache = tempfile.mkdtemp(prefix="massline-fe-")
+
+
+def pytest_unconfigure(config):
+    if getattr(config, "_massline_cache", None):
+        shutil.rmtree(config._massline_cache, ignore_errors=True)
 
 
 def bundled(name: str):
