@@ -237,3 +237,14 @@ def test_a_gain_cannot_hide_in_a_stiff_support_shared_by_the_rigid_body(structur
     assert found.after.problem.data.shared
     X = np.linalg.solve(M, np.linalg.solve(M, K).T) / (w[0] * w[-1])  # four hits see X on their four lines
     np.testing.assert_allclose(found.after.support_matrix @ E.T, X @ E.T, atol=1e-3 * np.abs(X @ E.T).max())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_plate_sensor_off_its_label_is_not_taken_for_a_swap(tmp_path, seed):
+    """The blind plate's sensor moved on its face: a swap with a neighbour halves the misfit, but the moved
+    accelerometer explains it better, and is named (both seeds were named channel_swap before)."""
+    from test_diagnose_blind import CYCLE, bench, blind_case
+
+    row = blind_case(bench("plate"), "sensor_location", seed, CYCLE[seed], tmp_path)
+    assert row["right"] and "channel_swap" not in row["named"], row["named"]

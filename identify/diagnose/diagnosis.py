@@ -174,6 +174,11 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
             trial_swaps = swaps + ([channels] if effect == "channel_swap" else [])
             trial = base_fit(corrected_band(band, trial_flips, trial_swaps), layout, laws, transverse)
             gain = current.bic - (trial.bic + np.log(current.problem.n_values))
+            swapped_bic = trial.bic + np.log(current.problem.n_values)
+            if effect == "channel_swap" and moved_instead(
+                current, corrected_band(band, flips, swaps), channels, swapped_bic
+            ):
+                continue
             if gain > EVIDENCE and (best is None or gain > best[0]):
                 best = (gain, effect, channels, trial, trial_flips, trial_swaps)
         if best is None:
@@ -182,6 +187,17 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
         evidence = {"delta_bic": gain, "loco_misfit": float(channel_consistency(A, S)[list(channels)].max())}
         findings.append(Finding(effect, tuple(channels), None, {}, evidence))
     return tuple(flips), tuple(swaps), corrected_band(band, flips, swaps), current, findings
+
+
+def moved_instead(current: Fit, band: BandData, channels, bic: float) -> bool:
+    """Whether one of two channels' accelerometers, moved on its face, explains the data at least as well as
+    swapping the two (BIC ``bic`` with the swap's cost): a sensor placed off its label leaves a misfit a swap
+    with a neighbour can halve, but only a swap makes the two rows exact."""
+    layout = current.problem.layout
+    moved = [
+        b for b in layout.candidates() if b.effect == "sensor_location" and set(layout.channels(b)) & set(channels)
+    ]
+    return any(refit(current, band, frozenset(), current.blocks + (b,)).bic <= bic for b in moved)
 
 
 def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tuple[Fit, frozenset, list]:
