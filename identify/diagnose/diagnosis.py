@@ -49,7 +49,7 @@ EVIDENCE = 10.0  # ΔBIC that counts as very strong evidence (Kass & Raftery 199
 MATERIAL = 0.1  # share of the noise variance an effect must explain to be worth a finding
 AMBIGUOUS = 6.0  # effects at one place within this ΔBIC of the best are reported together
 REFITS = 3  # score-ranked candidates refitted in full at each step (and the best tilt)
-MOST_EFFECTS = 4  # effects one search adds at most: beyond, the tails' misfit is being fitted, not faults
+MOST_EFFECTS = 4  # a search adding this many effects is fitting the tails' misfit, not faults
 PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of the rigid-subspace misfit
 
 
@@ -208,9 +208,10 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
     The ``REFITS`` best-scored candidates are refitted with the tail laws, and the best-scored tilt whose
     score beats ``EVIDENCE``: a tilt is judged by its prior, and its score ranks below effects whose
     linearised scores a misfit of the tails inflates and whose full refits then fail (the blind structure's
-    8–11° tilts ranked 12th and 20th). The search stops at ``MOST_EFFECTS`` effects: a misfit no fault
-    explains (a stiff cord's tail beside residual flexibility) otherwise lets one spurious effect after
-    another pass, each refit slower, for minutes."""
+    8–11° tilts ranked 12th and 20th). A search that has added ``MOST_EFFECTS`` effects is fitting a misfit
+    no fault explains (a stiff cord's tail beside residual flexibility: one spurious effect after another
+    passed, for minutes, and moved the properties 13σ from identify's): its effects are dropped and only the
+    tails it accepted are kept."""
     current, laws, accepted = start, frozenset(), []
     layout = start.problem.layout
     while len(current.blocks) < MOST_EFFECTS:
@@ -234,7 +235,8 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
         alternatives = [] if isinstance(what, str) else _alternatives(current, band, laws, what, trial, shared)
         accepted.append((what, {**evidence, "alternatives": alternatives}))
         current = trial
-    return current, laws, accepted
+    tails = [(what, evidence) for what, evidence in accepted if isinstance(what, str)]
+    return refit(current, band, laws, (), shared), laws, tails
 
 
 def first_accepted(current: Fit, options: list, band: BandData, noise: float) -> tuple | None:
