@@ -248,3 +248,17 @@ def test_a_plate_sensor_off_its_label_is_not_taken_for_a_swap(tmp_path, seed):
 
     row = blind_case(bench("plate"), "sensor_location", seed, CYCLE[seed], tmp_path)
     assert row["right"] and "channel_swap" not in row["named"], row["named"]
+
+
+def test_the_fits_covariance_survives_columns_of_every_scale():
+    """(JᵀJ)⁻¹ for columns scaled from 1e-6 to 1e8 (θ̃ beside a stiff support's X): positive, and the inverse
+    of the well-conditioned unscaled problem scaled back, where forming JᵀJ loses it."""
+    from massline.identify.diagnose.effect_fit import unscaled_covariance
+
+    rng = np.random.default_rng(2)
+    J0 = rng.normal(size=(400, 12))
+    scales = np.logspace(-6, 8, 12)
+    covariance = unscaled_covariance(J0 * scales)
+    expected = np.linalg.inv(J0.T @ J0) / np.outer(scales, scales)
+    np.testing.assert_allclose(covariance, expected, rtol=1e-8)
+    assert (np.diag(covariance) > 0).all()

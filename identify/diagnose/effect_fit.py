@@ -17,6 +17,7 @@ from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem
 from massline.placement.errors import MasslineError
 
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
+RCOND = 1e-10  # singular values of the column-scaled Jacobian below this share of the largest: unidentified
 
 
 def is_body(body) -> bool:
@@ -123,6 +124,21 @@ def rejected(problem: Problem, blocks: tuple, x0: np.ndarray) -> Fit:
     return Fit(problem, blocks, x0, np.inf, np.full((len(x0),) * 2, np.nan))
 
 
+def unscaled_covariance(jac: np.ndarray) -> np.ndarray:
+    """(JᵀJ)⁺ through the SVD of J with its columns scaled to unit norm.
+
+    The columns (θ̃, the transverse τ, a shared support's X in kg⁻²·N/m, the effects) differ in scale by many
+    orders: JᵀJ formed and inverted directly lost θ's small directions to rounding (negative variances, a
+    4 kg body's mass "± 0.25 mg"). Directions with a singular value below ``RCOND`` of the largest are
+    left out (unidentified, as a pseudo-inverse leaves them).
+    """
+    norms = np.linalg.norm(jac, axis=0)
+    norms[norms == 0] = 1.0
+    _, s, vt = np.linalg.svd(jac / norms, full_matrices=False)
+    keep = s > RCOND * s[0]
+    return ((vt[keep].T / s[keep] ** 2) @ vt[keep]) / np.outer(norms, norms)
+
+
 def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
     """Least squares of the masslines with ``blocks`` (Levenberg–Marquardt); a failed solve is ``rejected``."""
     blocks = tuple(blocks)
@@ -143,7 +159,7 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
                 ftol=1e-10,
                 max_nfev=MAX_EVALUATIONS,
             )
-        spread = np.linalg.pinv(result.jac.T @ result.jac)
+        spread = unscaled_covariance(result.jac)
     except (ValueError, np.linalg.LinAlgError):  # non-finite steps, an SVD that does not converge
         return rejected(problem, blocks, x0)
     if not (np.isfinite(result.x).all() and np.isfinite(result.cost)):
