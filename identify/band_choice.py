@@ -31,7 +31,6 @@ from massline.identify.massline_fit import (
     solve,
     truncation_shift,
 )
-from massline.identify.resonances import rigid_shaped
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
@@ -39,8 +38,10 @@ from massline.placement.lines import Lines
 from massline.placement.masslines import Masslines
 from massline.placement.methods import starting_body
 from massline.placement.model import RigidModel
+from massline.placement.plate import plate_coordinates
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
+RIGID_SHAPE = 0.2  # a mode shape at the sensors this close to a rigid motion is a support mode
 GAPS = 3  # flat gaps tried, from the widest up the axis, before the fallback
 MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
 
@@ -140,14 +141,17 @@ def closed_by_support(frequencies, frf, free: Band, sensors: Lines, planar: bool
     of the sensor lines' coordinates (n_s × q), an elastic mode mostly outside it. It can only tell with
     more sensor lines than q.
     """
+    S = plate_coordinates(sensors) if planar else sensors.coordinates
     near = np.flatnonzero((frequencies >= free.high) & (frequencies <= 1.5 * free.high))
-    if not np.isfinite(free.high) or not len(near):
+    if not np.isfinite(free.high) or len(sensors) <= S.shape[1] or not len(near):
         return False
     peak = near[np.argmax(np.linalg.norm(frf[:, :, near].imag, axis=(0, 1)))]
     middle = np.argmin(np.abs(frequencies - np.sqrt(free.low * free.high)))
     if np.linalg.norm(frf[:, :, peak].imag) < np.linalg.norm(frf[:, :, middle].real):
         return False
-    return bool(rigid_shaped(frf[:, :, peak], sensors, planar))
+    shape = np.linalg.svd(frf[:, :, peak].imag)[0][:, 0]
+    Q, _ = np.linalg.qr(S)
+    return bool(np.linalg.norm(shape - Q @ (Q.T @ shape)) < RIGID_SHAPE)
 
 
 def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:

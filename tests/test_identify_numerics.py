@@ -182,30 +182,3 @@ def test_candidate_edges_with_no_line_between_them(noisy):
     for pair in pairs:
         values, _ = lstsq_fit(f, H, *pair, weights)
         np.testing.assert_allclose(solve(sums[pair]).real[:, 0], values.ravel(), rtol=1e-9)
-
-
-def test_a_support_mode_above_the_band_is_not_taken_for_the_first_elastic_mode():
-    """On a stiff support the band can lie between support modes: the peak just above it moves the body
-    rigidly (its shape at the sensors in the span of the lines' coordinates) and is the top support mode;
-    the first elastic mode is the next, whose shape is not rigid."""
-    from massline.identify.resonances import first_elastic, rigid_shaped, support_top
-    from massline.placement.band import Band
-    from massline.placement.lines import Lines
-
-    rng = np.random.default_rng(4)
-    sensors = Lines(rng.uniform(-0.1, 0.1, (9, 3)), rng.normal(size=(9, 3)))
-    f = np.linspace(1.0, 600.0, 6000)
-    A = rng.normal(size=(9, 4))
-    frf = np.broadcast_to(A[:, :, None], (9, 4, len(f))).astype(complex).copy()
-    rigid = sensors.coordinates @ rng.normal(size=6)
-    elastic = rng.normal(size=9)
-    for shape, f_r in ((sensors.coordinates @ rng.normal(size=6), 12.0), (rigid, 200.0), (elastic, 426.0)):
-        shape = shape / np.linalg.norm(shape)
-        frf += (
-            30 * shape[:, None, None] * rng.normal(size=4)[None, :, None] * f_r**2 / (f_r**2 - f**2 + 0.04j * f_r * f)
-        )
-    band = Band(20.0, 100.0)
-    k_rigid, k_elastic = (np.argmin(np.abs(f - x)) for x in (200.0, 426.0))
-    assert rigid_shaped(frf[:, :, k_rigid], sensors, False) and not rigid_shaped(frf[:, :, k_elastic], sensors, False)
-    assert first_elastic(f, frf, band, sensors, False) == pytest.approx(426.0, abs=0.2)
-    assert support_top(f, frf, band, sensors, False) == pytest.approx(200.0, abs=0.2)

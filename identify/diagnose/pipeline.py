@@ -208,8 +208,8 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
     resonances = {
-        "suspension": support_top(f, recording.frf, estimation, recording.sensors, planar),
-        "residual_flexibility": first_elastic(f, recording.frf, estimation, recording.sensors, planar),
+        "suspension": support_top(f, recording.frf, estimation),
+        "residual_flexibility": first_elastic(f, recording.frf, estimation),
     }
     result = diagnose(data, layout, transverse, wide, resonances)
     after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
