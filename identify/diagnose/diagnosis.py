@@ -48,7 +48,7 @@ from massline.placement.rigid_body import RigidBody
 EVIDENCE = 10.0  # ΔBIC that counts as very strong evidence (Kass & Raftery 1995)
 MATERIAL = 0.1  # share of the noise variance an effect must explain to be worth a finding
 AMBIGUOUS = 6.0  # effects at one place within this ΔBIC of the best are reported together
-REFITS = 3  # score-ranked candidates refitted in full at each step (and the best tilt)
+REFITS = 3  # score-ranked candidates refitted in full at each step
 MOST_EFFECTS = 4  # a search adding this many effects is fitting the tails' misfit, not faults
 PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of the rigid-subspace misfit
 
@@ -205,24 +205,18 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
     """Add the best-supported continuous effect while it passes evidence, materiality and plausibility (the
     support's tail ``shared`` or per FRF).
 
-    The ``REFITS`` best-scored candidates are refitted with the tail laws, and the best-scored tilt whose
-    score beats ``EVIDENCE``: a tilt is judged by its prior, and its score ranks below effects whose
-    linearised scores a misfit of the tails inflates and whose full refits then fail (the blind structure's
-    8–11° tilts ranked 12th and 20th). A search that has added ``MOST_EFFECTS`` effects is fitting a misfit
-    no fault explains (a stiff cord's tail beside residual flexibility: one spurious effect after another
-    passed, for minutes, and moved the properties 13σ from identify's): its effects are dropped and only the
-    tails it accepted are kept."""
+    The ``REFITS`` best-scored candidates are refitted with the tail laws. A search that has added
+    ``MOST_EFFECTS`` effects is fitting a misfit no fault explains (a stiff cord's tail beside residual
+    flexibility: one spurious effect after another passed, for minutes, and moved the properties 13σ from
+    identify's): its effects are dropped and only the tails it accepted are kept."""
     current, laws, accepted = start, frozenset(), []
     layout = start.problem.layout
     while len(current.blocks) < MOST_EFFECTS:
         J = current.problem.jacobian(current.x, current.blocks)
         taken = set(current.blocks)
         scored = [(score(current, b, J) - penalty(current.problem, b), b) for b in layout.candidates()]
-        ranked = sorted((s for s in scored if s[1] not in taken), key=lambda s: -s[0])
-        tilts = [b for s, b in ranked if b.effect == "sensor_direction" and s > EVIDENCE][:1]
-        top = [b for _, b in ranked[:REFITS]]
-        batch = top + [b for b in tilts if b not in top]
-        options = [(refit(current, band, laws, current.blocks + (b,), shared), b, laws) for b in batch]
+        ranked = sorted((s for s in scored if s[1] not in taken), key=lambda s: -s[0])[:REFITS]
+        options = [(refit(current, band, laws, current.blocks + (b,), shared), b, laws) for _, b in ranked]
         options += [
             (refit(current, band, laws | {law}, current.blocks, shared), law, laws | {law})
             for law in TAIL_LAWS
