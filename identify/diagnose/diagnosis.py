@@ -166,7 +166,8 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
     if not roomy(layout):
         return (), (), band, current, findings
     for _ in range(len(layout.sensors)):
-        A = corrected_band(band, flips, swaps).reduced(laws).massline
+        corrected = corrected_band(band, flips, swaps)
+        A = corrected.reduced(laws).massline
         ranked = discrete_fixes(A, S)
         proposals = [r for r in ranked if r[0] < PROPOSALS][:3]
         best = None
@@ -174,12 +175,10 @@ def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData,
             trial_flips = flips + ([channels[0]] if effect == "sensor_polarity" else [])
             trial_swaps = swaps + ([channels] if effect == "channel_swap" else [])
             trial = base_fit(corrected_band(band, trial_flips, trial_swaps), layout, laws, transverse)
-            gain = current.bic - (trial.bic + np.log(current.problem.n_values))
-            swapped_bic = trial.bic + np.log(current.problem.n_values)
-            if effect == "channel_swap" and moved_instead(
-                current, corrected_band(band, flips, swaps), channels, swapped_bic
-            ):
+            fixed_bic = trial.bic + np.log(current.problem.n_values)  # with the discrete fix's cost
+            if effect == "channel_swap" and moved_instead(current, corrected, channels, fixed_bic):
                 continue
+            gain = current.bic - fixed_bic
             if gain > EVIDENCE and (best is None or gain > best[0]):
                 best = (gain, effect, channels, trial, trial_flips, trial_swaps)
         if best is None:
