@@ -31,6 +31,7 @@ from massline.identify.massline_fit import (
     solve,
     truncation_shift,
 )
+from massline.identify.resonances import RIGID, rigid_misfit
 from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.information import sensitivities
@@ -41,7 +42,6 @@ from massline.placement.model import RigidModel
 from massline.placement.plate import plate_coordinates
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
-RIGID_SHAPE = 0.2  # a mode shape at the sensors this close to a rigid motion is a support mode
 GAPS = 3  # flat gaps tried, from the widest up the axis, before the fallback
 MARGIN = 1.25  # the search keeps this factor clear of the resonances that bound the stretch
 
@@ -117,7 +117,7 @@ def choose_band(
         if not pairs:
             break
         chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
-        if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, planar):
+        if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, exciters, planar):
             return Band(*chosen, free.suspension_top, free.first_elastic, "chosen")
         fallback = fallback or Band(*(chosen or conservative(pairs)), free.suspension_top, free.first_elastic, "chosen")
         above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
@@ -132,16 +132,16 @@ def choose_band(
     return fallback
 
 
-def closed_by_support(frequencies, frf, free: Band, sensors: Lines, planar: bool) -> bool:
+def closed_by_support(frequencies, frf, free: Band, sensors: Lines, exciters: Lines, planar: bool) -> bool:
     """Whether the resonance closing the gap ``free`` at its top is a support mode: the body moving rigidly.
 
     At the strongest line of Im H within 1.5 × the top, a resonance stands out of the gap's massline level
-    (‖Im H‖ above ‖Re H‖ at the gap's middle; a notch in the force spectrum does not), and the sensor side of
-    the FRF matrix's leading singular pair is its mode shape at the sensors: a rigid motion lies in the span
-    of the sensor lines' coordinates (n_s × q), an elastic mode mostly outside it. It can only tell with
-    more sensor lines than q.
+    (‖Im H‖ above ‖Re H‖ at the gap's middle; a notch in the force spectrum does not), and one rigid motion
+    explains its shape at the sensors and at the hits (:func:`.resonances.rigid_misfit`). It can only tell
+    with more sensor lines than q.
     """
     S = plate_coordinates(sensors) if planar else sensors.coordinates
+    E = plate_coordinates(exciters) if planar else exciters.coordinates
     near = np.flatnonzero((frequencies >= free.high) & (frequencies <= 1.5 * free.high))
     if not np.isfinite(free.high) or len(sensors) <= S.shape[1] or not len(near):
         return False
@@ -149,9 +149,7 @@ def closed_by_support(frequencies, frf, free: Band, sensors: Lines, planar: bool
     middle = np.argmin(np.abs(frequencies - np.sqrt(free.low * free.high)))
     if np.linalg.norm(frf[:, :, peak].imag) < np.linalg.norm(frf[:, :, middle].real):
         return False
-    shape = np.linalg.svd(frf[:, :, peak].imag)[0][:, 0]
-    Q, _ = np.linalg.qr(S)
-    return bool(np.linalg.norm(shape - Q @ (Q.T @ shape)) < RIGID_SHAPE)
+    return rigid_misfit(frf[:, :, peak], S, E) < RIGID
 
 
 def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:

