@@ -113,52 +113,57 @@ def bench(name: str, plan) -> Bench:
     return Bench(mesh.nominal, plan.sensors, plan.exciters, modes, fmax, 2000, mesh.mesh, name == "plate")
 
 
-def located(b: Bench, fault: str, seed: int, folder: Path) -> tuple[bool, bool]:
-    """Whether diagnose names ``fault`` first among the faults at its channel, and whether it had redundancy."""
+def located(b: Bench, fault: str, seed: int, folder: Path) -> tuple[bool, bool, bool]:
+    """Whether diagnose's first fault sits at the faulty channel (located), whether it is also ``fault``
+    (named), and whether the layout had redundancy."""
     recording, truth = scenario(b, fault, seed, CONDITIONS)
     path = folder / f"{fault}-{seed}.uff"
     write_case(path, recording, CONDITIONS)
     band = truth["planned_band_hz"]
     found = diagnose_recording(to_recording(read_uff(path)), band and tuple(band), b.body)
     faults = [x for x in found.findings if x.kind == "fault"]
-    right = bool(faults) and faults[0].effect == fault and placed(truth["faults"][0], faults[0])
-    return right, roomy(found.layout)
+    at = bool(faults) and faults[0].effect.startswith("sensor") and placed(truth["faults"][0], faults[0])
+    return at, at and faults[0].effect == fault, roomy(found.layout)
 
 
 def table(name: str, seeds, folder: Path) -> dict:
-    """(plan, fault) → (located, cases, with redundancy) on the default and the minimal plan of ``name``."""
+    """(plan, fault) → (located, named, cases, with redundancy) on the default and the minimal plan of ``name``."""
     _, p = default_plan(name)
     out = {}
     for label, layout in (("default", p), ("minimal", p.minimal)):
         b = bench(name, layout)
         for fault in PLATE_FAULTS if name == "plate" else CHANNEL_FAULTS:
             runs = [located(b, fault, s, folder) for s in seeds]
-            out[label, fault] = (sum(r for r, _ in runs), len(runs), sum(x for _, x in runs))
+            out[label, fault] = tuple(sum(r[k] for r in runs) for k in (0, 1)) + (len(runs), sum(r[2] for r in runs))
     return out
 
 
 @pytest.mark.slow
 def test_a_faulty_channel_is_located_on_the_default_plan_and_not_on_the_minimal(tmp_path):
+    """Located: the first fault named sits at the faulty channel. Named too in 5 of these 6: a −29 % gain on
+    one channel is fitted as well by an 11 mm shift and a tilt of its sensor (ΔBIC 57 between them with the
+    tails modelled, the gain itself fitted −22 %): the channel is found, what is wrong with it is not."""
     _, p = default_plan("structure")
     default, minimal = bench("structure", p), bench("structure", p.minimal)
-    right = [located(default, fault, seed, tmp_path)[0] for fault in CHANNEL_FAULTS for seed in (0, 1)]
-    assert np.mean(right) >= 5 / 6, right  # goal 95 %; measured 5 of 6 (README: a gain on a high-leverage
-    # channel fitted as a 7 mm location shift)
+    runs = [located(default, fault, seed, tmp_path) for fault in CHANNEL_FAULTS for seed in (0, 1)]
+    assert np.mean([at for at, _, _ in runs]) >= 0.95, runs
+    assert np.mean([named for _, named, _ in runs]) >= 5 / 6, runs
     for fault in ("sensor_polarity", "sensor_gain"):  # the minimal plan's direction faults: see the README
-        found, redundant = located(minimal, fault, 0, tmp_path)
-        assert not found and not redundant
+        at, _, redundant = located(minimal, fault, 0, tmp_path)
+        assert not at and not redundant
 
 
 if __name__ == "__main__":
     seeds = range(int(sys.argv[1]) if len(sys.argv) > 1 else 10)
     with tempfile.TemporaryDirectory() as folder:
-        print(f"{'body':>10} {'plan':>8} {'lines×hits':>10} {'worst σ':>8} {'fault':>17} located / cases")
+        print(f"{'body':>10} {'plan':>8} {'lines×hits':>10} {'worst σ':>8} {'fault':>17} located, named / cases")
         for name in sys.argv[2:] or ("structure", "plate", "bracket"):
             _, p = default_plan(name)
             sizes = {"default": p, "minimal": p.minimal}
-            for (label, fault), (ok, n, _) in table(name, seeds, Path(folder)).items():
+            for (label, fault), (at, named, n, _) in table(name, seeds, Path(folder)).items():
                 q = sizes[label]
                 shape = f"{len(q.sensors)}×{len(q.exciters)}"
                 print(
-                    f"{name:>10} {label:>8} {shape:>10} {q.worst_relative_std:8.2%} {fault:>17} {ok} / {n}", flush=True
+                    f"{name:>10} {label:>8} {shape:>10} {q.worst_relative_std:8.2%} {fault:>17} {at}, {named} / {n}",
+                    flush=True,
                 )
