@@ -32,8 +32,10 @@ LABELS = "check the file's unit labels (dataset 164's length unit, and g/N again
 def density_bound(mass: float, inertia_cog: np.ndarray, planar: bool = False) -> float:
     """ρ_min = 3m/(4πR³), R² = 5 tr J_G/(6m): the least peak density (kg/m³) of a body of mass ``mass`` (kg) with
     inertia ``inertia_cog`` (3×3, kg·m², about the CoG). Plate data (``planar``) see J_xx, J_yy only:
-    tr J_G ≤ 2 (J_xx + J_yy) keeps the bound a bound."""
+    tr J_G ≤ 2 (J_xx + J_yy) keeps the bound a bound. nan for a mass or trace that is not positive (no body)."""
     trace = 2 * (inertia_cog[0, 0] + inertia_cog[1, 1]) if planar else np.trace(inertia_cog)
+    if not (mass > 0 and trace > 0):
+        return np.nan
     radius = np.sqrt(5 * trace / (6 * mass))
     return float(3 * mass / (4 * np.pi * radius**3))
 

@@ -44,6 +44,12 @@ def test_no_bundled_body_looks_mislabelled(name):
     assert nominal_warnings(mesh.nominal, mesh.nominal) == []
 
 
+def test_no_density_bound_for_an_inertia_no_body_has():
+    """A plate fit of a minimal layout can give J_xx + J_yy < 0: no bound, and no RuntimeWarning."""
+    with np.errstate(all="raise"):
+        assert np.isnan(density_bound(2.0, np.diag([-0.3, 0.1, 0.0]), planar=True))
+
+
 def test_a_mislabelled_body_is_named():
     """m labelled mm: 10⁹× too dense; mm labelled m: lighter than air; g/N read as (m/s²)/N: 9.81× the mesh."""
     mesh = bundled("bracket")
