@@ -8,9 +8,9 @@ The procedure of the mismatch notes (§6), on the band's spectral lines:
    channels, proposed by the rigid-subspace screen (:mod:`.screens`) and kept when
    the refit's BIC drops by more than ``EVIDENCE``.
 3. Continuous effects, forward: every block of the library is ranked by its score
-   statistic at the current fit; the two tail laws and the best-scored blocks, a few
-   at a time down the ranking while none is accepted, are refitted in full, and the
-   best is kept when (a) BIC drops by more than ``EVIDENCE``, (b) it
+   statistic at the current fit; the two tail laws and the three best-scored blocks
+   (then, while none is accepted, the next best-scored tilts) are refitted in full,
+   and the best is kept when (a) BIC drops by more than ``EVIDENCE``, (b) it
    explains at least ``MATERIAL`` of the noise variance over the band, in the residual
    or, for an effect, in the masslines it moves (a law the data show but that changes
    nothing worth a line is not a finding), and (c) its fitted
@@ -212,9 +212,11 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
     not by the energy it moves, so it can pass where better-scored effects were immaterial: a weak FRF's
     support tail, huge in χ² and immaterial, and the hit effects it lends scores to stood before the
     structure's 11° tilts (9th and 19th by score: they were never refitted). Going down every effect's
-    ranking instead took a foam case 147 s and found nothing more. A search that has added ``MOST_EFFECTS`` effects is fitting a misfit no fault explains (a stiff cord's tail beside residual
-    flexibility: one spurious effect after another passed, for minutes, and moved the properties 13σ from
-    identify's): its effects are dropped and only the tails it accepted are kept."""
+    ranking instead took a foam case 147 s and found nothing more.
+
+    A search that has added ``MOST_EFFECTS`` effects is fitting a misfit no fault explains (a stiff cord's
+    tail beside residual flexibility: one spurious effect after another passed, for minutes, and moved the
+    properties 13σ from identify's): its effects are dropped and only the tails it accepted are kept."""
     current, laws, accepted = start, frozenset(), []
     layout = start.problem.layout
     while len(current.blocks) < MOST_EFFECTS:
