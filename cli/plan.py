@@ -22,8 +22,9 @@ from massline.placement.information import NoiseModel
 from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS
 from massline.placement.numbers import formatted, number, sigma_text, vector_text
+from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
-from massline.placement.planner import Budget, is_plate, plan
+from massline.placement.planner import Budget
 from massline.report_command import build_report
 from massline.support import band_phrase, plan_test, planned_band
 

@@ -19,7 +19,8 @@ from massline.placement.errors import MasslineError
 from massline.placement.information import NoiseModel
 from massline.placement.lines import Lines
 from massline.placement.mesh import BodyMesh
-from massline.placement.planner import Budget, Plan, is_plate, plan
+from massline.placement.on_surface import is_plate, plan
+from massline.placement.planner import Budget, Plan
 
 MOST_EXTRA = 8  # lines and hits beyond the cheapest diagnosable budget tried before giving up
 

@@ -1,4 +1,5 @@
-"""A plan on the body's surface: fixed lines snapped onto it, the chosen points slid on its flat faces.
+"""A plan on the body's surface: candidates on its mountable faces, fixed lines snapped onto it, the layout
+planned among the candidates (:mod:`.planner`), the chosen points slid on its flat faces.
 
 Points and distances in metres, mesh frame (:mod:`.mountable`, :mod:`.sliding`).
 """
@@ -6,15 +7,23 @@ Points and distances in metres, mesh frame (:mod:`.mountable`, :mod:`.sliding`).
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Callable
+
+import numpy as np
 
 from massline.placement.admissible import regular
-from massline.placement.candidates import CandidateOptions, CandidatePoints
+from massline.placement.candidates import CandidateOptions, CandidatePoints, candidate_lines, candidate_points
 from massline.placement.diagnosability import diagnosability
-from massline.placement.layout import Plan, assessed
+from massline.placement.information import NoiseModel
+from massline.placement.layout import Budget, Plan, assessed
 from massline.placement.lines import Lines
 from massline.placement.mesh import UNITS, BodyMesh
+from massline.placement.model import RigidModel
 from massline.placement.mountable import Surface, snap
+from massline.placement.planner import plan_on_candidates
 from massline.placement.sliding import slide
+
+PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 
 
 def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
@@ -49,3 +58,61 @@ def slid(
     assessment = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
     value = plan.criterion.value(assessment["information"])
     return replace(plan, sensors=moved.sensors, exciters=moved.exciters, value=value, sliding=moved, **assessment)
+
+
+def is_plate(body: BodyMesh) -> bool:
+    """Thin along z, with z a principal axis: the paper's §2.3 case."""
+    extents = body.mesh.extents
+    J = body.nominal.inertia_cog
+    thin = extents[2] < PLATE_THINNESS * extents[:2].max()
+    return bool(
+        thin and np.abs(J[2, :2]).max() <= 1e-9 * np.abs(J).max() and abs(body.nominal.cog[2]) < 1e-9 * extents.max()
+    )
+
+
+def plan(
+    body: BodyMesh,
+    budget: Budget = Budget(),
+    options: CandidateOptions = CandidateOptions(),
+    noise: NoiseModel = NoiseModel(),
+    fixed_sensors: Lines | None = None,
+    fixed_exciters: Lines | None = None,
+    relaxation: str = "first-order",
+    starts: int = 3,
+    planar: bool | None = None,
+    certify_seconds: float = 20.0,
+    progress: Callable[[str, float], None] = lambda stage, fraction: None,
+    criterion: str = "D",
+    diagnosable: bool = False,
+) -> Plan:
+    """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified, slid off
+    the candidate grid on the flat faces, with predicted 1-σ (``diagnosable``: the best of the layouts in which
+    one faulty channel or hit can be located). Fixed lines are snapped onto the surface."""
+    planar = is_plate(body) if planar is None else planar
+    budget.check(planar)
+    progress("candidates", 0.0)
+    surface = Surface.of(body.mesh)
+    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
+    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
+    points = candidate_points(body.mesh, options, surface)
+    sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
+    result = plan_on_candidates(
+        RigidModel(body.nominal, planar),
+        sensor_side,
+        exciter_side,
+        budget,
+        noise,
+        fixed_sensors,
+        fixed_exciters,
+        relaxation,
+        starts,
+        options.seed,
+        certify_seconds,
+        progress,
+        criterion,
+        diagnosable,
+    )
+    progress("sliding the points on their faces", 0.95)
+    return slid(
+        replace(result, candidates=points, clearances=options.clearances), surface, points, options, diagnosable
+    )

@@ -16,13 +16,12 @@ start from the D layout and climb their own criterion from there. Only layouts t
 equations can solve, with a well-posed kinematic step and one accelerometer per point, are admitted
 (:mod:`.admissible`: rank S = 6, non-singular dynamic systems, κ(S̃) bounded), and, when asked, only
 diagnosable ones (:mod:`.diagnosability`): an inadmissible selection is first walked by single exchanges
-to one that is. On a mesh the chosen points then slide off the candidate grid on their flat faces
-(:mod:`.sliding`), which raises the criterion beyond the certified layout.
+to one that is. On a mesh (:func:`.on_surface.plan`) the chosen points then slide off the candidate
+grid on their flat faces (:mod:`.sliding`), which raises the criterion beyond the certified layout.
 """
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Callable
 
 import numpy as np
@@ -30,9 +29,6 @@ import numpy as np
 from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import (
     CandidateLines,
-    CandidateOptions,
-    candidate_lines,
-    candidate_points,
 )
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
@@ -41,24 +37,10 @@ from massline.placement.errors import MasslineError
 from massline.placement.information import NoiseModel, weighted_sensitivities
 from massline.placement.layout import Budget, Plan, assessed, fixed_nodes
 from massline.placement.lines import Lines
-from massline.placement.mesh import BodyMesh
 from massline.placement.model import RigidModel
-from massline.placement.mountable import Surface
-from massline.placement.on_surface import slid, snapped
 from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
 
-PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
-
-
-def is_plate(body: BodyMesh) -> bool:
-    """Thin along z, with z a principal axis: the paper's §2.3 case."""
-    extents = body.mesh.extents
-    J = body.nominal.inertia_cog
-    thin = extents[2] < PLATE_THINNESS * extents[:2].max()
-    return bool(
-        thin and np.abs(J[2, :2]).max() <= 1e-9 * np.abs(J).max() and abs(body.nominal.cog[2]) < 1e-9 * extents.max()
-    )
 
 
 class Planner:
@@ -363,52 +345,4 @@ def plan_on_candidates(
         d_bounds=d_bounds,
         candidate_log_det=assessment["log_det"],
         **assessment,
-    )
-
-
-def plan(
-    body: BodyMesh,
-    budget: Budget = Budget(),
-    options: CandidateOptions = CandidateOptions(),
-    noise: NoiseModel = NoiseModel(),
-    fixed_sensors: Lines | None = None,
-    fixed_exciters: Lines | None = None,
-    relaxation: str = "first-order",
-    starts: int = 3,
-    planar: bool | None = None,
-    certify_seconds: float = 20.0,
-    progress: Callable[[str, float], None] = lambda stage, fraction: None,
-    criterion: str = "D",
-    diagnosable: bool = False,
-) -> Plan:
-    """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified, slid off
-    the candidate grid on the flat faces, with predicted 1-σ (``diagnosable``: the best of the layouts in which
-    one faulty channel or hit can be located). Fixed lines are snapped onto the surface."""
-    planar = is_plate(body) if planar is None else planar
-    budget.check(planar)
-    progress("candidates", 0.0)
-    surface = Surface.of(body.mesh)
-    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
-    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
-    points = candidate_points(body.mesh, options, surface)
-    sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
-    result = plan_on_candidates(
-        RigidModel(body.nominal, planar),
-        sensor_side,
-        exciter_side,
-        budget,
-        noise,
-        fixed_sensors,
-        fixed_exciters,
-        relaxation,
-        starts,
-        options.seed,
-        certify_seconds,
-        progress,
-        criterion,
-        diagnosable,
-    )
-    progress("sliding the points on their faces", 0.95)
-    return slid(
-        replace(result, candidates=points, clearances=options.clearances), surface, points, options, diagnosable
     )

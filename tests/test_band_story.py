@@ -13,8 +13,8 @@ from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.band import Band, frf_scales, held_band, stray
 from massline.placement.masslines import synthesise
+from massline.placement.on_surface import plan
 from massline.placement.plan_file import band_from_dict, band_to_dict
-from massline.placement.planner import plan
 from massline.support import plan_test, planned_suspension
 from massline.uff.reader import read_uff, to_recording
 from massline.virtual.elastic import ElasticBody, Material

@@ -16,7 +16,8 @@ from massline.placement.criteria import CRITERIA, D
 from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.information import NoiseModel
 from massline.placement.model import RigidModel
-from massline.placement.planner import Budget, CandidateLines, Planner, plan
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget, CandidateLines, Planner
 from massline.placement.selection import best_gains, gains, greedy, swap
 
 MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}

@@ -27,7 +27,8 @@ from blind_measures import TAILS, outcome, report
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.placement.mesh import load_body
-from massline.placement.planner import Budget, plan
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget
 from massline.uff.reader import read_uff, to_recording
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.scenarios import (

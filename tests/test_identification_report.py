@@ -15,7 +15,8 @@ from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.placement.candidates import CandidateOptions
 from massline.placement.hand_layouts import plate_table1
-from massline.placement.planner import Budget, plan
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget
 from massline.reports.body_scene import stand_in
 from massline.reports.diagnosis_report import diagnose_report
 from massline.reports.identification_report import identify_report

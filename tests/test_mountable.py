@@ -14,7 +14,8 @@ from massline.placement.information import fisher, log_det
 from massline.placement.lines import Lines
 from massline.placement.mesh import load_body
 from massline.placement.mountable import Surface, feature_edges, foot_on_segments
-from massline.placement.planner import Budget, plan
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget
 from massline.uff.reader import read_uff, to_recording
 
 MINIMAL = {"plate": Budget(3, 3), "structure": Budget(6, 3), "bracket": Budget(6, 3)}

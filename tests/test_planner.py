@@ -10,7 +10,7 @@ from likelihood import maximum_likelihood
 
 from massline.placement import Lines, Masslines, synthesise
 from massline.placement.accuracy import layout_worst_std
-from massline.placement.candidates import CandidateOptions
+from massline.placement.candidates import CandidateOptions, candidate_lines
 from massline.placement.errors import MasslineError
 from massline.placement.hand_layouts import (
     bracket_exciters,
@@ -21,7 +21,8 @@ from massline.placement.hand_layouts import (
 )
 from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
 from massline.placement.model import RigidModel
-from massline.placement.planner import Budget, CandidateLines, Planner, candidate_lines, plan, plan_on_candidates
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget, CandidateLines, Planner, plan_on_candidates
 from massline.placement.properties import property_vector
 from massline.placement.selection import effective_independence
 

@@ -19,8 +19,9 @@ from massline.placement.files import to_json
 from massline.placement.information import NoiseModel
 from massline.placement.lines import Lines
 from massline.placement.mesh import load_body
+from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
-from massline.placement.planner import Budget, plan
+from massline.placement.planner import Budget
 from massline.report_command import build_report
 from massline.reports.label_layout import overlap_matrix, place_labels
 from massline.reports.plan_scene import scene_of

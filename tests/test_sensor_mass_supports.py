@@ -15,8 +15,9 @@ from massline.meshes import BUNDLED
 from massline.placement.candidates import CandidateOptions
 from massline.placement.files import to_json
 from massline.placement.mesh import load_body
+from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
-from massline.placement.planner import Budget, plan
+from massline.placement.planner import Budget
 
 RISER = str(FIXTURE_MESHES / "idler_riser.STL")
 BODIES = {"idler riser": (RISER, "in", 2700.0, 0.001), "plate": ("plate", "m", None, 0.01)}
