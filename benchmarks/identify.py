@@ -29,7 +29,8 @@ from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
 from massline.placement.mesh import load_body
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.virtual_test import Acquisition, run

@@ -33,7 +33,8 @@ from massline.placement.planner import Budget
 from massline.placement.properties import SUMMARY
 from massline.report_command import build_report
 from massline.support import band_phrase, plan_test, planned_band, planned_suspension
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.scenarios import FAULTS, Bench, scenario
 

@@ -18,7 +18,8 @@ from massline.output import write_report
 from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.numbers import number, value_with_sigma
 from massline.placement.properties import SUMMARY
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -19,7 +19,8 @@ from massline.placement.files import claim_outputs, to_json, write_atomic
 from massline.placement.numbers import number, sigma_text, value_with_sigma
 from massline.placement.properties import QUANTITIES
 from massline.placement.rigid_body import RigidBody
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -30,12 +30,13 @@ from massline.placement.rigid_body import RigidBody
 from massline.support import MODES, band_phrase, elastic_modes, planned_band, planned_suspension
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
+from massline.virtual.attachment import point_above
 from massline.virtual.band import predict_band, recommend_suspension
 from massline.virtual.effects import EFFECTS, Effect, check_targets
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Suspension, hung_over, point_above
+from massline.virtual.suspension import Suspension, hung_over
 from massline.virtual.tetmesh import size_for_dofs
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses
 from massline.virtual.virtual_test import run as run_test

@@ -33,13 +33,15 @@ from massline.meshes import BUNDLED
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import load_body
 from massline.placement.plan_file import read_plan
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
+from massline.virtual.attachment import point_above
 from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Cord, Suspension, point_above
+from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.virtual_test import Acquisition, run
 
 BODIES = ("bracket", "structure", "plate")

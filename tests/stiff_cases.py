@@ -18,7 +18,8 @@ from blind_measures import outcome
 from test_diagnose_blind import STIFF, bench
 
 from massline.identify.diagnose.pipeline import diagnose_recording
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.virtual.scenarios import FAULTS, PLANAR_FAULTS, scenario, write_case
 
 

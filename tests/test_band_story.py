@@ -16,7 +16,8 @@ from massline.placement.masslines import synthesise
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import band_from_dict, band_to_dict
 from massline.support import plan_test, planned_suspension
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension, rigid_suspension_modes, single_cord

@@ -29,7 +29,8 @@ from massline.placement.lines import Lines
 from massline.placement.mesh import load_body
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.scenarios import Bench, Conditions, scenario, write_case
 

@@ -22,7 +22,8 @@ from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.model import RigidModel
 from massline.placement.rigid_body import RigidBody
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import Noise

@@ -29,7 +29,8 @@ from massline.meshes import BUNDLED
 from massline.placement.mesh import load_body
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.scenarios import (
     FAULTS,

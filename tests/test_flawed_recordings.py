@@ -18,7 +18,8 @@ from massline.identify.plausibility import density_bound, nominal_warnings, unit
 from massline.identify.suspicions import given_band_warnings, rolloff_warnings, short_record_warnings
 from massline.placement.band import Band
 from massline.placement.plan_file import read_plan
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.units import G
 from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect

@@ -15,7 +15,8 @@ from mutations import FIXTURE_MESH_UNITS, fixture_meshes, fixture_uffs, mutate, 
 
 from massline.placement.errors import MasslineError
 from massline.placement.mesh import load_body
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 SMALL_MESH = 300_000  # bytes: the larger fixtures cost seconds per load and add no new structure
 FUZZ = settings(

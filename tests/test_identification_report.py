@@ -20,7 +20,8 @@ from massline.placement.planner import Budget
 from massline.reports.body_scene import stand_in
 from massline.reports.diagnosis_report import diagnose_report
 from massline.reports.identification_report import identify_report
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.scenarios import Bench, scenario
 from massline.virtual.virtual_test import Acquisition, run

@@ -16,7 +16,8 @@ from massline.placement.mesh import load_body
 from massline.placement.mountable import Surface, feature_edges, foot_on_segments
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 MINIMAL = {"plate": Budget(3, 3), "structure": Budget(6, 3), "bracket": Budget(6, 3)}
 # The real CAD parts that load, their units, a budget their flat places allow and the options: flat places

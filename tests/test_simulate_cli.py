@@ -13,7 +13,8 @@ from test_cli import massline
 from massline.identify.massline_fit import fit_band
 from massline.placement.masslines import Masslines
 from massline.placement.methods import identify
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 pytestmark = pytest.mark.slow
 

@@ -8,8 +8,9 @@ from scipy.spatial.transform import Rotation
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff import writer as uff_export
+from massline.uff.grid import to_recording
 from massline.uff.layout import line_from_code, uff_layout
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.reader import read_uff
 from massline.uff.recording import Recording
 from massline.uff.units import INCH, LBF, G
 from massline.uff.writer import write_uff

@@ -6,7 +6,8 @@ import pyuff
 from conftest import SHARED
 
 from massline.placement.errors import MasslineError
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 
 FIXTURES = SHARED / "fixtures" / "uff"
 

@@ -10,7 +10,8 @@ from scipy.spatial.transform import Rotation
 from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.uff.frf_kind import units
-from massline.uff.reader import read_uff, to_recording
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
 

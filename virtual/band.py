@@ -17,8 +17,9 @@ from massline.placement.errors import MasslineError
 from massline.placement.lines import Lines
 from massline.placement.masslines import synthesise
 from massline.placement.rigid_body import RigidBody
+from massline.virtual.attachment import UP, point_above
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import CORD_LENGTH, STRETCH, UP, Cord, Suspension, point_above
+from massline.virtual.suspension import CORD_LENGTH, STRETCH, Cord, Suspension
 
 TOLERANCES = (0.01, 0.02, 0.05)  # every FRF within 1 %, else 2 %, else 5 % of its massline
 MIN_RATIO = 2.0  # a band at least an octave wide holds at the tolerance chosen

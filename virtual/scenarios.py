@@ -34,11 +34,12 @@ from massline.placement.lines import Lines
 from massline.placement.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
+from massline.virtual.attachment import UP, point_above
 from massline.virtual.band import predict_band
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import GRAVITY, UP, Cord, Suspension, hung_over, point_above
+from massline.virtual.suspension import GRAVITY, Cord, Suspension, hung_over
 from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
 
 TRANSVERSE = (0.0, 0.02)  # every channel's transverse sensitivity, drawn uniformly (fraction)
