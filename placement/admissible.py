@@ -48,8 +48,10 @@ def weakly_seen(model: RigidModel, rows: np.ndarray, candidates: np.ndarray) -> 
 
 def regular(model: RigidModel, sensors: Lines, exciters: Lines) -> bool:
     """The paper's equations solve this layout (exact masslines identify the body), κ(S̃) ≤ KINEMATIC_LIMIT."""
+    if not kinematic_condition(model, sensors) <= KINEMATIC_LIMIT:  # the cheap test first
+        return False
     try:
         identify(synthesise(model.nominal, sensors, exciters), "plate" if model.planar else "method2")
     except SingularLayoutError:
         return False
-    return kinematic_condition(model, sensors) <= KINEMATIC_LIMIT
+    return True

@@ -97,6 +97,106 @@ def _rounded(z: np.ndarray, cells: list) -> list:
     return [int(i) for members, m in cells for i in members[np.argsort(-z[members])[:m]]]
 
 
+class BranchAndBound:
+    """A certified upper bound on log det over the selections, tightened on demand, and the best selection met.
+
+    ``root_bound`` and ``root_weights`` are a relaxation already solved on the whole problem
+    (its bound, its weights per candidate): the root node starts from them. ``admissible``
+    (a selection → bool), when given, limits the selections that become the best known;
+    the best of all selections met, admissible or not, is kept beside it (``best_any``).
+
+    Best first: the open node of largest bound is relaxed, screened and split; a
+    node whose bound is within ``slack`` of the best selection known is closed.
+    At any moment ``bound`` = max(closed, open, best) bounds every selection and only
+    falls, so the search may pause at any node and go on later (``run``).
+    """
+
+    def __init__(
+        self,
+        problem: BlockProblem,
+        chosen,
+        slack: float,
+        tol: float = 1e-4,
+        root_bound: float = np.inf,
+        root_weights: np.ndarray | None = None,
+        admissible=None,
+    ):
+        self.problem, self.slack, self.tol, self.admissible = problem, slack, tol, admissible
+        self.start, self.root_weights = list(chosen), root_weights
+        self.best_value, self.best = problem.value(chosen), list(chosen)
+        self.best_any = (self.best_value, self.best)
+        root = tuple((np.flatnonzero(problem.group == g), k) for g, k in enumerate(problem.budgets) if k)
+        self.heap = [(-root_bound, 0, root, None)]
+        self.closed, self.nodes, self.tie = -np.inf, 0, itertools.count(1)
+
+    @property
+    def bound(self) -> float:
+        still_open = max((-item[0] for item in self.heap), default=-np.inf)
+        return max(self.closed, still_open, self.best_value)
+
+    @property
+    def finished(self) -> bool:
+        return not self.heap
+
+    def run(self, until: float, deadline: float | None = None, max_nodes: int = 100_000, stop=lambda: False) -> None:
+        """Nodes until ``until`` (time.perf_counter()), ``max_nodes`` in all, the search ends or ``stop()``; a
+        node's relaxation runs on to ``deadline`` (default ``until``)."""
+        deadline = until if deadline is None else deadline
+        while self.heap and self.nodes < max_nodes and time.perf_counter() < until and not stop():
+            self._node(deadline)
+
+    def _node(self, deadline: float) -> None:
+        problem, slack = self.problem, self.slack
+        negative_bound, _, cells, parent = heapq.heappop(self.heap)
+        if -negative_bound <= self.best_value + slack:  # the largest open bound: every open node closes
+            self.closed, self.heap = max(self.closed, -negative_bound), []
+            return
+        self.nodes += 1
+        sub, index = _node_problem(problem, cells)
+        if parent is None:
+            weights = None if self.root_weights is None else self.root_weights[index]
+            start = [int(np.flatnonzero(index == i)[0]) for i in self.start]
+        else:
+            weights, start = _warm_start(sub, *parent), ()
+        z, bound = relax_first_order(
+            sub, start, weights, tol=self.tol, stop_below=self.best_value + slack, deadline=deadline
+        )
+        bound = min(bound, -negative_bound)
+        groups = [(np.flatnonzero(sub.group == g), m) for g, m in enumerate(sub.budgets)]
+        self._met(sorted(int(index[i]) for i in _rounded(z, groups)))
+        if bound <= self.best_value + slack:
+            self.closed = max(self.closed, bound)
+            return
+        M = sub.fixed + np.einsum("n,nrp,nrq->pq", z, sub.blocks, sub.blocks)
+        c = leverages(sub.blocks, np.linalg.inv(M))
+        U_i = screening_bounds(sub, M, c)
+        screened = U_i <= self.best_value + slack
+        self.closed = max(self.closed, U_i[screened].max(initial=-np.inf))
+        z_all, c_all = np.zeros(len(problem.blocks)), np.zeros(len(problem.blocks))
+        z_all[index], c_all[index] = z, c
+        kept = [(index[(sub.group == g) & ~screened], m) for g, m in enumerate(sub.budgets)]
+        if any(len(members) < m for members, m in kept):
+            return  # no selection of the node survives screening: its bound is the screened one
+        split = _split(problem, kept, z_all)
+        if split is None:
+            self.closed = max(self.closed, bound)
+            return
+        g, left, right = split
+        m = kept[g][1]
+        for j in range(m + 1):
+            if len(left) >= j and len(right) >= m - j:
+                child = tuple((c_, k) for c_, k in kept[:g] + [(left, j), (right, m - j)] + kept[g + 1 :] if k)
+                held = np.concatenate([c_ for c_, _ in child])
+                heapq.heappush(self.heap, (-bound, next(self.tie), child, (z_all[held], c_all[held])))
+
+    def _met(self, selection: list) -> None:
+        value = self.problem.value(selection)
+        if value > self.best_any[0]:
+            self.best_any = (value, selection)
+        if value > self.best_value and (self.admissible is None or self.admissible(selection)):
+            self.best_value, self.best = value, selection
+
+
 def branch_and_bound(
     problem: BlockProblem,
     chosen,
@@ -106,63 +206,9 @@ def branch_and_bound(
     seconds: float = 10.0,
     root_bound: float = np.inf,
     root_weights: np.ndarray | None = None,
+    admissible=None,
 ) -> tuple[float, list]:
-    """A certified upper bound on log det over the selections, and the best selection met.
-
-    ``root_bound`` and ``root_weights`` are a relaxation already solved on the whole problem
-    (its bound, its weights per candidate): the root node starts from them.
-
-    Best first: the open node of largest bound is relaxed, screened and split; a
-    node whose bound is within ``slack`` of the best selection known is closed.
-    At any moment max(closed, open, best) bounds every selection and only falls,
-    so the search may stop after ``seconds`` or ``max_nodes``.
-    """
-    deadline = time.perf_counter() + seconds
-    best_value, best = problem.value(chosen), list(chosen)
-    root = tuple((np.flatnonzero(problem.group == g), k) for g, k in enumerate(problem.budgets) if k)
-    heap = [(-root_bound, 0, root, None)]
-    closed, nodes, tie = -np.inf, 0, itertools.count(1)
-    while heap and nodes < max_nodes and time.perf_counter() < deadline:
-        negative_bound, _, cells, parent = heapq.heappop(heap)
-        if -negative_bound <= best_value + slack:
-            closed = max(closed, -negative_bound)
-            heap = []
-            break
-        nodes += 1
-        sub, index = _node_problem(problem, cells)
-        target = best_value + slack
-        weights = root_weights[index] if parent is None and root_weights is not None else None
-        weights = weights if parent is None else _warm_start(sub, parent[0][index], parent[1][index])
-        start = () if parent is not None else [int(np.flatnonzero(index == i)[0]) for i in chosen]
-        z, bound = relax_first_order(sub, start, weights, tol=tol, stop_below=target, deadline=deadline)
-        bound = min(bound, -negative_bound)
-        rounded = [
-            int(index[i]) for i in _rounded(z, [(np.flatnonzero(sub.group == g), m) for g, m in enumerate(sub.budgets)])
-        ]
-        if problem.value(rounded) > best_value:
-            best_value, best = problem.value(rounded), sorted(rounded)
-        if bound <= best_value + slack:
-            closed = max(closed, bound)
-            continue
-        M = sub.fixed + np.einsum("n,nrp,nrq->pq", z, sub.blocks, sub.blocks)
-        c = leverages(sub.blocks, np.linalg.inv(M))
-        U_i = screening_bounds(sub, M, c)
-        screened = U_i <= best_value + slack
-        closed = max(closed, U_i[screened].max(initial=-np.inf))
-        z_all, c_all = np.zeros(len(problem.blocks)), np.zeros(len(problem.blocks))
-        z_all[index], c_all[index] = z, c
-        kept = [(index[(sub.group == g) & ~screened], m) for g, m in enumerate(sub.budgets)]
-        if any(len(members) < m for members, m in kept):
-            continue  # no selection of the node survives screening: its bound is the screened one
-        split = _split(problem, kept, z_all)
-        if split is None:
-            closed = max(closed, bound)
-            continue
-        g, left, right = split
-        m = kept[g][1]
-        for j in range(m + 1):
-            if len(left) >= j and len(right) >= m - j:
-                child = kept[:g] + [(left, j), (right, m - j)] + kept[g + 1 :]
-                heapq.heappush(heap, (-bound, next(tie), tuple((c_, k) for c_, k in child if k), (z_all, c_all)))
-    still_open = max((-item[0] for item in heap), default=-np.inf)
-    return max(closed, still_open, best_value), best
+    """:class:`BranchAndBound` run for ``seconds`` or ``max_nodes``: its bound and best selection."""
+    search = BranchAndBound(problem, chosen, slack, tol, root_bound, root_weights, admissible)
+    search.run(time.perf_counter() + seconds, max_nodes=max_nodes)
+    return search.bound, search.best

@@ -20,11 +20,11 @@ from typing import Callable
 
 import numpy as np
 
-from massline.placement.cell_bound import branch_and_bound
+from massline.placement.cell_bound import BranchAndBound, branch_and_bound
 from massline.placement.relaxation import relax_cvxpy, relax_first_order
 from massline.placement.selection import BlockProblem, greedy, swap
 
-TARGETS = (0.95, 0.99)  # branch and bound aims at these certified efficiencies in turn
+TARGETS = (0.95, 0.99)  # branch and bound closes nodes within these certified efficiencies in turn
 
 
 def split_by_cover(problem: BlockProblem, cover: np.ndarray) -> list[BlockProblem]:
@@ -76,6 +76,11 @@ def certify_admissible(
     if problem.value(best) <= problem.value(chosen) + 1e-9 or admissible(best) or depth == 0:
         return bound, best if admissible(best) else list(chosen)
     cover = cover_for(best)
+    if cover is None and time.perf_counter() < deadline:  # no cut known: close nodes against admissible bests only
+        found, best = branch_and_bound(
+            problem, chosen, slack, seconds=deadline - time.perf_counter(), root_bound=bound, admissible=admissible
+        )
+        return min(bound, found), best
     if cover is None or time.perf_counter() > deadline:
         return bound, list(chosen)
     bounds, winner = [], list(chosen)
@@ -99,6 +104,85 @@ def _fits(problem: BlockProblem, chosen: list) -> bool:
     return bool(np.all(counts == np.asarray(problem.budgets)))
 
 
+class SideBound:
+    """One side's upper bound U over its admissible selections, tightened on demand, and the best one met.
+
+    U = min(relaxation, branch and bound, cover cuts), each a true upper bound. The branch
+    and bound counts as the best known only admissible selections, so that nodes close
+    within a target of a layout the planner may adopt; it aims at each of ``targets`` in
+    turn (a near target closes nodes and screens candidates sooner), starting again from
+    the root for the next. When it meets an inadmissible selection above its target for
+    which a cut is known (a motion it leaves unseen), the cuts take over
+    (:func:`certify_admissible`). ``tighten`` may be called again and again.
+    """
+
+    def __init__(self, problem, chosen, relaxation="first-order", admissible=None, cover_for=None, targets=TARGETS):
+        self.problem, self.chosen = problem, list(chosen)
+        self.admissible = admissible or (lambda c: True)
+        self.cover_for, self.covers = cover_for or (lambda c: None), {}
+        self.slacks = [problem.p * np.log(1 / target) for target in targets]
+        self.cut, self.cut_best = np.inf, None
+        if relaxation == "cvxpy":
+            self.root, self.search = relax_cvxpy(problem)[1], None
+            return
+        self.weights, self.root = relax_first_order(problem, chosen, tol=1e-3)
+        self.search = None
+        self.search = self._search(self.slacks[0])
+
+    def _search(self, slack: float) -> BranchAndBound:
+        return BranchAndBound(
+            self.problem, self.best, slack, root_bound=self.bound, root_weights=self.weights, admissible=self.admissible
+        )
+
+    @property
+    def bound(self) -> float:
+        searched = np.inf if self.search is None else self.search.bound
+        return min(self.root, self.cut, searched)
+
+    @property
+    def best(self) -> list:
+        met = [self.chosen] + [s for s in (self.search and self.search.best, self.cut_best) if s]  # admissible
+        return max(met, key=self.problem.value)
+
+    @property
+    def finished(self) -> bool:
+        return (
+            self.search is None
+            or (self.search.finished and self.search.slack <= self.slacks[-1])
+            or np.isfinite(self.cut)
+            or self.bound <= self.problem.value(self.best) + self.slacks[-1]
+        )
+
+    def tighten(self, until: float, deadline: float | None = None) -> None:
+        """Branch and bound until ``until`` (time.perf_counter()), a node's relaxation on to ``deadline``;
+        the cuts when it needs them."""
+        deadline = until if deadline is None else deadline
+        while not self.finished and time.perf_counter() < until:
+            if self.search.finished:  # this target is met: the next, from the root at the bound reached
+                self.search = self._search(next(s for s in self.slacks if s < self.search.slack))
+            self.search.run(until, deadline, stop=self._needs_cut)
+            if self._needs_cut():
+                self.cut, winner = certify_admissible(
+                    self.problem,
+                    self.best,
+                    self.search.slack,
+                    self.admissible,
+                    self.cover_for,
+                    max(deadline - time.perf_counter(), 0.0),
+                )
+                self.cut_best = winner if self.admissible(winner) else None
+
+    def _needs_cut(self) -> bool:
+        """The best selection met is inadmissible, beyond the slack, and a cut excludes it."""
+        value, selection = self.search.best_any
+        if value <= self.search.best_value + self.search.slack or self.admissible(selection):
+            return False
+        key = tuple(selection)
+        if key not in self.covers:
+            self.covers[key] = self.cover_for(selection) is not None
+        return self.covers[key]
+
+
 def certify(
     problem: BlockProblem,
     chosen: list,
@@ -106,32 +190,9 @@ def certify(
     admissible=None,
     cover_for=None,
     seconds: float = 10.0,
-    targets: tuple = TARGETS,
 ) -> tuple[float, list]:
-    """Upper bound U on ``problem`` over the admissible selections, and the best one met.
-
-    The relaxation's bound first; when it leaves the per-parameter D-efficiency
-    below the last of ``targets`` (small budgets), branch and bound and admissibility
-    cuts tighten it, aiming at each target in turn (a near target closes nodes
-    sooner) while time remains; every bound met is valid, the least is returned.
-    """
-    if relaxation == "cvxpy":
-        return relax_cvxpy(problem)[1], chosen
-    deadline = time.perf_counter() + seconds
-    weights, bound = relax_first_order(problem, chosen, tol=1e-3)
-    for target in targets:
-        slack = problem.p * np.log(1 / target)
-        if bound - problem.value(chosen) <= slack or time.perf_counter() > deadline:
-            continue
-        found, chosen = certify_admissible(
-            problem,
-            chosen,
-            slack,
-            admissible or (lambda c: True),
-            cover_for or (lambda c: None),
-            deadline - time.perf_counter(),
-            root_bound=bound,
-            root_weights=weights,
-        )
-        bound = min(bound, found)
-    return bound, chosen
+    """Upper bound U on ``problem`` over the admissible selections, and the best one met (:class:`SideBound`
+    tightened for ``seconds``)."""
+    side = SideBound(problem, chosen, relaxation, admissible, cover_for)
+    side.tighten(time.perf_counter() + seconds)
+    return side.bound, side.best

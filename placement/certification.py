@@ -17,18 +17,16 @@ the joint problem has no concave relaxation of this kind, and none is claimed.
 
 Each side's bound depends only on the other side (U_s only on E). So when one side's
 branch and bound meets a better selection of that side, the selection is adopted, the
-side's bound stays valid for it, and only the other side is certified anew. The sensor
-side (cheap) is certified first, so that the costly exciter side is certified once, at
-the final sensors, in the usual case.
+side's bound stays valid for it, and only the other side is certified anew. Time goes
+to the side of the larger bound, since that one sets the certified efficiency: neither
+side's branch and bound starts again from its root when the other side's is run.
 """
 
 from __future__ import annotations
 
 import time
 
-import numpy as np
-
-from massline.placement.certificate import TARGETS, certify
+from massline.placement.certificate import SideBound
 from massline.placement.criterion_relaxation import relax_criterion
 
 SIDES = ("sensors", "exciters")
@@ -58,45 +56,41 @@ class _Sides:
     def cover(self, side: str, layout: dict):
         return self.planner.sensor_cover(layout["exciters"]) if side == "sensors" else self.planner.exciter_cover
 
+    def bound(self, side: str, layout: dict, relaxation: str) -> SideBound:
+        """The side's bound at the layout, the other side held: its relaxation solved, ready to tighten."""
+        problem, admissible = self.problem(side, layout), self.admissible(side, layout)
+        return SideBound(problem, layout[side], relaxation, admissible, self.cover(side, layout))
+
 
 def _other(side: str) -> str:
     return SIDES[1 - SIDES.index(side)]
 
 
-def _certify_side(sides: _Sides, side: str, layout: dict, relaxation: str, seconds: float, targets) -> tuple:
-    """U of one side at the layout, and the best admissible selection of that side met."""
-    problem, admissible = sides.problem(side, layout), sides.admissible(side, layout)
-    bound, best = certify(problem, layout[side], relaxation, admissible, sides.cover(side, layout), seconds, targets)
-    better = problem.value(best) > problem.value(layout[side]) + 1e-9 and admissible(best)
-    return bound, best if better else layout[side]
+SLICE = 0.1  # seconds the branch and bound of one side runs before the sides are compared again
 
 
 def certify_d(planner, sensors: list, exciters: list, relaxation: str, seconds: float) -> tuple[list, list, dict]:
     """The layout, improved where a side's branch and bound met better, and its bounds U_s, U_e.
 
-    ``planner`` is the placement.planner.Planner over every candidate. Sides are certified
-    to the first target in turn; a better selection met on one side is adopted and the
-    other side's bound dropped, to be computed again (module docstring). Each call gets
-    an even share of the time left among the sides still to certify; after ``seconds``
-    the relaxation's bound alone is computed. Time left then tightens both bounds towards
-    the last target. Every bound met is valid for the final layout: the least is kept.
+    ``planner`` is the placement.planner.Planner over every candidate. Each side's relaxation
+    bounds it first; for ``seconds`` then, the side whose bound is the larger (the one that
+    sets the certified efficiency) is tightened by its branch and bound, a slice at a time,
+    until that side can close no further. A better selection met on one side is adopted and
+    the other side's bound computed anew (module docstring).
     """
     deadline = time.perf_counter() + seconds
-    sides, layout, bounds = _Sides(planner), {"sensors": list(sensors), "exciters": list(exciters)}, {}
-    while len(bounds) < len(SIDES):
-        side = next(s for s in SIDES if s not in bounds)
-        share = max(deadline - time.perf_counter(), 0.0) / (len(SIDES) - len(bounds))
-        bounds[side], chosen = _certify_side(sides, side, layout, relaxation, share, TARGETS[:1])
-        if chosen != layout[side]:
-            layout[side] = chosen
-            bounds.pop(_other(side), None)
-    for k, side in enumerate(SIDES):
-        share = max(deadline - time.perf_counter(), 0.0) / (len(SIDES) - k)
-        gap = bounds[side] - sides.problem(side, layout).value(layout[side])
-        if share > 0 and gap > planner.model.p * np.log(1 / TARGETS[-1]):
-            tighter = _certify_side(sides, side, layout, relaxation, share, TARGETS[1:])[0]
-            bounds[side] = min(bounds[side], tighter)
-    return layout["sensors"], layout["exciters"], {side: float(bounds[side]) for side in SIDES}
+    sides, layout = _Sides(planner), {"sensors": list(sensors), "exciters": list(exciters)}
+    bounds = {side: sides.bound(side, layout, relaxation) for side in SIDES}
+    while time.perf_counter() < deadline:
+        side = max(SIDES, key=lambda s: bounds[s].bound)
+        if bounds[side].finished:
+            break
+        bounds[side].tighten(min(deadline, time.perf_counter() + SLICE), deadline)
+        problem = sides.problem(side, layout)
+        if problem.value(bounds[side].best) > problem.value(layout[side]) + 1e-9:
+            layout[side] = bounds[side].best
+            bounds[_other(side)] = sides.bound(_other(side), layout, relaxation)
+    return layout["sensors"], layout["exciters"], {side: float(bounds[side].bound) for side in SIDES}
 
 
 def certify_criterion(planner, sensors: list, exciters: list) -> dict:

@@ -67,6 +67,7 @@ class Planner:
         self.fixed_sensors, self.fixed_exciters = fixed_sensors, fixed_exciters
         self.fixed_s = empty if fixed_sensors is None else model.coordinates(fixed_sensors)
         self.fixed_e = empty if fixed_exciters is None else model.coordinates(fixed_exciters)
+        self._built = {}
 
     # one side's selection problem, the other side fixed
     def _problem(
@@ -97,11 +98,23 @@ class Planner:
 
     def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_e, exciter_rows])
-        return self._problem(self.s, self.s_coords, other, self.fixed_s, (self.budget.sensors, self.budget.triaxial))
+        budgets = (self.budget.sensors, self.budget.triaxial)
+        return self._kept("s", other, lambda: self._problem(self.s, self.s_coords, other, self.fixed_s, budgets))
 
     def exciter_problem(self, sensor_rows: np.ndarray) -> BlockProblem:
         other = np.vstack([self.fixed_s, sensor_rows])
-        return self._problem(self.e, self.e_coords, other, self.fixed_e, (self.budget.exciters,))
+        budgets = (self.budget.exciters,)
+        return self._kept("e", other, lambda: self._problem(self.e, self.e_coords, other, self.fixed_e, budgets))
+
+    def _kept(self, side: str, other: np.ndarray, build) -> BlockProblem:
+        """The last few problems built, by side and held lines: the search, the polish and the certificate
+        come back to the same ones, which take a tenth of a second each to build at 1e5 candidates."""
+        key = (side, other.shape, other.tobytes())
+        if key not in self._built:
+            self._built[key] = build()
+            while len(self._built) > 4:
+                self._built.pop(next(iter(self._built)))
+        return self._built[key]
 
     def sensor_rows(self, chosen) -> np.ndarray:
         return self.s_coords[self.s.line_index(chosen)]
@@ -264,6 +277,14 @@ def _search(searcher: Planner, starts: list, progress) -> tuple[list, list, floa
     return best
 
 
+def polished(planner: Planner, sensors: list, exciters: list) -> tuple[list, list]:
+    """The working sets' layout carried on by exchanges among every candidate, each side in turn, staying
+    admitted: the working sets hold a few thousand lines, and the best admitted layout of 1e5 may lie
+    between them (a sensor a few millimetres from a working-set point)."""
+    s, e, _ = planner.alternate(exciters, sensors)
+    return (s, e) if planner.admits(s, e) else (sensors, exciters)
+
+
 def plan_on_candidates(
     model: RigidModel,
     sensor_side: CandidateLines,
@@ -319,6 +340,14 @@ def plan_on_candidates(
             "not all in one line or plane, and hits in several directions (relax the exclusions, "
             "--sensor-base or --tip)"
         )
+    if len(s_work) < len(sensor_side) or len(e_work) < len(exciter_side):
+        progress("exchanging on every candidate", 0.82)
+        polisher = (
+            planner
+            if chosen is D
+            else Planner(model, sensor_side, exciter_side, budget, noise, *fixed, chosen, diagnosable)
+        )
+        sensors, exciters = polished(polisher, sensors, exciters)
     progress("certifying", 0.85)
     if chosen is D:
         sensors, exciters, d_bounds = certify_d(planner, sensors, exciters, relaxation, certify_seconds)
