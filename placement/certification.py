@@ -76,11 +76,20 @@ def certify_d(planner, sensors: list, exciters: list, relaxation: str, seconds: 
     bounds it first; for ``seconds`` then, the side whose bound is the larger (the one that
     sets the certified efficiency) is tightened by its branch and bound, a slice at a time,
     until that side can close no further. A better selection met on one side is adopted and
-    the other side's bound computed anew (module docstring).
+    the other side's bound computed anew (module docstring); when time runs out before that
+    bound is as tight as the one given up, the layout before is returned with its bounds
+    (the one of greater certified efficiency, both bounds valid for it).
     """
     deadline = time.perf_counter() + seconds
     sides, layout = _Sides(planner), {"sensors": list(sensors), "exciters": list(exciters)}
     bounds = {side: sides.bound(side, layout, relaxation) for side in SIDES}
+
+    def certified() -> tuple:
+        value = sides.problem(SIDES[0], layout).value(layout[SIDES[0]])
+        stated = {side: float(bounds[side].bound) for side in SIDES}
+        return value - max(stated.values()), layout["sensors"], layout["exciters"], stated
+
+    before = []
     while time.perf_counter() < deadline:
         side = max(SIDES, key=lambda s: bounds[s].bound)
         if bounds[side].finished:
@@ -88,9 +97,10 @@ def certify_d(planner, sensors: list, exciters: list, relaxation: str, seconds: 
         bounds[side].tighten(min(deadline, time.perf_counter() + SLICE), deadline)
         problem = sides.problem(side, layout)
         if problem.value(bounds[side].best) > problem.value(layout[side]) + 1e-9:
-            layout[side] = bounds[side].best
+            before.append(certified())
+            layout = {**layout, side: bounds[side].best}
             bounds[_other(side)] = sides.bound(_other(side), layout, relaxation)
-    return layout["sensors"], layout["exciters"], {side: float(bounds[side].bound) for side in SIDES}
+    return max([certified()] + before, key=lambda c: c[0])[1:]
 
 
 def certify_criterion(planner, sensors: list, exciters: list) -> dict:

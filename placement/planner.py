@@ -214,7 +214,7 @@ class Planner:
 
     def alternate(self, exciters: list, sensors: list | None = None, rounds: int = 12) -> tuple[list, list, float]:
         """Sensors for the exciters, exciters for the sensors, … until both are stable."""
-        value = -np.inf
+        value, settled_for = -np.inf, None
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = self.settled(
@@ -223,13 +223,15 @@ class Planner:
                 lambda c: (c, exciters),
                 self.sensor_cover(exciters, conditioning=True),
             )
+            if sorted(sensors) == settled_for:  # the exciters were settled against these very sensors
+                break
             ep = self.exciter_problem(self.sensor_rows(sensors))
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
             new_exciters = self.settled(ep, start, lambda c: (sensors, c), self.exciter_cover)
             new_value = ep.value(new_exciters)
             if new_value <= value + 1e-9:
                 break
-            exciters, value = new_exciters, new_value
+            exciters, value, settled_for = new_exciters, new_value, sorted(sensors)
         return sensors, exciters, value
 
     def working_sets(self, seed: int, size: int = WORKING_SET) -> tuple[np.ndarray, np.ndarray]:
