@@ -103,7 +103,9 @@ class BranchAndBound:
     ``root_bound`` and ``root_weights`` are a relaxation already solved on the whole problem
     (its bound, its weights per candidate): the root node starts from them. ``admissible``
     (a selection → bool), when given, limits the selections that become the best known;
-    the best of all selections met, admissible or not, is kept beside it (``best_any``).
+    the best of all selections met, admissible or not, is kept beside it (``best_any``), and
+    a node within ``any_slack`` of it closes too: no bound can fall below a selection's value,
+    so splitting further would buy at most that slack.
 
     Best first: the open node of largest bound is relaxed, screened and split; a
     node whose bound is within ``slack`` of the best selection known is closed.
@@ -120,8 +122,10 @@ class BranchAndBound:
         root_bound: float = np.inf,
         root_weights: np.ndarray | None = None,
         admissible=None,
+        any_slack: float = -np.inf,
     ):
         self.problem, self.slack, self.tol, self.admissible = problem, slack, tol, admissible
+        self.any_slack = any_slack
         self.start, self.root_weights = list(chosen), root_weights
         self.best_value, self.best = problem.value(chosen), list(chosen)
         self.best_any = (self.best_value, self.best)
@@ -138,6 +142,11 @@ class BranchAndBound:
     def finished(self) -> bool:
         return not self.heap
 
+    @property
+    def target(self) -> float:
+        """Nodes whose bound is below this close."""
+        return max(self.best_value + self.slack, self.best_any[0] + self.any_slack)
+
     def run(self, until: float, deadline: float | None = None, max_nodes: int = 100_000, stop=lambda: False) -> None:
         """Nodes until ``until`` (time.perf_counter()), ``max_nodes`` in all, the search ends or ``stop()``; a
         node's relaxation runs on to ``deadline`` (default ``until``)."""
@@ -146,9 +155,9 @@ class BranchAndBound:
             self._node(deadline)
 
     def _node(self, deadline: float) -> None:
-        problem, slack = self.problem, self.slack
+        problem = self.problem
         negative_bound, _, cells, parent = heapq.heappop(self.heap)
-        if -negative_bound <= self.best_value + slack:  # the largest open bound: every open node closes
+        if -negative_bound <= self.target:  # the largest open bound: every open node closes
             self.closed, self.heap = max(self.closed, -negative_bound), []
             return
         self.nodes += 1
@@ -158,19 +167,17 @@ class BranchAndBound:
             start = [int(np.flatnonzero(index == i)[0]) for i in self.start]
         else:
             weights, start = _warm_start(sub, *parent), ()
-        z, bound = relax_first_order(
-            sub, start, weights, tol=self.tol, stop_below=self.best_value + slack, deadline=deadline
-        )
+        z, bound = relax_first_order(sub, start, weights, tol=self.tol, stop_below=self.target, deadline=deadline)
         bound = min(bound, -negative_bound)
         groups = [(np.flatnonzero(sub.group == g), m) for g, m in enumerate(sub.budgets)]
         self._met(sorted(int(index[i]) for i in _rounded(z, groups)))
-        if bound <= self.best_value + slack:
+        if bound <= self.target:
             self.closed = max(self.closed, bound)
             return
         M = sub.fixed + np.einsum("n,nrp,nrq->pq", z, sub.blocks, sub.blocks)
         c = leverages(sub.blocks, np.linalg.inv(M))
         U_i = screening_bounds(sub, M, c)
-        screened = U_i <= self.best_value + slack
+        screened = U_i <= self.target
         self.closed = max(self.closed, U_i[screened].max(initial=-np.inf))
         z_all, c_all = np.zeros(len(problem.blocks)), np.zeros(len(problem.blocks))
         z_all[index], c_all[index] = z, c

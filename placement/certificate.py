@@ -10,6 +10,11 @@ With six sensors or three exciters for ten parameters the relaxation's bound
   leaves unseen, at least one chosen candidate must see it (ℓ · q₀ ≠ 0). The
   bound over admissible layouts is the largest over how many candidates come
   from that cover set.
+
+The branch and bound closes nodes against the best *admissible* selection it knows:
+the certificate is of the planner's layout, and closing against an inadmissible
+one (a kinematic step of κ(S̃) in the thousands, which D-optimality alone likes)
+would stop it short of the target it states. Its bound still covers every selection.
 """
 
 from __future__ import annotations
@@ -126,12 +131,17 @@ class SideBound:
             self.root, self.search = relax_cvxpy(problem)[1], None
             return
         self.weights, self.root = relax_first_order(problem, chosen, tol=1e-3)
-        self.search = None
-        self.search = self._search(self.slacks[0])
+        self.search = self._search(self.slacks[0], self.chosen, self.root)
 
-    def _search(self, slack: float) -> BranchAndBound:
+    def _search(self, slack: float, start: list, bound: float) -> BranchAndBound:
         return BranchAndBound(
-            self.problem, self.best, slack, root_bound=self.bound, root_weights=self.weights, admissible=self.admissible
+            self.problem,
+            start,
+            slack,
+            root_bound=bound,
+            root_weights=self.weights,
+            admissible=self.admissible,
+            any_slack=self.slacks[-1],
         )
 
     @property
@@ -159,7 +169,8 @@ class SideBound:
         deadline = until if deadline is None else deadline
         while not self.finished and time.perf_counter() < until:
             if self.search.finished:  # this target is met: the next, from the root at the bound reached
-                self.search = self._search(next(s for s in self.slacks if s < self.search.slack))
+                slack = next(s for s in self.slacks if s < self.search.slack)
+                self.search = self._search(slack, self.best, self.bound)
             self.search.run(until, deadline, stop=self._needs_cut)
             if self._needs_cut():
                 self.cut, winner = certify_admissible(

@@ -107,14 +107,12 @@ class Planner:
         return self._kept("e", other, lambda: self._problem(self.e, self.e_coords, other, self.fixed_e, budgets))
 
     def _kept(self, side: str, other: np.ndarray, build) -> BlockProblem:
-        """The last few problems built, by side and held lines: the search, the polish and the certificate
-        come back to the same ones, which take a tenth of a second each to build at 1e5 candidates."""
-        key = (side, other.shape, other.tobytes())
-        if key not in self._built:
-            self._built[key] = build()
-            while len(self._built) > 4:
-                self._built.pop(next(iter(self._built)))
-        return self._built[key]
+        """The last problem built for the side, by held lines: the search, the polish and the certificate come
+        back to the same ones, which take a tenth of a second each to build at 1e5 candidates."""
+        key = (other.shape, other.tobytes())
+        if self._built.get(side, (None,))[0] != key:
+            self._built[side] = (key, build())
+        return self._built[side][1]
 
     def sensor_rows(self, chosen) -> np.ndarray:
         return self.s_coords[self.s.line_index(chosen)]
