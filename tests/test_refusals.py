@@ -216,7 +216,7 @@ def test_planner_memory_is_estimated_before_anything_is_allocated():
     from massline.plan import check_memory
 
     check_memory(400, False, available=1e9)
-    with pytest.raises(MasslineError, match=r"--candidates 1000000: .* about 4\.8 GB .* 2\.0 GB .* give --candidates"):
+    with pytest.raises(MasslineError, match=r"--candidates 1000000: .* about 5\.2 GB .* 2\.0 GB .* give --candidates"):
         check_memory(1_000_000, False, available=2e9)
 
 
