@@ -33,19 +33,14 @@ SIDES = ("sensors", "exciters")
 
 
 class _Sides:
-    """One side's selection problem with the other side held, built once per held selection."""
+    """One side's selection problem with the other side held (the planner keeps the last one built per side)."""
 
     def __init__(self, planner):
-        self.planner, self.built = planner, {}
+        self.planner = planner
 
     def problem(self, side: str, layout: dict):
-        other = layout[_other(side)]
-        key = (side, tuple(other))
-        if key not in self.built:
-            p = self.planner
-            held = p.exciter_rows(other) if side == "sensors" else p.sensor_rows(other)
-            self.built[key] = p.sensor_problem(held) if side == "sensors" else p.exciter_problem(held)
-        return self.built[key]
+        p, other = self.planner, layout[_other(side)]
+        return p.sensor_problem(p.exciter_rows(other)) if side == "sensors" else p.exciter_problem(p.sensor_rows(other))
 
     def admissible(self, side: str, layout: dict):
         other = layout[_other(side)]
