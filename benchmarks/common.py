@@ -7,7 +7,7 @@ import tracemalloc
 
 import numpy as np
 
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 
 
 def measured(label: str, work, traced: bool = True):

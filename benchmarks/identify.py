@@ -28,12 +28,12 @@ from massline.identify import pipeline
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
-from massline.placement.mesh import load_body
+from massline.meshes.loader import load_body
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.suspension import Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 STAGES = {  # the pipeline's stage functions, timed by their names in identify.pipeline
     "choose_band": "band choice",

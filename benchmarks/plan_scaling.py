@@ -32,9 +32,9 @@ import numpy as np
 import trimesh
 
 from massline.meshes import BUNDLED
-from massline.placement import Lines
-from massline.placement.mesh import load_body
-from massline.placement.model import RigidModel
+from massline.core import Lines
+from massline.meshes.loader import load_body
+from massline.core.model import RigidModel
 from massline.placement.planner import Budget, CandidateLines, Planner, plan_on_candidates
 from massline.placement.relaxation import relax_cvxpy, relax_first_order
 

@@ -19,9 +19,9 @@ from common import measured, surface_lines
 
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
-from massline.placement.mesh import load_body
+from massline.meshes.loader import load_body
 from massline.virtual.attachment import point_above
-from massline.virtual.band import recommend_suspension
+from massline.virtual.band_prediction import recommend_suspension
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.tetmesh import size_for_dofs, tetrahedralise

@@ -14,6 +14,6 @@ the ones below it:
 - :mod:`massline.meshes`: the bundled bodies.
 """
 
-__version__ = "0.1.0"
+from massline.core import __version__
 
 __all__ = ["__version__"]

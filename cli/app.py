@@ -15,10 +15,10 @@ import os
 import sys
 import warnings
 
-from massline import __version__
+from massline.core import __version__
 from massline.options import Parser
 from massline.output import console_for
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 from . import demo, diagnose_command, identify_command, plan, props_command, report_command, simulate
 

@@ -24,13 +24,13 @@ from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.options import SEED as SEED_RANGE
-from massline.placement.files import claim_folder, to_json, write_atomic
-from massline.placement.mesh import load_body
-from massline.placement.numbers import formatted, number, signed, value_with_sigma
+from massline.core.files import claim_folder, to_json, write_atomic
+from massline.meshes.loader import load_body
+from massline.core.numbers import formatted, number, signed, value_with_sigma
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget
-from massline.placement.properties import SUMMARY
+from massline.core.properties import SUMMARY
 from massline.report_command import build_report
 from massline.support import band_phrase, plan_test, planned_band, planned_suspension
 from massline.uff.grid import to_recording

@@ -15,9 +15,9 @@ from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, check_band
 from massline.output import write_report
-from massline.placement.files import claim_outputs, to_json, write_atomic
-from massline.placement.numbers import number, value_with_sigma
-from massline.placement.properties import SUMMARY
+from massline.core.files import claim_outputs, to_json, write_atomic
+from massline.core.numbers import number, value_with_sigma
+from massline.core.properties import SUMMARY
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 

@@ -15,10 +15,10 @@ from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import BAND_EDGE, MAX_DRAWS, TRANSVERSE_PRIOR, check_band, checked, count
 from massline.output import write_report
-from massline.placement.files import claim_outputs, to_json, write_atomic
-from massline.placement.numbers import number, sigma_text, value_with_sigma
-from massline.placement.properties import QUANTITIES
-from massline.placement.rigid_body import RigidBody
+from massline.core.files import claim_outputs, to_json, write_atomic
+from massline.core.numbers import number, sigma_text, value_with_sigma
+from massline.core.properties import QUANTITIES
+from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 

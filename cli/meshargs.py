@@ -7,8 +7,8 @@ from pathlib import Path
 
 from massline.meshes import BUNDLED
 from massline.options import DENSITY, MASS
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import UNITS, BodyMesh, load_body
+from massline.core.errors import MasslineError
+from massline.meshes.loader import UNITS, BodyMesh, load_body
 from massline.virtual.elastic import Material
 
 

@@ -13,8 +13,8 @@ import math
 import re
 from collections.abc import Callable
 
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import MAX_MASS_KG, PLAUSIBLE_DENSITY
+from massline.core.errors import MasslineError
+from massline.meshes.loader import MAX_MASS_KG, PLAUSIBLE_DENSITY
 
 SEED_MAX = 2**32 - 1  # numpy's seeds
 

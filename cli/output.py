@@ -6,7 +6,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from massline.placement.files import write_atomic
+from massline.core.files import write_atomic
 
 STATUS = "writing the report: building the page and rendering its pictures"
 UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken

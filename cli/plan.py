@@ -16,12 +16,12 @@ from massline.options import SEED, count, finite, fraction, real
 from massline.output import write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_folder, to_json, write_atomic
-from massline.placement.information import NoiseModel
-from massline.placement.lines import Lines
-from massline.placement.mesh import UNITS
-from massline.placement.numbers import formatted, number, sigma_text, vector_text
+from massline.core.errors import MasslineError
+from massline.core.files import claim_folder, to_json, write_atomic
+from massline.core.information import NoiseModel
+from massline.core.lines import Lines
+from massline.meshes.loader import UNITS
+from massline.core.numbers import formatted, number, sigma_text, vector_text
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget

@@ -7,7 +7,7 @@ import argparse
 from rich.console import Console
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
-from massline.placement.files import claim_output, to_json, write_atomic
+from massline.core.files import claim_output, to_json, write_atomic
 from massline.tables import body_table
 
 

@@ -15,16 +15,16 @@ from rich.console import Console
 
 from massline.meshargs import plan_material, plan_mesh
 from massline.output import write_report
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_output
-from massline.placement.mesh import BodyMesh
+from massline.core.errors import MasslineError
+from massline.core.files import claim_output
+from massline.meshes.loader import BodyMesh
 from massline.placement.plan_file import band_from_dict, read_plan
 from massline.reports.html import Report
 from massline.reports.placement_report import BandRow, report_html
 from massline.reports.plan_scene import scene_of
 from massline.reports.rendering import render_views
 from massline.support import elastic_modes, planned_band
-from massline.virtual.band import predict_band
+from massline.virtual.band_prediction import predict_band
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
 from massline.virtual.tetmesh import default_size, size_for_dofs

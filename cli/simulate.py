@@ -21,25 +21,25 @@ from rich.table import Table
 
 from massline.meshargs import plan_material, plan_mesh
 from massline.options import SEED, count, fraction, positive, real
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
-from massline.placement.files import claim_outputs, to_json, write_atomic
-from massline.placement.mesh import MAX_MASS_KG, BodyMesh
+from massline.core.band import Band
+from massline.core.errors import MasslineError
+from massline.core.files import claim_outputs, to_json, write_atomic
+from massline.meshes.loader import MAX_MASS_KG, BodyMesh
 from massline.placement.plan_file import read_plan
-from massline.placement.rigid_body import RigidBody
+from massline.core.rigid_body import RigidBody
 from massline.support import MODES, band_phrase, elastic_modes, planned_band, planned_suspension
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
 from massline.virtual.attachment import point_above
-from massline.virtual.band import predict_band, recommend_suspension
+from massline.virtual.band_prediction import predict_band, recommend_suspension
 from massline.virtual.effects import EFFECTS, Effect, check_targets
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension, hung_over
 from massline.virtual.tetmesh import size_for_dofs
-from massline.virtual.virtual_test import Acquisition, accelerometer_masses
-from massline.virtual.virtual_test import run as run_test
+from massline.virtual.acquisition import Acquisition, accelerometer_masses
+from massline.virtual.acquisition import run as run_test
 
 AUTO = -1.0  # --impact without a pulse length: the analyser setup chooses it
 MAX_PULSE_MS = 100.0  # a hammer pulse lasts 0.1-10 ms; a soft tip on a heavy body a few tens

@@ -12,10 +12,10 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from massline.fe_cache import cached_modes
 from massline.meshargs import plan_material
-from massline.placement.band import Band
-from massline.placement.mesh import BodyMesh
+from massline.core.band import Band
+from massline.meshes.loader import BodyMesh
 from massline.placement.plan_file import band_from_dict, band_to_dict
-from massline.virtual.band import choose_support, support_candidates
+from massline.virtual.band_prediction import choose_support, support_candidates
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from rich.table import Table
 
-from massline.placement.numbers import number, vector_text
-from massline.placement.properties import TENSOR
-from massline.placement.rigid_body import RigidBody
+from massline.core.numbers import number, vector_text
+from massline.core.properties import TENSOR
+from massline.core.rigid_body import RigidBody
 
 
 def body_table(body: RigidBody, title: str) -> Table:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.identify.band import MIN_LINES, stretch
+from massline.identify.zones import MIN_LINES, stretch
 from massline.identify.massline_fit import (
     LineSums,
     Solution,
@@ -32,14 +32,14 @@ from massline.identify.massline_fit import (
     truncation_shift,
 )
 from massline.identify.resonances import RIGID, rigid_misfit
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
-from massline.placement.information import sensitivities
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines
-from massline.placement.methods import starting_body
-from massline.placement.model import RigidModel
-from massline.placement.plate import plate_coordinates
+from massline.core.band import Band
+from massline.core.errors import MasslineError
+from massline.core.information import sensitivities
+from massline.core.lines import Lines
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.plate import plate_coordinates
 
 STEPS = (1.0, 1.5, 2.0, 3.0, 5.0)  # candidate edges: these factors inside the stretch's margins
 GAPS = 3  # flat gaps tried, from the widest up the axis, before the fallback

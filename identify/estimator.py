@@ -34,12 +34,12 @@ from functools import cached_property
 import numpy as np
 
 from massline.identify.weighing import WeighedMass
-from massline.placement.errors import MasslineError
-from massline.placement.information import sensitivities
-from massline.placement.masslines import Masslines
-from massline.placement.methods import starting_body
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody, tensor_from_six
+from massline.core.errors import MasslineError
+from massline.core.information import sensitivities
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody, tensor_from_six
 
 CONSISTENCY_MARGIN = 1e-9  # smallest eigenvalue of P kept, relative to m L²
 TRANSVERSE = 0.03  # prior 1-σ of an accelerometer's transverse sensitivity (datasheets: 3–5 %, paper §3)

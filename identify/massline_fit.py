@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
 RICHER = (-2, 3)  # each tail's next term, B₂/ω⁴ and D₂ω⁶ (real): what the truncation shift carries into A

@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.identify.band import given_band
+from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.massline_fit import BandFit, fit_band
@@ -26,13 +26,13 @@ from massline.identify.suspicions import (
 )
 from massline.identify.uncertainty import bootstrap, combined_std, truncation_std, with_truncation
 from massline.identify.weighing import WeighedMass
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
-from massline.placement.masslines import Masslines
-from massline.placement.methods import DYNAMICS, KINEMATICS, identify
-from massline.placement.plate import plate_theta
-from massline.placement.properties import reported_values
-from massline.placement.rigid_body import RigidBody
+from massline.core.band import Band
+from massline.core.errors import MasslineError
+from massline.core.masslines import Masslines
+from massline.core.methods import DYNAMICS, KINEMATICS, identify
+from massline.core.plate import plate_theta
+from massline.core.properties import reported_values
+from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from massline.placement.rigid_body import RigidBody
+from massline.core.rigid_body import RigidBody
 
 DENSEST = 22_600.0  # kg/m³, osmium: no body holds denser material
 LIGHTEST = 1.2  # kg/m³, air: a body this light over the hull of its measured points would float

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.band import Band
+from massline.core.band import Band
 
 STANDS_OUT = 3.0  # a resonance's s(f) over the band's massline level
 NEIGHBOURHOOD = 1.1  # a peak is the largest line within this factor in frequency either side

@@ -20,11 +20,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from massline.identify.estimator import Estimate, is_consistent
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
-from massline.placement.plate import plate_theta
-from massline.placement.rigid_body import RigidBody, six_from_tensor, steiner
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
+from massline.core.plate import plate_theta
+from massline.core.rigid_body import RigidBody, six_from_tensor, steiner
 
 SHARED_HOUSING = 1e-3  # m: channels whose points lie closer share one housing (no two housings fit within 1 mm)
 

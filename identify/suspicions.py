@@ -30,8 +30,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
-from massline.identify.band import RESONANT, imaginary_fraction, stretch
-from massline.placement.band import Band
+from massline.identify.zones import RESONANT, imaginary_fraction, stretch
+from massline.core.band import Band
 
 NEAR = 1.5  # band edges closer than this factor to where the FRFs leave their massline are flagged
 CHANCE = 1e-3  # χ² beyond this tail probability of its distribution is flagged

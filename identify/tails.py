@@ -43,8 +43,8 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from massline.placement.effect_names import TEST_PHYSICS
-from massline.placement.errors import MasslineError
+from massline.core.effect_names import TEST_PHYSICS
+from massline.core.errors import MasslineError
 
 TAIL_LAWS = TEST_PHYSICS  # each a single mode shared by every FRF
 MIN_LINES = 12

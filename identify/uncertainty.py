@@ -24,11 +24,11 @@ import numpy as np
 from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
-from massline.placement.accuracy import predicted_std
-from massline.placement.errors import MasslineError
-from massline.placement.masslines import Masslines
-from massline.placement.properties import VECTOR_SIZE, property_vector, std_of
-from massline.placement.rigid_body import RigidBody
+from massline.core.accuracy import predicted_std
+from massline.core.errors import MasslineError
+from massline.core.masslines import Masslines
+from massline.core.properties import VECTOR_SIZE, property_vector, std_of
+from massline.core.rigid_body import RigidBody
 
 
 def aligned(vector: np.ndarray, reference: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 RELATIVE_SD = 5e-4  # default 1-σ of a reading, fraction of it (see the module docstring)
 READING = re.compile(r"^\s*([^±+]+?)\s*(?:(?:±|\+-|\+/-)\s*([^%\s]+)\s*(%?))?\s*$")

@@ -1,36 +1,14 @@
-"""massline.placement — the core: lines, rigid-body algebra, masslines, the paper's methods, the planner.
+"""massline.placement — the pre-test planner: where the accelerometers and hammer hits go.
 
-Pure functions over numpy arrays and small frozen dataclasses, in the one frame O xyz, SI units
-(DESIGN.md, "Conventions"). Modules:
+Stands on :mod:`massline.core` (lines, rigid-body algebra, information) and :mod:`massline.meshes`
+(the surface). Modules:
 
-- rigid-body algebra: :mod:`.lines` (6-vector lines), :mod:`.rigid_body` (the 10 parameters, M_O),
-  :mod:`.masslines` (H = S M_O⁻¹ Wᵀ), :mod:`.properties` (the reported quantities and their 1-σ),
-  :mod:`.band` (the massline band);
-- the paper: :mod:`.kinematics` (eqs. 5–7), :mod:`.dynamics` (eq. 8, methods 1–3), :mod:`.plate`
-  (§2.3), :mod:`.methods` (all of them by name), :mod:`.linear_system`, :mod:`.degeneracy`;
-- planning: :mod:`.mesh` (a closed surface → nominal properties), :mod:`.candidates`, :mod:`.model`,
-  :mod:`.information` (Fisher information), :mod:`.accuracy` (Cramér–Rao), :mod:`.selection`,
-  :mod:`.relaxation`, :mod:`.certificate`, :mod:`.planner`, :mod:`.plan_file`, :mod:`.hand_layouts`;
-- shared by every layer: :mod:`.errors` (the user's mistakes), :mod:`.files` (atomic writes),
-  :mod:`.effect_names` (the effects' names), :mod:`.numbers` (numbers as printed: a value to its ±).
+- the surface: :mod:`.mountable` (flat patches, edges), :mod:`.candidates` (points and lines a
+  technician can use), :mod:`.sliding` (off the grid, on the patches);
+- the search: :mod:`.selection` (greedy, swaps), :mod:`.relaxation` (the convex relaxation),
+  :mod:`.criteria`, :mod:`.admissible` (never a singular layout), :mod:`.planner`, :mod:`.on_surface`;
+- the certificate: :mod:`.certificate`, :mod:`.cell_bound`, :mod:`.certification`,
+  :mod:`.criterion_relaxation`;
+- the plan: :mod:`.plans` (budget, plan and its assessment), :mod:`.diagnosability`,
+  :mod:`.diagnosable_plan` (the default plan), :mod:`.plan_file` (plan.json), :mod:`.hand_layouts`.
 """
-
-from massline.placement.band import Band
-from massline.placement.dynamics import MethodResult
-from massline.placement.errors import MasslineError, SingularLayoutError
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines, synthesise
-from massline.placement.methods import identify
-from massline.placement.rigid_body import RigidBody
-
-__all__ = [
-    "Band",
-    "Lines",
-    "MasslineError",
-    "Masslines",
-    "MethodResult",
-    "RigidBody",
-    "SingularLayoutError",
-    "identify",
-    "synthesise",
-]

@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.errors import SingularLayoutError
-from massline.placement.lines import Lines, skew
-from massline.placement.masslines import synthesise
-from massline.placement.methods import identify
-from massline.placement.model import RigidModel
+from massline.core.errors import SingularLayoutError
+from massline.core.lines import Lines, skew
+from massline.core.masslines import synthesise
+from massline.core.methods import identify
+from massline.core.model import RigidModel
 
 KINEMATIC_LIMIT = 30.0
 

@@ -20,8 +20,8 @@ import numpy as np
 import trimesh
 from scipy.spatial import cKDTree
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import AXES, Lines
+from massline.core.errors import MasslineError
+from massline.core.lines import AXES, Lines
 from massline.placement.mountable import Surface
 
 SENSOR_BASE = 10e-3  # m across: the base of a typical uniaxial or triaxial modal accelerometer

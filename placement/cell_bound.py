@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from massline.placement.information import log_det
+from massline.core.information import log_det
 from massline.placement.relaxation import relax_first_order
 from massline.placement.selection import BlockProblem, leverages
 

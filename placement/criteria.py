@@ -24,7 +24,7 @@ from typing import Callable
 
 import numpy as np
 
-from massline.placement.information import log_det
+from massline.core.information import log_det
 
 
 def a_value(F: np.ndarray) -> float:

@@ -25,10 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.information import NoiseModel, weighted_sensitivities
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
+from massline.core.errors import MasslineError
+from massline.core.information import NoiseModel, weighted_sensitivities
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
 
 H_MAX = 0.9  # a channel's or a hit's leverage beyond which its fault is mostly absorbed by the fit
 R_MAX = 0.99  # two channels' residual signatures this parallel (8°) cannot be told apart

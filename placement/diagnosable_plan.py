@@ -15,10 +15,10 @@ from typing import Callable, Iterator
 
 from massline.placement.candidates import CandidateOptions
 from massline.placement.diagnosability import UndiagnosableError
-from massline.placement.errors import MasslineError
-from massline.placement.information import NoiseModel
-from massline.placement.lines import Lines
-from massline.placement.mesh import BodyMesh
+from massline.core.errors import MasslineError
+from massline.core.information import NoiseModel
+from massline.core.lines import Lines
+from massline.meshes.loader import BodyMesh
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.planner import Budget, Plan
 

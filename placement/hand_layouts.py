@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 
 
 def plate_table1() -> tuple[Lines, Lines]:

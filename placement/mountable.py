@@ -22,7 +22,7 @@ import trimesh
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 FLAT_DEG = 0.5  # neighbouring triangles closer than this to coplanar belong to one flat patch
 SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor or a hit keeps away from

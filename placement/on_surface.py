@@ -14,11 +14,11 @@ import numpy as np
 from massline.placement.admissible import regular
 from massline.placement.candidates import CandidateOptions, CandidatePoints, candidate_lines, candidate_points
 from massline.placement.diagnosability import diagnosability
-from massline.placement.information import NoiseModel
-from massline.placement.layout import Budget, Plan, assessed
-from massline.placement.lines import Lines
-from massline.placement.mesh import UNITS, BodyMesh
-from massline.placement.model import RigidModel
+from massline.core.information import NoiseModel
+from massline.placement.plans import Budget, Plan, assessed
+from massline.core.lines import Lines
+from massline.meshes.loader import UNITS, BodyMesh
+from massline.core.model import RigidModel
 from massline.placement.mountable import Surface, snap
 from massline.placement.planner import plan_on_candidates
 from massline.placement.sliding import slide

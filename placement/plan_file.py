@@ -30,10 +30,10 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
-from massline.placement.layout import Plan
-from massline.placement.lines import Lines
+from massline.core.band import Band
+from massline.core.errors import MasslineError
+from massline.placement.plans import Plan
+from massline.core.lines import Lines
 
 
 def _lines(lines: Lines, nodes: np.ndarray) -> list:

@@ -33,11 +33,11 @@ from massline.placement.candidates import (
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, Criterion, D
 from massline.placement.diagnosability import UndiagnosableError, of_coordinates
-from massline.placement.errors import MasslineError
-from massline.placement.information import NoiseModel, weighted_sensitivities
-from massline.placement.layout import Budget, Plan, assessed, fixed_nodes
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
+from massline.core.errors import MasslineError
+from massline.core.information import NoiseModel, weighted_sensitivities
+from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
 from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
 
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from massline.placement.information import log_det
+from massline.core.information import log_det
 from massline.placement.selection import BlockProblem, leverages
 
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from massline.placement.criteria import Criterion, D
-from massline.placement.information import log_det
+from massline.core.information import log_det
 
 
 @dataclass(frozen=True, eq=False)

@@ -21,9 +21,9 @@ from typing import Callable
 import numpy as np
 
 from massline.placement.candidates import CandidateOptions, CandidatePoints, excluded_by
-from massline.placement.information import NoiseModel, fisher, log_det
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
+from massline.core.information import NoiseModel, fisher, log_det
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
 from massline.placement.mountable import Surface
 
 Criterion = Callable[[np.ndarray], float]  # information matrix F (p × p) → value to maximise

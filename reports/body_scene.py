@@ -14,8 +14,8 @@ from dataclasses import replace
 import numpy as np
 import trimesh
 
-from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody
+from massline.core.lines import Lines
+from massline.core.rigid_body import RigidBody
 from massline.reports.plan_scene import AXIS, FLAGGED, HIT, Marker, Scene, scene_of
 
 OPACITY = 0.4  # of the body's surface: the principal axes inside it stay in sight

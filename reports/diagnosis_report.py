@@ -10,10 +10,10 @@ import numpy as np
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun
-from massline.placement.mesh import BodyMesh
-from massline.placement.numbers import number
-from massline.placement.properties import SUMMARY
-from massline.placement.rigid_body import RigidBody
+from massline.meshes.loader import BodyMesh
+from massline.core.numbers import number
+from massline.core.properties import SUMMARY
+from massline.core.rigid_body import RigidBody
 from massline.reports.diagnosis_figures import diagnosis_figure
 from massline.reports.html import Report, escape, html_table, num, page, plot_figure, with_sigma
 from massline.reports.identification_figures import frf_figure, representative

@@ -7,9 +7,9 @@ import io
 import numpy as np
 from matplotlib.figure import Figure
 
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.virtual.band import frequency_axis
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
+from massline.virtual.band_prediction import frequency_axis
 
 
 def png_bytes(fig: Figure, **options) -> bytes:

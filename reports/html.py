@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image
 
-from massline.placement.numbers import formatted, number, value_with_sigma
+from massline.core.numbers import formatted, number, value_with_sigma
 from massline.reports.plan_scene import Marker
 from massline.reports.rendering import Rendering
 

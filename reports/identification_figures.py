@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from massline.identify.diagnose.screens import driving_points
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 from massline.reports.figures import png_bytes
 
 WIDTH_IN = 7.3  # inches: the A4 page's printable width at the report's margins

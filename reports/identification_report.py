@@ -14,12 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
-from massline import __version__
+from massline.core import __version__
 from massline.identify.pipeline import Identification
-from massline.placement.mesh import BodyMesh
-from massline.placement.numbers import formatted, number, sigma_text, signed, value_with_sigma, vector_text
-from massline.placement.properties import QUANTITIES
-from massline.placement.rigid_body import RigidBody
+from massline.meshes.loader import BodyMesh
+from massline.core.numbers import formatted, number, sigma_text, signed, value_with_sigma, vector_text
+from massline.core.properties import QUANTITIES
+from massline.core.rigid_body import RigidBody
 from massline.reports.body_scene import identification_scene, principal_frame
 from massline.reports.html import (
     Report,

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline import __version__
+from massline.core import __version__
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 
 ARROW = 0.16  # arrow length, fraction of the body's largest extent
 SENSOR, HIT = "sensor", "hit"

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.reports.label_layout import place_labels
 from massline.reports.plan_scene import COLOURS, SENSOR, Scene, outer_end
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from massline.meshes import BUNDLED
-from massline.placement.mesh import load_body
+from massline.meshes.loader import load_body
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 FIXTURE_MESHES = SHARED / "fixtures" / "meshes"

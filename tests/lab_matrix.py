@@ -30,8 +30,8 @@ from scipy.optimize import brentq
 
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import load_body
+from massline.core.errors import MasslineError
+from massline.meshes.loader import load_body
 from massline.placement.plan_file import read_plan
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
@@ -42,7 +42,7 @@ from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 BODIES = ("bracket", "structure", "plate")
 STYLES = ("plain", "exporter", "local", "impact")

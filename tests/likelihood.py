@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.information import NoiseModel, weighted_sensitivities
-from massline.placement.masslines import Masslines
-from massline.placement.methods import starting_body
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody
+from massline.core.information import NoiseModel, weighted_sensitivities
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 
 
 def maximum_likelihood(

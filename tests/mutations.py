@@ -208,7 +208,7 @@ def own_uffs(folder: Path) -> list[Path]:
     from massline.placement.hand_layouts import structure_exciters, structure_sensors
     from massline.uff.writer import write_uff
     from massline.virtual.suspension import Cord, Suspension
-    from massline.virtual.virtual_test import Acquisition, run
+    from massline.virtual.acquisition import Acquisition, run
 
     body = bundled("structure").nominal
     cord = Suspension(cords=(Cord.soft(body.cog + [0, 0, 0.15], body.mass),))

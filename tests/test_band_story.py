@@ -11,8 +11,8 @@ from test_cli import massline
 
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
-from massline.placement.band import Band, frf_scales, held_band, stray
-from massline.placement.masslines import synthesise
+from massline.core.band import Band, frf_scales, held_band, stray
+from massline.core.masslines import synthesise
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import band_from_dict, band_to_dict
 from massline.support import plan_test, planned_suspension

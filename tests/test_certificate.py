@@ -7,13 +7,13 @@ import pytest
 import trimesh
 from conftest import bundled
 
-from massline.placement import Lines
+from massline.core import Lines
 from massline.placement.admissible import KINEMATIC_LIMIT, kinematic_condition
 from massline.placement.cell_bound import BranchAndBound
 from massline.placement.certificate import SideBound
 from massline.placement.certification import certify_d
-from massline.placement.information import NoiseModel
-from massline.placement.model import RigidModel
+from massline.core.information import NoiseModel
+from massline.core.model import RigidModel
 from massline.placement.planner import WORKING_SET, Budget, CandidateLines, Planner, plan_on_candidates, polished
 
 

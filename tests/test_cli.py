@@ -163,12 +163,12 @@ def test_plan_bad_budgets_exit_2(tmp_path, args, words):
 
 def _recorded(tmp_path_factory, name, sensors, exciters):
     from massline.uff.writer import write_uff
-    from massline.virtual import virtual_test
+    from massline.virtual import acquisition
     from massline.virtual.measurement import Noise
-    from massline.virtual.virtual_test import Acquisition
+    from massline.virtual.acquisition import Acquisition
 
     setup = Acquisition(100.0, 200, Noise(0, 0))
-    recording, _ = virtual_test.run(bundled(name).nominal, sensors, exciters, setup=setup)
+    recording, _ = acquisition.run(bundled(name).nominal, sensors, exciters, setup=setup)
     path = tmp_path_factory.mktemp(name) / f"{name}.uff"
     write_uff(path, recording)
     return path

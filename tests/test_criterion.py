@@ -9,13 +9,13 @@ import trimesh
 from conftest import bundled
 from test_cli import massline
 
-from massline.placement import Lines
+from massline.core import Lines
 from massline.placement.certificate import certify
 from massline.placement.certification import certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.criterion_relaxation import relax_criterion
-from massline.placement.information import NoiseModel
-from massline.placement.model import RigidModel
+from massline.core.information import NoiseModel
+from massline.core.model import RigidModel
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget, CandidateLines, Planner
 from massline.placement.selection import best_gains, gains, greedy, swap

@@ -25,10 +25,10 @@ from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.placement.diagnosability import diagnosability
 from massline.placement.diagnosable_plan import budgets, cheapest_diagnosable
-from massline.placement.lines import Lines
-from massline.placement.mesh import load_body
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody
+from massline.core.lines import Lines
+from massline.meshes.loader import load_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material

@@ -16,18 +16,18 @@ from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix,
 from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import point_mass_theta
 from massline.identify.tails import BandData
-from massline.placement.files import to_json
+from massline.core.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import Noise
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 
 @pytest.fixture(scope="module")

@@ -26,7 +26,7 @@ from blind_measures import TAILS, outcome, report
 
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
-from massline.placement.mesh import load_body
+from massline.meshes.loader import load_body
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget
 from massline.uff.grid import to_recording

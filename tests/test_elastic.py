@@ -5,8 +5,8 @@ import pytest
 import trimesh
 
 from massline.meshes import BUNDLED
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import load_body
+from massline.core.errors import MasslineError
+from massline.meshes.loader import load_body
 from massline.virtual.elastic import ElasticBody, ElasticModes, Material
 from massline.virtual.tetmesh import tetrahedralise
 

@@ -16,7 +16,7 @@ from test_identify import bracket_plan  # noqa: F401  (the plan fixture)
 from massline.identify.pipeline import against_nominal, identify_recording
 from massline.identify.plausibility import density_bound, nominal_warnings, units_warnings
 from massline.identify.suspicions import given_band_warnings, rolloff_warnings, short_record_warnings
-from massline.placement.band import Band
+from massline.core.band import Band
 from massline.placement.plan_file import read_plan
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
@@ -26,7 +26,7 @@ from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspension import Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 TRANSVERSE = (Effect.parse("transverse_sensitivity=0.03@all"),)
 

@@ -13,8 +13,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from mutations import FIXTURE_MESH_UNITS, fixture_meshes, fixture_uffs, mutate, own_meshes, own_uffs
 
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import load_body
+from massline.core.errors import MasslineError
+from massline.meshes.loader import load_body
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 

@@ -24,7 +24,7 @@ from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.scenarios import Bench, scenario
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 GREEN = (20, 135, 60)  # the principal axes' colour (plan_scene.COLOURS)
 

@@ -8,23 +8,23 @@ from conftest import bundled
 from test_cli import massline
 from test_uff_reader import BAD, assert_command_refuses
 
-from massline.identify.band import find_band
+from massline.identify.zones import find_band
 from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
 from massline.identify.massline_fit import fit_band
 from massline.identify.pipeline import identify_recording
 from massline.identify.uncertainty import property_std
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines, synthesise
-from massline.placement.model import RigidModel
+from massline.core.lines import Lines
+from massline.core.masslines import Masslines, synthesise
+from massline.core.model import RigidModel
 from massline.placement.plan_file import read_plan
 from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from massline.placement import Lines, Masslines, identify, synthesise
+from massline.core import Lines, Masslines, identify, synthesise
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 
 vectors = st.tuples(*[st.floats(-1.0, 1.0, allow_nan=False)] * 3).map(np.array)

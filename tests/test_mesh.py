@@ -7,8 +7,8 @@ from conftest import FIXTURE_MESHES, bundled
 
 from massline.meshes import BUNDLED
 from massline.meshes.generate import BODIES, box_union_mesh
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import load_body
+from massline.core.errors import MasslineError
+from massline.meshes.loader import load_body
 
 
 def closed_form(body):

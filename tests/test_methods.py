@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from conftest import assert_body_close
 
-from massline.placement import Lines, identify, synthesise
+from massline.core import Lines, identify, synthesise
 from massline.placement.hand_layouts import (
     bracket_exciters,
     bracket_sensors,
@@ -13,7 +13,7 @@ from massline.placement.hand_layouts import (
     structure_origin_sensors,
     structure_sensors,
 )
-from massline.placement.plate import identify_plate
+from massline.core.plate import identify_plate
 
 # Table 1, "Theoretical data, Expected": M, x_G, y_G, J_x, J_y
 TABLE1 = {"mass": 5.67e-1, "x_G": 0.0, "y_G": 6.36e-2, "J_x": 4.25e-3, "J_y": 9.26e-4}

@@ -9,10 +9,10 @@ from conftest import FIXTURE_MESHES, bundled
 from test_cli import massline
 
 from massline.placement.candidates import CandidateOptions, candidate_points
-from massline.placement.errors import MasslineError
-from massline.placement.information import fisher, log_det
-from massline.placement.lines import Lines
-from massline.placement.mesh import load_body
+from massline.core.errors import MasslineError
+from massline.core.information import fisher, log_det
+from massline.core.lines import Lines
+from massline.meshes.loader import load_body
 from massline.placement.mountable import Surface, feature_edges, foot_on_segments
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget

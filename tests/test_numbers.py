@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from massline.placement.numbers import formatted, number, sigma_place, sigma_text, value_with_sigma, vector_text
+from massline.core.numbers import formatted, number, sigma_place, sigma_text, value_with_sigma, vector_text
 
 finite = st.floats(min_value=-1e12, max_value=1e12, allow_nan=False, allow_infinity=False)
 positive = st.floats(min_value=1e-15, max_value=1e12, allow_nan=False, allow_infinity=False)

@@ -8,10 +8,10 @@ import trimesh
 from conftest import bundled
 from likelihood import maximum_likelihood
 
-from massline.placement import Lines, Masslines, synthesise
-from massline.placement.accuracy import layout_worst_std
+from massline.core import Lines, Masslines, synthesise
+from massline.core.accuracy import layout_worst_std
 from massline.placement.candidates import CandidateOptions, candidate_lines
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.placement.hand_layouts import (
     bracket_exciters,
     bracket_sensors,
@@ -19,11 +19,11 @@ from massline.placement.hand_layouts import (
     structure_exciters,
     structure_sensors,
 )
-from massline.placement.information import NoiseModel, fisher, log_det, weighted_sensitivities
-from massline.placement.model import RigidModel
+from massline.core.information import NoiseModel, fisher, log_det, weighted_sensitivities
+from massline.core.model import RigidModel
 from massline.placement.on_surface import plan
 from massline.placement.planner import Budget, CandidateLines, Planner, plan_on_candidates
-from massline.placement.properties import property_vector
+from massline.core.properties import property_vector
 from massline.placement.selection import effective_independence
 
 MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}

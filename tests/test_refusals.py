@@ -212,7 +212,7 @@ def test_an_output_path_fault_is_refused_before_the_work(
 
 
 def test_planner_memory_is_estimated_before_anything_is_allocated():
-    from massline.placement.errors import MasslineError
+    from massline.core.errors import MasslineError
     from massline.plan import check_memory
 
     check_memory(400, False, available=1e9)

@@ -15,10 +15,10 @@ from rich.console import Console
 from test_cli import massline
 
 from massline.placement.candidates import CandidateOptions
-from massline.placement.files import to_json
-from massline.placement.information import NoiseModel
-from massline.placement.lines import Lines
-from massline.placement.mesh import load_body
+from massline.core.files import to_json
+from massline.core.information import NoiseModel
+from massline.core.lines import Lines
+from massline.meshes.loader import load_body
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget

@@ -12,9 +12,9 @@ import pytest
 from scipy.linalg import sqrtm
 
 from massline.identify.resonances import RIGID, rigid_misfit, support_and_elastic
-from massline.placement.band import Band
-from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody
+from massline.core.band import Band
+from massline.core.lines import Lines
+from massline.core.rigid_body import RigidBody
 
 BODY = RigidBody(12.0, np.array([0.02, -0.01, 0.03]), np.diag([0.3, 0.4, 0.5]))
 DAMPING = 0.01

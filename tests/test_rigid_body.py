@@ -5,8 +5,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from massline.placement.lines import Lines, skew
-from massline.placement.rigid_body import (
+from massline.core.lines import Lines, skew
+from massline.core.rigid_body import (
     RigidBody,
     mass_matrix,
     mass_matrix_basis,

@@ -18,18 +18,18 @@ from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import Housings, housing_points, point_mass_theta
 from massline.identify.uncertainty import bootstrap
 from massline.identify.weighing import WeighedMass
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
 from massline.placement.plan_file import read_plan
-from massline.placement.rigid_body import RigidBody
+from massline.core.rigid_body import RigidBody
 from massline.uff.writer import write_uff
 from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension, hung_over
-from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
+from massline.virtual.acquisition import Acquisition, accelerometer_masses, run
 
 EXACT = Acquisition(100.0, 200, Noise(0, 0), dc_line=False)
 TRIAXIAL_POINTS = [[0.08, 0.12, 0.05], [0.16, 0.03, 0.1]]

@@ -13,8 +13,8 @@ from conftest import FIXTURE_MESHES
 from massline.app import run
 from massline.meshes import BUNDLED
 from massline.placement.candidates import CandidateOptions
-from massline.placement.files import to_json
-from massline.placement.mesh import load_body
+from massline.core.files import to_json
+from massline.meshes.loader import load_body
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget

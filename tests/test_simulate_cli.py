@@ -11,8 +11,8 @@ from conftest import bundled
 from test_cli import massline
 
 from massline.identify.massline_fit import fit_band
-from massline.placement.masslines import Masslines
-from massline.placement.methods import identify
+from massline.core.masslines import Masslines
+from massline.core.methods import identify
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from massline.placement import Lines, SingularLayoutError, identify, synthesise
+from massline.core import Lines, SingularLayoutError, identify, synthesise
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
-from massline.placement.kinematics import method2_difference
+from massline.core.kinematics import method2_difference
 
 
 def test_triaxial_at_one_point_for_kinematics_method1(structure):

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.placement.rigid_body import RigidBody
-from massline.virtual.band import predict_band
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
+from massline.core.rigid_body import RigidBody
+from massline.virtual.band_prediction import predict_band
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import (
     GRAVITY,

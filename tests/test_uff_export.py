@@ -5,11 +5,11 @@ import pytest
 import pyuff
 from scipy.spatial.transform import Rotation
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 from massline.uff import writer as uff_export
 from massline.uff.grid import to_recording
-from massline.uff.layout import line_from_code, uff_layout
+from massline.uff.node_layout import line_from_code, uff_layout
 from massline.uff.reader import read_uff
 from massline.uff.recording import Recording
 from massline.uff.units import INCH, LBF, G

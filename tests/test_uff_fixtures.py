@@ -5,7 +5,7 @@ import pytest
 import pyuff
 from conftest import SHARED
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 

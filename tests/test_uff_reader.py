@@ -7,8 +7,8 @@ import pytest
 import pyuff
 from scipy.spatial.transform import Rotation
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 from massline.uff.frf_kind import units
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff

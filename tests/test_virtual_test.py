@@ -4,17 +4,17 @@ import numpy as np
 import pytest
 from conftest import bundled
 
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
+from massline.core.band import Band
+from massline.core.errors import MasslineError
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines, synthesise
-from massline.placement.methods import identify
+from massline.core.lines import Lines
+from massline.core.masslines import Masslines, synthesise
+from massline.core.methods import identify
 from massline.virtual.analyser import LINE_COUNTS, impact_setup
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import ImpactTest, Noise, half_sine_spectrum
 from massline.virtual.suspension import single_cord
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 QUIET = Acquisition(fmax=200.0, lines=400, noise=Noise(0.0, 0.0), dc_line=False)
 

@@ -19,7 +19,7 @@ from functools import cached_property
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.uff.frf_kind import Ordinate
 from massline.uff.recording import Channel
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.uff.units import INCH, LBF, G
 
 KINDS = ("accelerance", "mobility", "receptance")  # index: time derivatives from the stored FRF to accelerance

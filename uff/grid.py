@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 from massline.uff.reader import Frf, UffContents, same_axis
 from massline.uff.recording import Channel, Recording, code_direction
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 from massline.uff.datasets import Function, function_name, parse, split
 from massline.uff.frf_kind import check_accelerance, decide, to_accelerance
 from massline.uff.recording import Channel

@@ -7,8 +7,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 
 AXIS_NAMES = ("X", "Y", "Z", "RX", "RY", "RZ")
 

@@ -32,9 +32,9 @@ from pathlib import Path
 import numpy as np
 import pyuff
 
-from massline.placement.errors import MasslineError
-from massline.placement.files import atomic_file
-from massline.uff.layout import UffLayout, uff_layout
+from massline.core.errors import MasslineError
+from massline.core.files import atomic_file
+from massline.uff.node_layout import UffLayout, uff_layout
 from massline.uff.recording import Recording, code_name
 from massline.uff.units import ACCELERATIONS, UNITS, AccelerationUnits, Characteristic, UnitSystem, accelerance_units
 
@@ -225,7 +225,7 @@ def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits
 
 
 def _write(path: Path, datasets: list[dict], records) -> None:
-    """The file, whole or not at all: pyuff's datasets, then the 58 records (:func:`~massline.placement.files.atomic_file`)."""
+    """The file, whole or not at all: pyuff's datasets, then the 58 records (:func:`~massline.core.files.atomic_file`)."""
     with atomic_file(path) as temporary:
         pyuff.UFF(str(temporary)).write_sets(datasets, mode="add")
         with open(temporary, "ab") as handle:

@@ -12,6 +12,6 @@ from massline.virtual.effects import Effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Cord, Foam, Suspension
-from massline.virtual.virtual_test import Acquisition, run
+from massline.virtual.acquisition import Acquisition, run
 
 __all__ = ["Acquisition", "Cord", "Effect", "ElasticBody", "Foam", "Material", "Suspension", "SuspendedBody", "run"]

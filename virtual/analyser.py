@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.band import Band
+from massline.core.band import Band
 
 BANDWIDTH_FACTOR = 3.0  # fmax ≥ this × the band's top
 R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.2, 4.0, 5.0, 6.4, 8.0)  # analyser bandwidths per decade

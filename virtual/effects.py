@@ -28,9 +28,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from massline.placement.effect_names import DISCRETE, EXCITER_EFFECTS, SIMULATED
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
+from massline.core.effect_names import DISCRETE, EXCITER_EFFECTS, SIMULATED
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 
 EFFECTS = SIMULATED
 

@@ -28,8 +28,8 @@ from skfem import Basis, BilinearForm, ElementTetP2, ElementVector, MeshTet, asm
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from massline.placement.errors import MasslineError
-from massline.placement.numbers import number, vector_text
+from massline.core.errors import MasslineError
+from massline.core.numbers import number, vector_text
 from massline.virtual.tetmesh import default_size, tetrahedralise
 
 N_RIGID = 6

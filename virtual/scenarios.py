@@ -29,18 +29,18 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
+from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
 from massline.virtual.attachment import UP, point_above
-from massline.virtual.band import predict_band
+from massline.virtual.band_prediction import predict_band
 from massline.virtual.effects import Effect
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import GRAVITY, Cord, Suspension, hung_over
-from massline.virtual.virtual_test import Acquisition, accelerometer_masses, run
+from massline.virtual.acquisition import Acquisition, accelerometer_masses, run
 
 TRANSVERSE = (0.0, 0.02)  # every channel's transverse sensitivity, drawn uniformly (fraction)
 LOADING_CAP = 0.2  # every housing's mass together: at most this share of the body's mass

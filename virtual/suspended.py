@@ -32,7 +32,7 @@ from functools import cached_property
 import numpy as np
 from scipy.linalg import eigh
 
-from massline.placement.rigid_body import RigidBody, theta_from_mass_matrix
+from massline.core.rigid_body import RigidBody, theta_from_mass_matrix
 from massline.virtual.suspension import Suspension, point_map
 
 CHUNK = 256  # frequencies solved at once, to bound memory

@@ -18,9 +18,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.linalg import eigh
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import skew
-from massline.placement.rigid_body import RigidBody
+from massline.core.errors import MasslineError
+from massline.core.lines import skew
+from massline.core.rigid_body import RigidBody
 from massline.virtual.attachment import UP, lowest_points, point_above
 
 GRAVITY = 9.80665  # m/s², standard gravity

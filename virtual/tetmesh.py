@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from massline.placement.errors import MasslineError
-from massline.placement.mesh import validate_solid
+from massline.core.errors import MasslineError
+from massline.meshes.loader import validate_solid
 
 SIZE_PER_THICKNESS = 4.0  # element size / mean thickness 2V/A
 SPANS = 16  # elements, at least, along the largest extent

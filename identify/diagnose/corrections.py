@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from massline.identify.diagnose.finding import Finding
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 
 
 def moved_lines(lines: Lines, index: int, point=None, direction=None) -> Lines:

@@ -41,12 +41,12 @@ from massline.identify.diagnose.screens import channel_consistency, discrete_fix
 from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
-from massline.placement.masslines import Masslines
-from massline.placement.methods import starting_body
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody
+from massline.core.band import Band
+from massline.core.errors import MasslineError
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 
 EVIDENCE = 10.0  # ΔBIC that counts as very strong evidence (Kass & Raftery 1995)
 MATERIAL = 0.1  # share of the noise variance an effect must explain to be worth a finding

@@ -14,7 +14,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem, jacobian
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
 RCOND = 1e-10  # singular values of the column-scaled Jacobian below this share of the largest: unidentified

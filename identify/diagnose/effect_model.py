@@ -33,9 +33,9 @@ import numpy as np
 
 from massline.identify.estimator import perpendicular_bases
 from massline.identify.tails import Reduced
-from massline.placement.effect_names import EXCITER_EFFECTS
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
+from massline.core.effect_names import EXCITER_EFFECTS
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
 
 MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.tails import BandData
-from massline.placement.effect_names import kind
+from massline.core.effect_names import kind
 
 
 @dataclass(frozen=True)

@@ -29,9 +29,9 @@ from scipy.stats import chi2 as chi2_distribution
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate
 from massline.identify.sensor_mass import Housings, housing_points, point_mass_theta
-from massline.placement.lines import Lines
-from massline.placement.model import RigidModel
-from massline.placement.rigid_body import RigidBody
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 
 CHANCE = 1e-3  # tail probability beyond which a χ² is no longer chance
 SIGMAS = 5.0  # a loading mass must be this many σ from zero

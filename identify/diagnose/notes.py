@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from massline.identify.diagnose.finding import Finding
-from massline.placement.numbers import formatted, signed, value_with_sigma
+from massline.core.numbers import formatted, signed, value_with_sigma
 
 
 def _pm(value: float, sigma: float) -> str:

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from massline.identify.band import given_band
+from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
@@ -27,10 +27,10 @@ from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import Identification, identify_recording, is_planar, properties_payload, usable_lines
 from massline.identify.tails import BandData
-from massline.placement.band import Band
-from massline.placement.degeneracy import unseen_motion
-from massline.placement.errors import MasslineError
-from massline.placement.rigid_body import RigidBody
+from massline.core.band import Band
+from massline.core.degeneracy import unseen_motion
+from massline.core.errors import MasslineError
+from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from massline.identify.diagnose.effect_model import Layout, line_coordinates
 from massline.identify.tails import BandData
-from massline.placement.lines import Lines
+from massline.core.lines import Lines
 
 
 def kinematic_matrix(sensors: Lines, planar: bool) -> np.ndarray:

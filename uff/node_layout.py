@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import AXES, Lines, skew
+from massline.core.errors import MasslineError
+from massline.core.lines import AXES, Lines, skew
 from massline.uff.recording import code_direction
 
 AXIS_TOL = 1e-12  # a unit direction is along a global axis when it is this close to it

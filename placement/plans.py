@@ -10,16 +10,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from massline.placement.accuracy import predicted_std, worst_relative_std
+from massline.core.accuracy import predicted_std, worst_relative_std
 from massline.placement.candidates import CandidatePoints
 from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import Diagnosability, diagnosability
-from massline.placement.errors import MasslineError
-from massline.placement.information import NoiseModel, fisher, log_det
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.placement.methods import identify
-from massline.placement.model import RigidModel
+from massline.core.errors import MasslineError
+from massline.core.information import NoiseModel, fisher, log_det
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
+from massline.core.methods import identify
+from massline.core.model import RigidModel
 from massline.placement.sliding import Slide
 
 

@@ -18,9 +18,9 @@ from functools import cache, cached_property
 
 import numpy as np
 
-from massline.placement.lines import Lines
-from massline.placement.plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
-from massline.placement.rigid_body import (
+from massline.core.lines import Lines
+from massline.core.plate import PLATE_PARAMETER_NAMES, plate_coordinates, plate_mass_matrix, plate_theta
+from massline.core.rigid_body import (
     PARAMETER_NAMES,
     RigidBody,
     mass_matrix,

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.band import Band
-from massline.placement.errors import MasslineError
+from massline.core.band import Band
+from massline.core.errors import MasslineError
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance
 OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbed line

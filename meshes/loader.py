@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from massline.placement.errors import MasslineError
-from massline.placement.rigid_body import RigidBody
+from massline.core.errors import MasslineError
+from massline.core.rigid_body import RigidBody
 
 UNITS = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
 PLAUSIBLE_SIZE_M = (0.01, 20.0)  # largest extent of a body one hangs on soft springs

@@ -10,11 +10,11 @@ Kinematics: ``method1`` (eq. 5), ``method2`` (eq. 6), ``method2-difference``
 
 from __future__ import annotations
 
-from massline.placement.dynamics import MethodResult
-from massline.placement.errors import MasslineError
-from massline.placement.masslines import Masslines
-from massline.placement.plate import identify_plate
-from massline.placement.rigid_body import RigidBody
+from massline.core.dynamics import MethodResult
+from massline.core.errors import MasslineError
+from massline.core.masslines import Masslines
+from massline.core.plate import identify_plate
+from massline.core.rigid_body import RigidBody
 
 from . import dynamics, kinematics
 

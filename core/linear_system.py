@@ -11,7 +11,7 @@ from typing import Callable
 
 import numpy as np
 
-from massline.placement.errors import SingularLayoutError
+from massline.core.errors import SingularLayoutError
 
 RANK_TOLERANCE = 1e-10  # smallest singular value relative to the largest
 

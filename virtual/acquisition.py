@@ -12,11 +12,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody
+from massline.core.lines import Lines
+from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.virtual.analyser import impact_setup
-from massline.virtual.band import predict_band
+from massline.virtual.band_prediction import predict_band
 from massline.virtual.effects import Effect, Instrumentation, instrument
 from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
 from massline.virtual.suspended import SuspendedBody

@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.degeneracy import exciter_hint
-from massline.placement.dynamics import MethodResult
-from massline.placement.errors import MasslineError
-from massline.placement.linear_system import solve
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines
-from massline.placement.rigid_body import steiner
+from massline.core.degeneracy import exciter_hint
+from massline.core.dynamics import MethodResult
+from massline.core.errors import MasslineError
+from massline.core.linear_system import solve
+from massline.core.lines import Lines
+from massline.core.masslines import Masslines
+from massline.core.rigid_body import steiner
 
 PLATE_PARAMETER_NAMES = ("m", "mc_x", "mc_y", "J_xx", "J_yy", "J_xy")
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.model import RigidModel
+from massline.core.model import RigidModel
 
 
 @dataclass(frozen=True)

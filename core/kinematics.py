@@ -12,12 +12,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from massline.placement.degeneracy import distinct_points, unseen_motion
-from massline.placement.errors import MasslineError, SingularLayoutError
-from massline.placement.linear_system import solve
-from massline.placement.lines import Lines
-from massline.placement.masslines import Masslines
-from massline.placement.numbers import vector_text
+from massline.core.degeneracy import distinct_points, unseen_motion
+from massline.core.errors import MasslineError, SingularLayoutError
+from massline.core.linear_system import solve
+from massline.core.lines import Lines
+from massline.core.masslines import Masslines
+from massline.core.numbers import vector_text
 
 
 @dataclass(frozen=True, eq=False)

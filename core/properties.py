@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.rigid_body import RigidBody, principal
+from massline.core.rigid_body import RigidBody, principal
 
 VECTOR_SIZE = 25
 

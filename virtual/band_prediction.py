@@ -3,7 +3,7 @@
 Zone B of Appendix A is the band where the accelerance of the suspended, elastic body stays close to the
 free rigid body's massline H₀ = S M_O⁻¹ Wᵀ: above the suspension modes (zone A, error ≈ (f_s/f)²) and below
 the first elastic mode (zone C, error ≈ (f/f_a)²). A band is held when every single FRF stays within the
-tolerance of its massline's scale (:func:`massline.placement.band.held_band`); a weak FRF (a sensor nearly
+tolerance of its massline's scale (:func:`massline.core.band.held_band`); a weak FRF (a sensor nearly
 square to the motion a hit drives) strays most, so the tolerance is the tightest of ``TOLERANCES`` at which
 the band is at least ``MIN_RATIO`` wide.
 """
@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.band import Band, held_band, stray
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
-from massline.placement.masslines import synthesise
-from massline.placement.rigid_body import RigidBody
+from massline.core.band import Band, held_band, stray
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
+from massline.core.masslines import synthesise
+from massline.core.rigid_body import RigidBody
 from massline.virtual.attachment import UP, point_above
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import CORD_LENGTH, STRETCH, Cord, Suspension
@@ -29,7 +29,7 @@ BISECTIONS = 12  # halvings of a grid step (1.4 % of f) that place each band edg
 
 def strays(model: SuspendedBody, sensors: Lines, exciters: Lines, frequencies: np.ndarray) -> np.ndarray:
     """max_ij |H_ij(f) − A_ij|/s_ij at each frequency (Hz): how far the farthest FRF sits from its massline, against
-    its scale (:func:`massline.placement.band.frf_scales`)."""
+    its scale (:func:`massline.core.band.frf_scales`)."""
     H = model.accelerance(frequencies, sensors.points, sensors.directions, exciters.points, exciters.directions)
     return stray(H, synthesise(model.loaded, sensors, exciters).values)  # the accelerometers are weighed too
 

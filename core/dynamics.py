@@ -15,13 +15,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from massline.placement.degeneracy import exciter_hint
-from massline.placement.errors import SingularLayoutError
-from massline.placement.kinematics import RigidAccelerations, default_pairs, difference_rows
-from massline.placement.linear_system import solve
-from massline.placement.lines import skew
-from massline.placement.masslines import Masslines
-from massline.placement.rigid_body import RigidBody, symmetric_product_matrix, tensor_from_six
+from massline.core.degeneracy import exciter_hint
+from massline.core.errors import SingularLayoutError
+from massline.core.kinematics import RigidAccelerations, default_pairs, difference_rows
+from massline.core.linear_system import solve
+from massline.core.lines import skew
+from massline.core.masslines import Masslines
+from massline.core.rigid_body import RigidBody, symmetric_product_matrix, tensor_from_six
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.numbers import vector_text
+from massline.core.errors import MasslineError
+from massline.core.numbers import vector_text
 
 AXES = np.eye(3)
 AXIS_NAMES = ("x", "y", "z")

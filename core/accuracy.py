@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.model import RigidModel
-from massline.placement.properties import property_vector, std_of
+from massline.core.model import RigidModel
+from massline.core.properties import property_vector, std_of
 
 STEP = 1e-6  # relative step of the central differences, in scaled parameters
 

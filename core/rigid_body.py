@@ -18,8 +18,8 @@ from functools import cached_property
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import skew
+from massline.core.errors import MasslineError
+from massline.core.lines import skew
 
 PARAMETER_NAMES = ("m", "mc_x", "mc_y", "mc_z", "J_xx", "J_yy", "J_zz", "J_xy", "J_yz", "J_xz")
 SIX_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))  # (xx, yy, zz, xy, yz, xz)

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
-from massline.placement.lines import Lines
-from massline.placement.rigid_body import RigidBody
+from massline.core.errors import MasslineError
+from massline.core.lines import Lines
+from massline.core.rigid_body import RigidBody
 
 
 @dataclass(frozen=True, eq=False)

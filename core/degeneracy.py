@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.placement.linear_system import RANK_TOLERANCE
-from massline.placement.lines import Lines
-from massline.placement.numbers import number, vector_text
+from massline.core.linear_system import RANK_TOLERANCE
+from massline.core.lines import Lines
+from massline.core.numbers import number, vector_text
 
 
 def distinct_points(lines: Lines, tol: float = 1e-9) -> np.ndarray:

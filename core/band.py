@@ -1,7 +1,7 @@
 """The massline band: Appendix A's zone B, between the support modes (zone A) and the elastic modes (zone C).
 
 One type for the band wherever it comes from: predicted before the test from the model
-(:func:`massline.virtual.band.predict_band`), chosen in a recording
+(:func:`massline.virtual.band_prediction.predict_band`), chosen in a recording
 (:func:`massline.identify.band_choice.choose_band`) or given by the engineer (``--band LO HI``).
 
 One rule for a predicted band (:func:`held_band`): the widest run of frequencies where every single FRF

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.placement.errors import MasslineError
+from massline.core.errors import MasslineError
 
 
 def _named(path: Path, option: str) -> str:
