@@ -1,7 +1,7 @@
 """massline: plan and evaluate the modal test that identifies a body's mass, CoG and inertia tensor.
 
-The package is the data flow of ../shared/DESIGN.md, one sub-package per stage; each imports only
-the ones below it:
+The package is the test's data flow, one sub-package per stage; each imports only the ones below it
+(the README's "Layout"):
 
 - ``massline`` (this folder, ``cli/``): the command ``massline`` — argument parsing, console
   output, exit codes; no science.
@@ -10,8 +10,10 @@ the ones below it:
   the mismatch diagnosis.
 - :mod:`massline.virtual`: the virtual test (FE modes, suspension, instrumentation, measurement).
 - :mod:`massline.uff`: Universal Files read and written, and the ``Recording`` type.
-- :mod:`massline.placement`: the core — lines, rigid-body algebra, the paper's methods, the planner.
-- :mod:`massline.meshes`: the bundled bodies.
+- :mod:`massline.placement`: the pre-test planner.
+- :mod:`massline.core`: the kernel — lines, rigid-body algebra, the paper's methods, properties, errors;
+  it imports nothing else of the project.
+- :mod:`massline.meshes`: the bundled bodies and the mesh loader.
 """
 
 from massline.core import __version__

@@ -64,7 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         f"{100 * RELATIVE_SD:g} %% of KG, a trade-class bench scale near its capacity)",
     )
     add_nominal_arguments(parser)
-    parser.add_argument("--json", metavar="OUT", help="write the properties as JSON (DESIGN.md keys)")
+    parser.add_argument(
+        "--json", metavar="OUT", help="write the properties as JSON (mass, cog, inertia_cog, principal axes, std, …)"
+    )
     parser.add_argument("--report", metavar="OUT.html", help="write the identification report (one HTML page)")
     parser.add_argument("--force", action="store_true", help="overwrite OUT and OUT.html")
 

@@ -10,8 +10,9 @@ import pytest
 from massline.meshes import BUNDLED
 from massline.meshes.loader import load_body
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-FIXTURE_MESHES = SHARED / "fixtures" / "meshes"
+FIXTURES = Path(__file__).resolve().parent / "fixtures"  # real exporters' files and CAD meshes (SOURCES.md in each)
+FIXTURE_UFF = FIXTURES / "uff"
+FIXTURE_MESHES = FIXTURES / "meshes"
 
 
 def pytest_configure(config):

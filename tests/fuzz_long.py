@@ -2,7 +2,7 @@
 
     python tests/fuzz_long.py [--files 12000] [--seed 0] [--save FOLDER]
 
-Each file is a seed (tests/mutations.py: the real exporters' files and meshes in ../shared/fixtures/,
+Each file is a seed (tests/mutations.py: the real exporters' files and meshes in tests/fixtures/,
 the project's own exports) with 1-3 mutations, run through ``massline.app.run`` — what the
 ``massline`` command runs — in this process, with ``--json OUT``. A run passes when it exits 0 or 2,
 prints no traceback, no warning and no library text (file descriptors 1 and 2 are watched too), says

@@ -1,6 +1,6 @@
 """Mutated input files for the fuzz tests: damaged UFFs and meshes, grown from real files.
 
-Seeds are the real exporters' files in ``../shared/fixtures/`` and the project's own exports (a
+Seeds are the real exporters' files in ``tests/fixtures/`` and the project's own exports (a
 small virtual test written in three exporter styles, the bundled bodies as binary STL, ASCII STL,
 OBJ and PLY). Each mutation takes the file's bytes and a ``random.Random`` and returns new bytes:
 byte flips, truncation at a record boundary, records swapped, duplicated or emptied, type fields
@@ -16,10 +16,8 @@ import re
 import struct
 from pathlib import Path
 
-from conftest import SHARED
+from conftest import FIXTURE_MESHES, FIXTURE_UFF
 
-FIXTURE_UFF = SHARED / "fixtures" / "uff"
-FIXTURE_MESHES = SHARED / "fixtures" / "meshes"
 DELIMITER = re.compile(rb"^    -1[ \t\r]*$", re.M)
 NUMBER = re.compile(rb"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eEdD][-+]?\d+)?")
 INTEGER = re.compile(rb"(?<![\d.eE+-])[-+]?\d+(?![\d.eE])")

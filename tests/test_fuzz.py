@@ -1,6 +1,6 @@
 """Fuzzed readers: a damaged UFF or mesh is refused with a MasslineError (exit 2), never anything else.
 
-Seeded from the real exporters' files and meshes in ../shared/fixtures/ and the project's own exports
+Seeded from the real exporters' files and meshes in tests/fixtures/ and the project's own exports
 (tests/mutations.py); a short derandomised run here, ``python tests/fuzz_long.py`` pushes ≥ 10,000
 mutated files through the commands themselves.
 """

@@ -30,7 +30,10 @@ def lstsq_coefficients(frequencies, frf, low, high, weights, richer=False):
         c, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
         r = yw - Xw @ c
         coef[i, j] = c
-        std[i, j] = np.sqrt(r @ r / (len(yw) - X.shape[1]) * np.linalg.pinv(Xw.T @ Xw)[0, 0])
+        # (XᵀX)⁻¹₀₀ as the squared norm of R⁻¹'s first row (Xw = QR): the normal matrix's pinv loses
+        # cond(X)² ≈ 1e9 of the digits with the richer tails (1.2e-10 relative, against 1e-13 here)
+        r_inverse = np.linalg.solve(np.linalg.qr(Xw, mode="r"), np.eye(X.shape[1]))
+        std[i, j] = np.sqrt(r @ r / (len(yw) - X.shape[1]) * (r_inverse[0] @ r_inverse[0]))
     return coef, std
 
 

@@ -1,15 +1,15 @@
-"""Real exporters' files (../shared/fixtures/uff): every one is read, and says what it holds."""
+"""Real exporters' files (tests/fixtures/uff): every one is read, and says what it holds."""
 
 import numpy as np
 import pytest
 import pyuff
-from conftest import SHARED
+from conftest import FIXTURE_UFF
 
 from massline.core.errors import MasslineError
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 
-FIXTURES = SHARED / "fixtures" / "uff"
+FIXTURES = FIXTURE_UFF
 
 
 def assert_close(found, expected, rtol):
