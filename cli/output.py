@@ -1,12 +1,18 @@
-"""What a command shows and writes: its console, and a report written whole after a status line."""
+"""What a command shows and writes: its console, the progress of a library pipeline, the FE model it solved,
+and a report written whole after a status line."""
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from massline.core.files import write_atomic
+from massline.reports.html import Report
+from massline.reports.placement_assembly import build_placement_report
+from massline.virtual.planned_test import FEModel
 
 STATUS = "writing the report: building the page and rendering its pictures"
 UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken
@@ -34,3 +40,50 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
     write_atomic(path, report.html, force)
     console.print(f"wrote {path} ({len(report.html) / 1e3:.0f} kB)")
     return Path(path)
+
+
+@contextmanager
+def progress_bar(console: Console):
+    """A transient progress bar on ``console``, driven by the callback yielded: ``progress(stage, done, total)``,
+    the library pipelines' (None-able) argument. The bar shows from the first call and is gone at the end."""
+    shown: dict = {}
+
+    def progress(stage: str, done: float, total: float) -> None:
+        if not shown:
+            shown["bar"] = Progress(
+                TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+            )
+            shown["bar"].start()
+            shown["task"] = shown["bar"].add_task(stage, total=total)
+        shown["bar"].update(shown["task"], completed=done, total=total, description=stage)
+
+    try:
+        yield progress
+    finally:
+        if shown:
+            shown["bar"].stop()
+
+
+def say_fe_model(console: Console, fe: FEModel) -> None:
+    """The material assumed (when none was given) and the FE model's size and first elastic frequencies."""
+    if fe.assumed is not None:
+        console.print(
+            f"[yellow]no --material given: assuming {fe.assumed} from the density {fe.material.density:g} kg/m³[/]"
+        )
+    modes = fe.modes
+    console.print(
+        f"FE model: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm; elastic modes "
+        + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
+        + " … Hz"
+        + (" (kept from an earlier run)" if fe.kept else "")
+    )
+
+
+def build_report(plan_path: str | Path, console: Console) -> Report:
+    """The placement report of a plan file (:func:`massline.reports.placement_assembly.build_placement_report`),
+    its progress shown on ``console``, and the FE model of an older plan's band prediction said."""
+    with progress_bar(console) as progress:
+        built = build_placement_report(plan_path, progress)
+    if built.fe is not None:
+        say_fe_model(console, built.fe)
+    return built.report
