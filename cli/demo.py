@@ -129,11 +129,11 @@ def run(args: argparse.Namespace, console: Console) -> None:
     out = Path(args.out)
     with progress_bar(console) as progress:
         story = demo_story(out, fault=args.fault, seed=args.seed, force=args.force, progress=progress)
-    console.print(
-        f"[bold]massline demo[/]: the bundled {BUNDLED[BODY].description}. Plan the test, simulate it with one "
-        f"fault concealed, identify and diagnose from the UFF alone, and write the reports into {out}/."
-    )
-    told(console, story)
+        console.print(
+            f"[bold]massline demo[/]: the bundled {BUNDLED[BODY].description}. Plan the test, simulate it with one "
+            f"fault concealed, identify and diagnose from the UFF alone, and write the reports into {out}/."
+        )
+        told(console, story)
     paths, truth, planned = story.paths, story.truth, story.planned
     seconds = time.perf_counter() - start
     summary(console, args, paths, story.nominal, truth, planned, story.identified, story.diagnosis, seconds)

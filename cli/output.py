@@ -8,6 +8,7 @@ from pathlib import Path
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.status import Status
 
 from massline.core.files import write_atomic
 from massline.reports.html import Report
@@ -44,32 +45,51 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
 
 @contextmanager
 def progress_bar(console: Console):
-    """A transient progress bar on ``console``, driven by the callback yielded: ``progress(stage, done, total)``,
-    the library pipelines' (None-able) argument. The bar shows from the first call and is gone at the end."""
-    shown: dict = {}
+    """Show a library pipeline's progress on ``console`` through the callback yielded, ``progress(stage, done,
+    total)`` (the pipelines' None-able argument): a bar over the stages of a known count, a spinner for a stage of
+    unknown length (``total`` None). Shown from the first call, transient, gone when the block ends."""
+    shown: dict = {}  # "live": the bar (Progress) or spinner (Status) on show; "task": the bar's task
 
-    def progress(stage: str, done: float, total: float) -> None:
-        if not shown:
-            shown["bar"] = Progress(
+    def end() -> None:
+        live = shown.pop("live", None)
+        if live is not None:
+            live.stop()
+
+    def progress(stage: str, done: float, total: float | None) -> None:
+        live = shown.get("live")
+        if total is None:
+            if isinstance(live, Status):
+                live.update(stage)
+                return
+            end()
+            shown["live"] = console.status(stage)
+            shown["live"].start()
+            return
+        if not isinstance(live, Progress):
+            end()
+            live = shown["live"] = Progress(
                 TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
             )
-            shown["bar"].start()
-            shown["task"] = shown["bar"].add_task(stage, total=total)
-        shown["bar"].update(shown["task"], completed=done, total=total, description=stage)
+            live.start()
+            shown["task"] = live.add_task(stage, total=total)
+        live.update(shown["task"], completed=done, total=total, description=stage)
 
     try:
         yield progress
     finally:
-        if shown:
-            shown["bar"].stop()
+        end()
 
 
-def say_fe_model(console: Console, fe: FEModel) -> None:
-    """The material assumed (when none was given) and the FE model's size and first elastic frequencies."""
+def say_material(console: Console, fe: FEModel) -> None:
+    """The material assumed for the FE model, when none was given (nothing otherwise)."""
     if fe.assumed is not None:
         console.print(
             f"[yellow]no --material given: assuming {fe.assumed} from the density {fe.material.density:g} kg/m³[/]"
         )
+
+
+def say_fe_model(console: Console, fe: FEModel) -> None:
+    """The FE model's size and first elastic frequencies, and whether they were kept from an earlier run."""
     modes = fe.modes
     console.print(
         f"FE model: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm; elastic modes "
@@ -84,6 +104,8 @@ def build_report(plan_path: str | Path, console: Console) -> Report:
     its progress shown on ``console``, and the FE model of an older plan's band prediction said."""
     with progress_bar(console) as progress:
         built = build_placement_report(plan_path, progress)
+        if built.fe is not None:
+            say_material(console, built.fe)
     if built.fe is not None:
         say_fe_model(console, built.fe)
     return built.report

@@ -13,7 +13,7 @@ from rich.table import Table
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.options import SEED, count, finite, fraction, real
-from massline.output import build_report, progress_bar, say_fe_model, write_report
+from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
@@ -330,6 +330,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     diagnosability_note(console, result)
     with progress_bar(console) as progress:
         test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, progress)
+        say_material(console, fe)
     say_fe_model(console, fe)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")

@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.options import SEED, count, fraction, positive, real
-from massline.output import progress_bar, say_fe_model
+from massline.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
@@ -172,6 +172,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}
     with progress_bar(console) as progress:
         setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
+        if setup.fe is not None:
+            say_material(console, setup.fe)
     if setup.fe is not None:
         say_fe_model(console, setup.fe)
     console.print(band_table(list(setup.rows)))

@@ -5,7 +5,7 @@ predicted here with a soft cord and on foam from a coarse FE model), renders the
 page (:mod:`.placement_report`). ``massline plan`` and ``massline report`` write it; the demo too.
 
 ``progress(stage, done, total)``, when given, is called as each stage starts: the FE solve of an older plan
-(:mod:`massline.virtual.planned_test`), then "rendering the views".
+(:mod:`massline.virtual.planned_test`), then "rendering the views" (``total`` None: its length is not known).
 """
 
 from __future__ import annotations
@@ -90,7 +90,7 @@ def predicted_bands(body: BodyMesh, mesh_name: str | None, sensors, exciters, pr
     (a plan that keeps no support)."""
     material = body_material(body, mesh_name)
     size = max(default_size(body.mesh), size_for_dofs(body.mesh, FE_DOFS))
-    fe = fe_model(body, material, size, MODES, progress, assumed_material(body, mesh_name))
+    fe = fe_model(body, material, size=size, n=MODES, progress=progress, assumed=assumed_material(body, mesh_name))
     modes = fe.modes
     rows = []
     for role, spec in SUSPENSIONS:
@@ -127,7 +127,7 @@ def build_placement_report(plan_path: str | Path, progress=None) -> PlacementRep
     bands, fe_note = planned
     scene = scene_of(body.mesh, sensors, exciters, nominal.cog)
     if progress is not None:
-        progress("rendering the views", 0, 1)
+        progress("rendering the views", 0, None)  # a stage of unknown length
     renderings = render_views(scene)
     size = " × ".join(f"{e * 1e3:.0f}" for e in np.ptp(body.mesh.vertices, axis=0))
     body_line = (

@@ -70,6 +70,7 @@ def assumed_material(body: BodyMesh, mesh_name: str | None = None, material: str
 def fe_model(
     body: BodyMesh,
     material: Material,
+    *,
     size: float | None = None,
     n: int = MODES,
     progress=None,
@@ -124,7 +125,7 @@ def plan_test(
     material = body_material(body, mesh_name)
     assumed = assumed_material(body, mesh_name)
     if modes is None:
-        fe = fe_model(body, material, None, MODES, progress, assumed)
+        fe = fe_model(body, material, progress=progress, assumed=assumed)
     else:
         fe = FEModel(modes, material, False, assumed)
     modes = fe.modes

@@ -200,7 +200,8 @@ def set_up_test(
     if not rigid:
         name = doc.get("mesh")
         chosen = body_material(body, name, material)
-        fe = fe_model(body, chosen, fe_size, n_modes, progress, assumed_material(body, name, material))
+        assumed = assumed_material(body, name, material)
+        fe = fe_model(body, chosen, size=fe_size, n=n_modes, progress=progress, assumed=assumed)
     planned = SuspendedBody(nominal, None if fe is None else fe.modes, support, *housings)
     rows = band_advice(planned, suspension is not None, plan_support, body.mesh, sensors, exciters)
     expected = planned_band(doc)
