@@ -1,11 +1,10 @@
 """``massline demo``: the whole story on the bundled 3-D structure, written into one folder.
 
-Plan a test with room to spare (14 accelerometers, 4 hits) and the support it hangs on, simulate it as a
-careful lab would record it (FE modes, the planned support, 1 % noise, every channel a little sensitive across
-its axis) with one fault
-concealed in it, write the UFF, identify the properties from the file alone, diagnose it with the
-planned band and the mesh, and write the plan, the placement report, the identification report and
-the diagnosis report. The tool never reads what was concealed (``truth.json`` keeps it for the reader).
+The story (:func:`massline.reports.demo_story.demo_story`): plan a test with room to spare and the support it
+hangs on, simulate it with one fault concealed, identify and diagnose from the UFF alone, write the plan and the
+three reports. Here: its progress, what it planned and simulated, the concealed fault beside what identify and
+the diagnosis found, and where the reports are. The tool never reads what was concealed (``truth.json`` keeps it
+for the reader).
 """
 
 from __future__ import annotations
@@ -16,40 +15,17 @@ from pathlib import Path
 
 import numpy as np
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from massline.identify.diagnose.notes import finding_note
-from massline.identify.diagnose.pipeline import diagnose_recording
-from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.options import SEED as SEED_RANGE
-from massline.core.files import claim_folder, to_json, write_atomic
-from massline.meshes.loader import load_body
+from massline.output import progress_bar
 from massline.core.numbers import formatted, number, signed, value_with_sigma
-from massline.placement.on_surface import plan
-from massline.placement.plan_file import plan_to_dict
-from massline.placement.planner import Budget
 from massline.core.properties import SUMMARY
-from massline.report_command import build_report
-from massline.support import band_phrase, plan_test, planned_band, planned_suspension
-from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
-from massline.uff.writer import write_uff
-from massline.virtual.scenarios import FAULTS, Bench, scenario
-
-BODY = "structure"
-BUDGET = Budget(sensors=14, exciters=4)  # 14 channels for 10 parameters: room to tell a faulty channel
-BANDWIDTH = 2.5  # the recording reaches the first elastic mode / BANDWIDTH
-FAULT, SEED = "sensor_gain", 3
-FILES = {
-    "plan": "plan.json",
-    "placement": "placement-report.html",
-    "uff": "test.uff",
-    "truth": "truth.json",
-    "identification": "identification-report.html",
-    "diagnosis": "diagnosis-report.html",
-}
+from massline.reports.demo_story import BODY, BUDGET, FAULT, SEED, DemoStory, demo_story
+from massline.virtual.planned_test import band_phrase
+from massline.virtual.scenarios import FAULTS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,13 +35,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--seed", type=SEED_RANGE, default=SEED, metavar="N", help=f"its size and place (default {SEED})"
     )
     parser.add_argument("--force", action="store_true", help="overwrite the files of an earlier demo in DIR")
-
-
-def _outputs(out: Path, force: bool) -> dict:
-    """The demo's files in ``out`` (created), refused before any work when one exists and not ``force``."""
-    paths = dict(zip(FILES, claim_folder(out, FILES.values(), force)))
-    out.mkdir(parents=True, exist_ok=True)
-    return paths
 
 
 def _line_index(lines, point, direction) -> int:
@@ -156,72 +125,34 @@ def properties_table(nominal, columns: list) -> Table:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
-    from massline.reports.diagnosis_report import diagnose_report  # matplotlib: loaded when the demo runs
-    from massline.reports.identification_report import identify_report
-
     start = time.perf_counter()
     out = Path(args.out)
-    paths = _outputs(out, args.force)
+    with progress_bar(console) as progress:
+        story = demo_story(out, fault=args.fault, seed=args.seed, force=args.force, progress=progress)
+        console.print(
+            f"[bold]massline demo[/]: the bundled {BUNDLED[BODY].description}. Plan the test, simulate it with one "
+            f"fault concealed, identify and diagnose from the UFF alone, and write the reports into {out}/."
+        )
+        told(console, story)
+    paths, truth, planned = story.paths, story.truth, story.planned
+    seconds = time.perf_counter() - start
+    summary(console, args, paths, story.nominal, truth, planned, story.identified, story.diagnosis, seconds)
+
+
+def told(console: Console, story: DemoStory) -> None:
+    """What was planned and what was simulated, and where each went."""
+    planned, paths = story.planned, story.paths
     console.print(
-        f"[bold]massline demo[/]: the bundled {BUNDLED[BODY].description}. Plan the test, simulate it with one "
-        f"fault concealed, identify and diagnose from the UFF alone, and write the reports into {out}/."
+        f"planned {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits on the structure: certified "
+        f"D-efficiency ≥ {planned.d_efficiency_lower_bound:.1%}, predicted worst 1-σ "
+        f"{planned.worst_relative_std:.2%}; support {story.support.describe()}, planned band "
+        f"{band_phrase(story.band)} → {paths['plan']}"
     )
-    quiet = Console(quiet=True)
-    with Progress(
-        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
-    ) as bar:
-        steps = bar.add_task("planning", total=8)
-
-        def step(text: str) -> None:
-            bar.update(steps, advance=1, description=text)
-
-        bar.update(steps, description=f"1/8 planning {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits")
-        mesh = load_body(BUNDLED[BODY].path, "m", BUNDLED[BODY].density)
-        nominal = mesh.nominal
-        planned = plan(mesh, BUDGET)
-        step("2/8 the support and its band: FE model of the structure, every FRF against its massline")
-        test, modes = plan_test(mesh, BODY, planned.sensors, planned.exciters, quiet)
-        doc = plan_to_dict(planned, BODY, "m", mesh.density, test)
-        write_atomic(paths["plan"], to_json(doc), args.force)
-        band, support = planned_band(doc), planned_suspension(doc)
-        console.print(
-            f"planned {BUDGET.sensors} accelerometers and {BUDGET.exciters} hits on the structure: certified "
-            f"D-efficiency ≥ {planned.d_efficiency_lower_bound:.1%}, predicted worst 1-σ "
-            f"{planned.worst_relative_std:.2%}; support {support.describe()}, planned band {band_phrase(band)} "
-            f"→ {paths['plan']}"
-        )
-        step("3/8 placement report: views")
-        placement = build_report(paths["plan"], quiet)
-        write_atomic(paths["placement"], placement.html, args.force)
-        step(f"4/8 simulating the test with a concealed fault ({args.fault})")
-        fmax = modes.frequencies_hz[0] / BANDWIDTH
-        bench = Bench(nominal, planned.sensors, planned.exciters, modes, fmax, support=support, band=demo_band(band))
-        recording, truth = scenario(bench, args.fault, args.seed)
-        write_uff(paths["uff"], recording, force=args.force)
-        write_atomic(paths["truth"], to_json(truth), args.force)
-        console.print(
-            f"simulated: FE modes from {modes.frequencies_hz[0]:.0f} Hz, the planned support, 1 % noise, every "
-            f"channel up to 2 % sensitive across its axis, {len(recording.frequencies)} lines to {bench.fmax:.0f} Hz "
-            f"→ {paths['uff']}"
-        )
-        step("5/8 identify: band, band fits, estimate, bootstrap")
-        read = to_recording(read_uff(paths["uff"]))  # from here on the tool sees the file only
-        identified = identify_recording(read)
-        step("6/8 identification report")
-        report = identify_report(identified, paths["uff"], mesh)
-        write_atomic(paths["identification"], report.html, args.force)
-        step("7/8 diagnose: identify's band and the mesh")
-        diagnosis = diagnose_recording(read, None, nominal)  # identify's band, so "before" is identify's result
-        step("8/8 diagnosis report")
-        report = diagnose_report(diagnosis, paths["uff"], mesh)
-        write_atomic(paths["diagnosis"], report.html, args.force)
-        step("done")
-    summary(console, args, paths, nominal, truth, planned, identified, diagnosis, time.perf_counter() - start)
-
-
-def demo_band(band) -> tuple[float, float] | None:
-    """The planned band (Hz) the scenario passes on, or None when the plan predicts none."""
-    return (band.low, band.high) if band.exists else None
+    console.print(
+        f"simulated: FE modes from {story.first_elastic:.0f} Hz, the planned support, 1 % noise, every "
+        f"channel up to 2 % sensitive across its axis, {len(story.recording.frequencies)} lines to "
+        f"{story.fmax:.0f} Hz → {paths['uff']}"
+    )
 
 
 def band_story(found, planned: list | None) -> str:

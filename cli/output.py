@@ -1,12 +1,19 @@
-"""What a command shows and writes: its console, and a report written whole after a status line."""
+"""What a command shows and writes: its console, the progress of a library pipeline, the FE model it solved,
+and a report written whole after a status line."""
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.status import Status
 
 from massline.core.files import write_atomic
+from massline.reports.html import Report
+from massline.reports.placement_assembly import build_placement_report
+from massline.virtual.planned_test import FEModel
 
 STATUS = "writing the report: building the page and rendering its pictures"
 UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken
@@ -34,3 +41,71 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
     write_atomic(path, report.html, force)
     console.print(f"wrote {path} ({len(report.html) / 1e3:.0f} kB)")
     return Path(path)
+
+
+@contextmanager
+def progress_bar(console: Console):
+    """Show a library pipeline's progress on ``console`` through the callback yielded, ``progress(stage, done,
+    total)`` (the pipelines' None-able argument): a bar over the stages of a known count, a spinner for a stage of
+    unknown length (``total`` None). Shown from the first call, transient, gone when the block ends."""
+    shown: dict = {}  # "live": the bar (Progress) or spinner (Status) on show; "task": the bar's task
+
+    def end() -> None:
+        live = shown.pop("live", None)
+        if live is not None:
+            live.stop()
+
+    def progress(stage: str, done: float, total: float | None) -> None:
+        live = shown.get("live")
+        if total is None:
+            if isinstance(live, Status):
+                live.update(stage)
+                return
+            end()
+            shown["live"] = console.status(stage)
+            shown["live"].start()
+            return
+        if not isinstance(live, Progress):
+            end()
+            live = shown["live"] = Progress(
+                TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
+            )
+            live.start()
+            shown["task"] = live.add_task(stage, total=total)
+        live.update(shown["task"], completed=done, total=total, description=stage)
+
+    try:
+        yield progress
+    finally:
+        end()
+
+
+def say_material(console: Console, fe: FEModel) -> None:
+    """The material assumed for the FE model, when none was given (nothing otherwise)."""
+    if fe.assumed is not None:
+        console.print(
+            f"[yellow]no --material given: assuming {fe.assumed} from the density {fe.material.density:g} kg/m³[/]"
+        )
+
+
+def say_fe_model(console: Console, fe: FEModel) -> None:
+    """The FE model's size and first elastic frequencies, and whether they were kept from an earlier run."""
+    modes = fe.modes
+    console.print(
+        f"FE model: {modes.n_dofs} DOF, quadratic tetrahedra of {modes.element_size * 1e3:.1f} mm; elastic modes "
+        + ", ".join(f"{f:.0f}" for f in modes.frequencies_hz[:5])
+        + " … Hz"
+        + (" (kept from an earlier run)" if fe.kept else "")
+    )
+
+
+def build_report(plan_path: str | Path, console: Console) -> Report:
+    """The placement report of a plan file (:func:`massline.reports.placement_assembly.build_placement_report`),
+    its progress shown on ``console``, and the FE model of an older plan's band prediction said."""
+    with progress_bar(console) as progress:
+        built = build_placement_report(plan_path, progress)
+        if built.fe is not None:
+            say_material(console, built.fe)
+    if built.fe is not None:
+        say_fe_model(console, built.fe)
+    return built.report

@@ -13,7 +13,7 @@ from rich.table import Table
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.options import SEED, count, finite, fraction, real
-from massline.output import write_report
+from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
@@ -25,8 +25,7 @@ from massline.core.numbers import formatted, number, sigma_text, vector_text
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget
-from massline.report_command import build_report
-from massline.support import band_phrase, plan_test, planned_band
+from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
@@ -329,7 +328,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(criterion_text(result))
     console.print(sliding_line(result))
     diagnosability_note(console, result)
-    test, _ = plan_test(body, str(args.mesh), result.sensors, result.exciters, console)
+    with progress_bar(console) as progress:
+        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, progress)
+        say_material(console, fe)
+    say_fe_model(console, fe)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)

@@ -8,7 +8,8 @@ accelerance in g/N (Testlab, ME'scope "Gs/N"), while the geometry comes from CAD
 The body hangs on the plan's support (plan.json's ``suspension``; a plan without one: a soft cord above the
 CoG) unless ``--suspension`` gives another. Also the pre-test check: where the massline band lies under the
 support simulated, by the plan's rule (every FRF within the tolerance of its massline's scale), and the plan's
-support when it widens the band (``--check`` stops there).
+support when it widens the band (``--check`` stops there). The test is set up and recorded by
+:mod:`massline.virtual.simulation`; here: the options, the band table, the plot and the files.
 """
 
 from __future__ import annotations
@@ -19,34 +20,28 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from massline.meshargs import plan_material, plan_mesh
 from massline.options import SEED, count, fraction, positive, real
+from massline.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
-from massline.meshes.loader import MAX_MASS_KG, BodyMesh
+from massline.meshes.loader import MAX_MASS_KG
 from massline.placement.plan_file import read_plan
-from massline.core.rigid_body import RigidBody
-from massline.support import MODES, band_phrase, elastic_modes, planned_band, planned_suspension
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
-from massline.virtual.attachment import point_above
-from massline.virtual.band_prediction import predict_band, recommend_suspension
 from massline.virtual.effects import EFFECTS, Effect, check_targets
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
-from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Suspension, hung_over
-from massline.virtual.tetmesh import size_for_dofs
-from massline.virtual.acquisition import Acquisition, accelerometer_masses
-from massline.virtual.acquisition import run as run_test
+from massline.virtual.planned_test import MODES, band_phrase, plan_mesh
+from massline.virtual.simulation import record_test, set_up_test
+from massline.virtual.suspension import Suspension
+from massline.virtual.acquisition import Acquisition
 
 AUTO = -1.0  # --impact without a pulse length: the analyser setup chooses it
 MAX_PULSE_MS = 100.0  # a hammer pulse lasts 0.1-10 ms; a soft tip on a heavy body a few tens
 MAX_FMAX_HZ = 100_000.0  # an analyser's bandwidth
 MIN_LINES, MAX_SPECTRAL_LINES = 16, 102_400  # an analyser's line counts
 MAX_MODES = 100  # elastic modes of the FE model
-MAX_FE_DOFS = 200_000  # the finest FE model --fe-size may ask for (a few GB to assemble and solve)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -111,6 +106,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--material", metavar="NAME|E,NU", help=f"{', '.join(MATERIALS)}, or Young's modulus (Pa) and Poisson's ratio"
     )
+    add_file_arguments(parser)
+    parser.add_argument("--plot", metavar="PNG", help="predicted driving-point FRFs with the band marked")
+    parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
+
+
+def add_file_arguments(parser: argparse.ArgumentParser) -> None:
+    """How the recording is written: records, unit system, acceleration unit, node datasets, the 0 Hz line."""
     parser.add_argument("--binary", action="store_true", help="write FRFs as binary 58b records")
     parser.add_argument(
         "--units",
@@ -129,8 +131,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--nodes", type=int, choices=(15, 2411), default=15, help="nodes in dataset 15 (+18) or 2411 (+2420)"
     )
     parser.add_argument("--no-dc", action="store_true", help="start the axis at Δf, without the exporter's 0 Hz line")
-    parser.add_argument("--plot", metavar="PNG", help="predicted driving-point FRFs with the band marked")
-    parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
 
 
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
@@ -143,14 +143,6 @@ def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
         within = f"{100 * band.tolerance:g} %"
         table.add_row(name, f"{band.suspension_top:.2f}", span, within, f"{band.first_elastic:.1f}", width)
     return table
-
-
-def simulated_support(spec: str | None, planned: Suspension | None, mesh, loaded: RigidBody) -> Suspension:
-    """The support simulated: ``--suspension``'s, else the plan's hung above the CoG with the accelerometers on,
-    else (a plan that keeps none) a soft cord above the CoG."""
-    if spec is None and planned is not None:
-        return hung_over(planned, loaded.cog)
-    return Suspension.parse(spec or "cord", mesh, loaded)
 
 
 def departures(args: argparse.Namespace) -> str:
@@ -176,55 +168,33 @@ def run(args: argparse.Namespace, console: Console) -> None:
     effects = tuple(Effect.parse(e) for e in args.effect)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)
-    nominal = body.nominal
-    housings = accelerometer_masses(sensors, args.sensor_mass)
-    loaded = loaded_body(nominal, housings, args.sensor_mass)
-    plan_support = planned_suspension(doc)
-    suspension = simulated_support(args.suspension, plan_support, body.mesh, loaded)
-    if not suspension.is_free:
-        suspension.reactions(loaded)  # a support that cannot carry the body is refused before the FE work
-    check_fe_size(args.fe_size, body)
-    material = None if args.rigid else plan_material(args.material, body, doc.get("mesh"), console)
-    modes = None
-    if material is not None:
-        modes = elastic_modes(body, material, args.fe_size, args.modes, console)
-    planned = SuspendedBody(nominal, modes, suspension, *housings)
-    rows = [("planned: " + suspension.describe(), predict_band(planned, sensors, exciters), suspension)]
-    if args.suspension is not None and not suspension.is_free:
-        advice = simulated_support(None, plan_support, None, loaded) if plan_support else None
-        advice = advice or recommend_suspension(planned, point_above(body.mesh, loaded.cog)[0])
-        advised = SuspendedBody(nominal, modes, advice, planned.masses, planned.mass_points)
-        band = predict_band(advised, sensors, exciters, rows[0][1].tolerance)
-        if band.wider_than(rows[0][1]):
-            rows.append(("recommended: " + advice.describe(), band, advice))
-    console.print(band_table(rows))
-    expected = planned_band(doc)
+    options = {"suspension": args.suspension, "sensor_mass": args.sensor_mass, "rigid": args.rigid}
+    options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}
+    with progress_bar(console) as progress:
+        setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
+        if setup.fe is not None:
+            say_material(console, setup.fe)
+    if setup.fe is not None:
+        say_fe_model(console, setup.fe)
+    console.print(band_table(list(setup.rows)))
+    expected = setup.expected
     if expected is not None and departures(args):
         console.print(
-            f"plan.json predicts {band_phrase(expected)} for {plan_support.describe()} on the bare body; this test "
-            f"departs from it ({departures(args)}), so its band is predicted again above",
+            f"plan.json predicts {band_phrase(expected)} for {setup.planned_support.describe()} on the bare body; "
+            f"this test departs from it ({departures(args)}), so its band is predicted again above",
             soft_wrap=True,
         )
     if args.plot:
         from massline.reports.figures import driving_point_figure
 
-        models = [SuspendedBody(nominal, modes, s, planned.masses, planned.mass_points) for _, _, s in rows]
-        cases = [(name, model, band) for (name, band, _), model in zip(rows, models)]
+        cases = [(name, model, band) for (name, band, _), model in zip(setup.rows, setup.models())]
         write_atomic(args.plot, driving_point_figure(cases, exciters), args.force)
         console.print(f"wrote {args.plot}")
     if args.check:
         return
-    recording, truth = run_test(nominal, sensors, exciters, modes, suspension, effects, acquisition(args), args.seed)
+    recording, truth = record_test(setup, effects, acquisition(args), args.seed, plan_path)
     for warning in truth["warnings"]:
         console.print(f"warning: {warning}", markup=False, soft_wrap=True)
-    truth |= {"plan": str(plan_path), "mesh": doc.get("mesh"), "units": doc.get("units")}
-    if material is not None:
-        truth["fe"] = {
-            "youngs": material.youngs,
-            "poisson": material.poisson,
-            "dofs": modes.n_dofs,
-            "element_size": modes.element_size,
-        }
     options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
     write_uff(outputs[0], recording, acceleration=args.acceleration, force=args.force, **options)
     write_atomic(outputs[1], to_json(truth), args.force)
@@ -233,29 +203,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{frf_units(args)}) and {outputs[1]} (what was simulated, including "
         f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
     )
-
-
-def loaded_body(nominal: RigidBody, housings: tuple, mass: float) -> RigidBody:
-    """The body with its accelerometers on (what the supports carry and hold level); refused when they
-    would outweigh it."""
-    masses, _ = housings
-    if masses.sum() >= nominal.mass:
-        raise MasslineError(
-            f"--sensor-mass {mass:g}: {len(masses)} accelerometers of {mass:g} kg would weigh "
-            f"{masses.sum():.3g} kg, as much as the body ({nominal.mass:.3g} kg): give each housing's mass in kg, "
-            f"below {nominal.mass / len(masses):.3g}"
-        )
-    return SuspendedBody(nominal, None, Suspension(), *housings).loaded
-
-
-def check_fe_size(size: float | None, body: BodyMesh) -> None:
-    """``--fe-size``: no finer than the element size of MAX_FE_DOFS degrees of freedom on this body."""
-    finest = size_for_dofs(body.mesh, MAX_FE_DOFS)
-    if size is not None and size < finest:
-        raise MasslineError(
-            f"--fe-size {size:g}: elements this small would give this body more than {MAX_FE_DOFS} FE degrees of "
-            f"freedom (hours and tens of GB): give 0 < M ≤ 1 m, at least {finest:.3g} m"
-        )
 
 
 def acquisition(args: argparse.Namespace) -> Acquisition:

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.core.errors import MasslineError
+
 NULL = 1e-9  # a scale this small against the largest is none
 
 
@@ -102,3 +104,28 @@ def held_band(frequencies: np.ndarray, strays: np.ndarray, tolerance: float) -> 
     runs = np.flatnonzero(np.diff(np.concatenate([[0], good.astype(int), [0]]))).reshape(-1, 2)
     start, stop = runs[np.argmax(np.log(frequencies[runs[:, 1] - 1]) - np.log(frequencies[runs[:, 0]]))]
     return float(frequencies[start]), float(frequencies[stop - 1])
+
+
+def band_to_dict(band: Band) -> dict:
+    """A predicted band as plan.json keeps it (Hz)."""
+    return {
+        "low_hz": band.low,
+        "high_hz": band.high,
+        "tolerance": band.tolerance,
+        "suspension_top_hz": band.suspension_top,
+        "first_elastic_hz": band.first_elastic,
+    }
+
+
+def band_from_dict(doc: dict | None) -> Band | None:
+    """The band ``band_to_dict`` wrote (null edges: no band held), or None for a plan that keeps none."""
+    if not isinstance(doc, dict):
+        return None
+    try:
+        low, high, top, elastic, tolerance = (
+            np.nan if doc.get(k) is None else float(doc[k])
+            for k in ("low_hz", "high_hz", "suspension_top_hz", "first_elastic_hz", "tolerance")
+        )
+    except (TypeError, ValueError):
+        raise MasslineError("plan file: its 'band' needs numbers (Hz): write it again with 'massline plan'") from None
+    return Band(low, high, top, elastic, "predicted", tolerance)

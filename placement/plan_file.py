@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.core.band import Band
+from massline.core.band import band_from_dict, band_to_dict  # noqa: F401 (plan.json's band block: core.band)
 from massline.core.errors import MasslineError
 from massline.placement.plans import Plan
 from massline.core.lines import Lines
@@ -73,31 +73,6 @@ def condition_systems(planar: bool) -> dict:
         "translation": "dynamics method 3, force rows (eq. 9)",
         "rotation": "dynamics method 3, moment rows (eq. 9)",
     }
-
-
-def band_to_dict(band: Band) -> dict:
-    """A predicted band as plan.json keeps it (Hz)."""
-    return {
-        "low_hz": band.low,
-        "high_hz": band.high,
-        "tolerance": band.tolerance,
-        "suspension_top_hz": band.suspension_top,
-        "first_elastic_hz": band.first_elastic,
-    }
-
-
-def band_from_dict(doc: dict | None) -> Band | None:
-    """The band ``band_to_dict`` wrote (null edges: no band held), or None for a plan that keeps none."""
-    if not isinstance(doc, dict):
-        return None
-    try:
-        low, high, top, elastic, tolerance = (
-            np.nan if doc.get(k) is None else float(doc[k])
-            for k in ("low_hz", "high_hz", "suspension_top_hz", "first_elastic_hz", "tolerance")
-        )
-    except (TypeError, ValueError):
-        raise MasslineError("plan file: its 'band' needs numbers (Hz): write it again with 'massline plan'") from None
-    return Band(low, high, top, elastic, "predicted", tolerance)
 
 
 def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict | None = None) -> dict:

@@ -15,7 +15,7 @@ from massline.core.band import Band, frf_scales, held_band, stray
 from massline.core.masslines import synthesise
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import band_from_dict, band_to_dict
-from massline.support import plan_test, planned_suspension
+from massline.virtual.planned_test import plan_test, planned_suspension
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material

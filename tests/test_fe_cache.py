@@ -4,7 +4,7 @@ import numpy as np
 import trimesh
 from test_cli import massline
 
-from massline.fe_cache import cached_modes, model_key
+from massline.virtual.fe_cache import cached_modes, model_key
 from massline.virtual.elastic import ElasticBody, Material
 
 ALUMINIUM = Material(70e9, 0.33, 2700.0)
