@@ -19,7 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from massline.core.errors import param
+
 NULL = 1e-9  # a scale this small against the largest is none
+GIVE_BAND = param("band", "(lo, hi)", cli="LO HI")  # 'give band=(lo, hi)': an error's remedy
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ from massline.identify.massline_fit import (
     truncation_shift,
 )
 from massline.identify.resonances import RIGID, rigid_misfit
-from massline.core.band import Band
+from massline.core.band import Band, GIVE_BAND
 from massline.core.errors import MasslineError
 from massline.core.information import sensitivities
 from massline.core.lines import Lines
@@ -127,7 +127,7 @@ def choose_band(
         raise MasslineError(
             f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
             f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
-            "lines, or give --band LO HI"
+            f"lines, or give {GIVE_BAND}"
         )
     return fallback
 
@@ -160,7 +160,7 @@ def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) 
     reference = solve(sums[widest])
     values = reference.real[:, 0].reshape(frf.shape[:2])
     if not np.isfinite(values).all():
-        raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
+        raise MasslineError(f"a band fit failed (NaN in the FRFs?): check the recording or give {GIVE_BAND}")
     try:
         model = RigidModel(starting_body(Masslines(values, sensors, exciters), planar), planar)
     except (MasslineError, np.linalg.LinAlgError):
