@@ -168,7 +168,7 @@ def identify_recording(
     if band:
         used = given_band(f, *band)
     else:
-        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar, weights)
+        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar=planar, weights=weights)
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())

@@ -241,7 +241,7 @@ class BandData:
             tails = np.linalg.lstsq(X, rest.reshape(-1, X.shape[0]).T, rcond=None)[0].T.reshape(*massline.shape, -1)
         else:
             tails = np.zeros((*massline.shape, 0))
-        return Reduced(massline, kappa, rss, tails, dict(poles), free)
+        return Reduced(massline=massline, kappa=kappa, rss=rss, tails=tails, poles=dict(poles), free=free)
 
     def reduced(self, laws: frozenset) -> Reduced:
         """The reduction for ``laws``, each pole placed where the weighted RSS over all FRFs is least."""

@@ -171,7 +171,12 @@ def candidate_points(
     usable = np.flatnonzero(fits & ~out)
     kept = usable[thin(points[usable], 0.5 * spacing)]
     return CandidatePoints(
-        points[kept], mesh.face_normals[faces[kept]], faces[kept], excluded, clearance[kept] >= sensor, clearance[kept]
+        points=points[kept],
+        normals=mesh.face_normals[faces[kept]],
+        faces=faces[kept],
+        excluded=excluded,
+        sensor_fit=clearance[kept] >= sensor,
+        clearance=clearance[kept],
     )
 
 

@@ -97,7 +97,7 @@ def band_from_dict(doc: dict | None) -> Band | None:
         )
     except (TypeError, ValueError):
         raise MasslineError("plan file: its 'band' needs numbers (Hz): write it again with 'massline plan'") from None
-    return Band(low, high, top, elastic, "predicted", tolerance)
+    return Band(low=low, high=high, suspension_top=top, first_elastic=elastic, rule="predicted", tolerance=tolerance)
 
 
 def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict | None = None) -> dict:
