@@ -58,8 +58,7 @@ def check_method(method: str, planar: bool, weighed: WeighedMass | None = None) 
     or a scale's reading with a paper method (they take no prior)."""
     if weighed is not None and method != "best":
         raise MasslineError(
-            f"{param('weighed')} needs {BEST}: method {method} (the paper's) takes "
-            "no prior on the mass"
+            f"{param('weighed')} needs {BEST}: method {method} (the paper's) takes no prior on the mass"
         )
     if planar and method not in ("best", "plate"):
         raise MasslineError(
