@@ -16,7 +16,7 @@ import sys
 import warnings
 
 from massline.core import __version__
-from massline.options import Parser
+from massline.options import FLAGS, Parser
 from massline.output import console_for
 from massline.core.errors import MasslineError
 
@@ -90,8 +90,8 @@ def _command(argv: list[str] | None, debug: bool) -> int:
         args.run(args, console_for(sys.stdout))
     except SystemExit as done:  # --help, --version or a one-line usage error
         return int(done.code or 0)
-    except MasslineError as err:
-        print(f"massline: error: {' '.join(str(err).split())}", file=sys.stderr)
+    except MasslineError as err:  # the library's parameters in its message named by the command line's flags
+        print(f"massline: error: {' '.join(err.spelled(FLAGS).split())}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # the reader (e.g. 'head') closed the pipe: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -91,7 +91,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     sensor_mass, weighed = args.sensor_mass, args.weighed_mass
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
-    found = identify_recording(recording, args.band, args.transverse, args.bootstrap, args.method, sensor_mass, weighed)
+    found = identify_recording(
+        recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
+        weighed=weighed,
+    )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
     for note in found.notes:

@@ -18,6 +18,32 @@ from massline.meshes.loader import MAX_MASS_KG, PLAUSIBLE_DENSITY
 
 SEED_MAX = 2**32 - 1  # numpy's seeds
 
+# The library's parameters (core/errors.py ``param``) as the command line names them: a library error is
+# printed with these flags (``MasslineError.spelled(FLAGS)``), its value after the flag.
+FLAGS = {
+    "band": "--band",
+    "budget.exciters": "--exciters",
+    "budget.sensors": "--sensors",
+    "budget.triaxial": "--triaxial",
+    "density": "--density",
+    "folder": "--out",
+    "force": "--force",
+    "mass": "--mass",
+    "material": "--material",
+    "method": "--method",
+    "minimal_budget": "--minimal",
+    "options.axes": "--axes",
+    "options.edge_keepout": "--edge-keepout",
+    "options.hammer_tip": "--tip",
+    "options.n_samples": "--candidates",
+    "options.sensor_base": "--sensor-base",
+    "sensor_mass": "--sensor-mass",
+    "size": "--fe-size",
+    "suspension": "--suspension",
+    "units": "--units",
+    "weighed": "--weighed-mass",
+}
+
 
 NEGATIVE = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
 
@@ -107,13 +133,13 @@ def finite(unit: str) -> Callable[[str], float]:
 
 
 def checked(parse: Callable[[str], object]) -> Callable[[str], object]:
-    """A parser raising MasslineError, as an argparse type (its message kept)."""
+    """A parser raising MasslineError, as an argparse type (its message kept, parameters named by their flags)."""
 
     def wrapped(text: str):
         try:
             return parse(text)
         except MasslineError as error:
-            raise argparse.ArgumentTypeError(str(error)) from None
+            raise argparse.ArgumentTypeError(error.spelled(FLAGS)) from None
 
     wrapped.__name__ = getattr(parse, "__name__", "value")
     return wrapped

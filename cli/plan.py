@@ -306,22 +306,23 @@ def run(args: argparse.Namespace, console: Console) -> None:
         TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
     ) as bar:
         task = bar.add_task("planning", total=1.0)
-        fixed = (
-            _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
-            _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
-        )
+        fixed = {
+            "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
+            "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
+        }
 
         def progress(stage: str, f: float) -> None:
             bar.update(task, completed=f, description=stage)
 
         if budget is None:
             result = cheapest_diagnosable(
-                body, options, noise, *fixed, args.relaxation, progress=progress, criterion=args.criterion
+                body, options, noise, **fixed, relaxation=args.relaxation, progress=progress, criterion=args.criterion
             )
         else:
             result = plan(
-                body, budget, options, noise, *fixed, args.relaxation, criterion=args.criterion, progress=progress
-            )
+                body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
+                progress=progress,
+            )  # fmt: skip
     console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes))
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
     console.print(std_table(result))

@@ -19,9 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 
 NULL = 1e-9  # a scale this small against the largest is none
+GIVE_BAND = param("band", "(lo, hi)", cli="LO HI")  # 'give band=(lo, hi)': an error's remedy
 
 
 @dataclass(frozen=True)
@@ -128,4 +129,4 @@ def band_from_dict(doc: dict | None) -> Band | None:
         )
     except (TypeError, ValueError):
         raise MasslineError("plan file: its 'band' needs numbers (Hz): write it again with 'massline plan'") from None
-    return Band(low, high, top, elastic, "predicted", tolerance)
+    return Band(low=low, high=high, suspension_top=top, first_elastic=elastic, rule="predicted", tolerance=tolerance)

@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
+
+FORCE = param("force", "True", cli="")  # the overwrite switch, as an error names it
 
 
 def _named(path: Path, option: str) -> str:
@@ -51,7 +53,7 @@ def claim_output(path: str | Path, force: bool, option: str = "") -> Path:
     if path.is_dir():
         raise MasslineError(f"{_named(path, option)} is a folder: give a file name (e.g. {path / 'out'})")
     if path.exists() and not force:
-        raise MasslineError(f"{_named(path, option)} exists; pass --force to overwrite it or choose another path")
+        raise MasslineError(f"{_named(path, option)} exists; pass {FORCE} to overwrite it or choose another path")
     if not path.parent.is_dir():
         raise MasslineError(
             f"{_named(path, option)}: folder {path.parent} does not exist: create it or choose another path"
@@ -73,7 +75,7 @@ def claim_outputs(named: dict, force: bool) -> dict:
     return given
 
 
-def claim_folder(folder: str | Path, names, force: bool, option: str = "--out") -> list[Path]:
+def claim_folder(folder: str | Path, names, force: bool, option: str = param("folder")) -> list[Path]:
     """Check before any work that ``folder`` may hold the files ``names``: a folder (existing or to be made
     in a writable one) where none of them is a folder, or exists without ``force``. Return their paths."""
     folder = Path(folder)
@@ -85,7 +87,7 @@ def claim_folder(folder: str | Path, names, force: bool, option: str = "--out") 
         if path.is_dir():
             raise MasslineError(f"{option} {folder}: {path} is a folder, where a file goes: move it or choose another")
         if path.exists() and not force:
-            raise MasslineError(f"{path} exists; pass --force to overwrite it or choose another {option}")
+            raise MasslineError(f"{path} exists; pass {FORCE} to overwrite it or choose another {option}")
     return paths
 
 

@@ -32,7 +32,7 @@ from massline.identify.massline_fit import (
     truncation_shift,
 )
 from massline.identify.resonances import RIGID, rigid_misfit
-from massline.core.band import Band
+from massline.core.band import Band, GIVE_BAND
 from massline.core.errors import MasslineError
 from massline.core.information import sensitivities
 from massline.core.lines import Lines
@@ -116,8 +116,8 @@ def choose_band(
         pairs = candidates(frequencies, free)
         if not pairs:
             break
-        chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights)
-        if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, exciters, planar):
+        chosen = best_candidate(frequencies, frf, pairs, sensors, exciters, planar=planar, weights=weights)
+        if chosen is not None and not closed_by_support(frequencies, frf, free, sensors, exciters, planar=planar):
             return Band(*chosen, free.suspension_top, free.first_elastic, "chosen")
         fallback = fallback or Band(*(chosen or conservative(pairs)), free.suspension_top, free.first_elastic, "chosen")
         above = frequencies > free.high  # a gap below a stiff bounce: its FRFs follow a spring, not the mass
@@ -127,12 +127,12 @@ def choose_band(
         raise MasslineError(
             f"no massline band found: the widest resonance-free stretch, {free.low:.3g}–{free.high:.3g} Hz, "
             f"holds fewer than {MIN_LINES} lines clear of its resonances; soften the support, record more "
-            "lines, or give --band LO HI"
+            f"lines, or give {GIVE_BAND}"
         )
     return fallback
 
 
-def closed_by_support(frequencies, frf, free: Band, sensors: Lines, exciters: Lines, planar: bool) -> bool:
+def closed_by_support(frequencies, frf, free: Band, sensors: Lines, exciters: Lines, *, planar: bool) -> bool:
     """Whether the resonance closing the gap ``free`` at its top is a support mode: the body moving rigidly.
 
     At the strongest line of Im H within 1.5 × the top, a resonance stands out of the gap's massline level
@@ -152,7 +152,7 @@ def closed_by_support(frequencies, frf, free: Band, sensors: Lines, exciters: Li
     return rigid_misfit(frf[:, :, peak], S, E) < RIGID
 
 
-def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) -> tuple[float, float] | None:
+def best_candidate(frequencies, frf, pairs, sensors, exciters, *, planar, weights) -> tuple[float, float] | None:
     """The candidate of least predicted error, scored at the widest candidate's body; None when that body
     is none (no positive mass: the FRFs of the gap follow a spring, not a mass)."""
     widest = pairs[0]  # every other candidate lies inside it
@@ -160,7 +160,7 @@ def best_candidate(frequencies, frf, pairs, sensors, exciters, planar, weights) 
     reference = solve(sums[widest])
     values = reference.real[:, 0].reshape(frf.shape[:2])
     if not np.isfinite(values).all():
-        raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
+        raise MasslineError(f"a band fit failed (NaN in the FRFs?): check the recording or give {GIVE_BAND}")
     try:
         model = RigidModel(starting_body(Masslines(values, sensors, exciters), planar), planar)
     except (MasslineError, np.linalg.LinAlgError):

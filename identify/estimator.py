@@ -34,6 +34,7 @@ from functools import cached_property
 import numpy as np
 
 from massline.identify.weighing import WeighedMass
+from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 from massline.core.information import sensitivities
 from massline.core.masslines import Masslines
@@ -45,7 +46,7 @@ CONSISTENCY_MARGIN = 1e-9  # smallest eigenvalue of P kept, relative to m L²
 TRANSVERSE = 0.03  # prior 1-σ of an accelerometer's transverse sensitivity (datasheets: 3–5 %, paper §3)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Estimate:
     """The weighted estimate.
 
@@ -122,7 +123,7 @@ def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: Rig
     if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or delta.value is None:
         raise MasslineError(
             "the estimate leaves the physical bodies and no physical step fits the masslines (a flipped or "
-            "swapped channel, or a band across a resonance?); run massline diagnose, or give --band LO HI"
+            f"swapped channel, or a band across a resonance?); run massline diagnose, or give {GIVE_BAND}"
         )
     return np.asarray(delta.value)
 
@@ -248,7 +249,7 @@ def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
 
 
 def weighted_system(
-    model, s, e, data, sigma, lines, tilt, transverse, weighed=None
+    model, s, e, data, sigma, *, lines, tilt, transverse, weighed=None
 ) -> tuple[WeightedSystem, np.ndarray]:
     """The weighted system and the model's masslines H.
 
@@ -294,13 +295,15 @@ def estimate(
     theta, constrained = model.theta, False
     for _ in range(iterations):
         s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
-        system, _ = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse, weighed)
+        system, _ = weighted_system(
+            model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed
+        )
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
         if not np.all(np.isfinite(candidate)):
             raise MasslineError(
                 "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band "
-                "across a resonance?); run massline diagnose, or give --band LO HI"
+                f"across a resonance?); run massline diagnose, or give {GIVE_BAND}"
             )
         if not planar and not is_consistent(candidate, model.scale[-1]):
             step = constrained_step(*system.dense(), theta, model)
@@ -311,14 +314,27 @@ def estimate(
         if max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
             break
     s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
-    system, H = weighted_system(model, s, e, data.values, sigma, lines, tilt, transverse, weighed)
+    system, H = weighted_system(
+        model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed
+    )
     chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
     prior = 0.0 if T is None else transverse
     z = studentised(system.scale_r, leverage) if weighed is not None else np.nan
-    residual = data.values - H
-    return Estimate(model.nominal, model, covariance, chi2, dof, residual, constrained, readings, prior, weighed, z)
+    return Estimate(
+        body=model.nominal,
+        model=model,
+        covariance=covariance,
+        chi2=chi2,
+        dof=dof,
+        residual=data.values - H,
+        constrained=constrained,
+        transverse=readings,
+        prior=prior,
+        weighed=weighed,
+        weighed_z=z,
+    )
 
 
 def reduced_chi2(system: WeightedSystem) -> tuple[float, float, float]:

@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 
 REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
@@ -38,7 +39,7 @@ REAL_POWERS = np.arange(-2, 4)  # every real column's power
 WEIGHT_FLOOR = 1e-12  # a line's least weight γ²/(1 − γ²): a coherence of 0 weighs as 1e-12
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class BandFit:
     """Masslines fitted over a band.
 
@@ -67,7 +68,7 @@ class BandFit:
     truncation: np.ndarray
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class LineSums:
     """Each FRF's weighted sums over a run of lines, in x = ω²/ω_ref².
 
@@ -96,24 +97,24 @@ class LineSums:
 
     def __add__(self, other: LineSums) -> LineSums:
         return LineSums(
-            self.weight + other.weight,
-            self.real + other.real,
-            self.imag + other.imag,
-            self.square + other.square,
-            self.lines + other.lines,
-            self.plain + other.plain,
+            weight=self.weight + other.weight,
+            real=self.real + other.real,
+            imag=self.imag + other.imag,
+            square=self.square + other.square,
+            lines=self.lines + other.lines,
+            plain=self.plain + other.plain,
         )
 
     def rescaled(self, s: float) -> LineSums:
         """The same sums in x' = s x."""
         s = float(s)
         return LineSums(
-            self.weight * s**WEIGHT_POWERS,
-            self.real * s**REAL_POWERS,
-            self.imag * s ** np.array(IMAG),
-            self.square,
-            self.lines,
-            self.plain * s**WEIGHT_POWERS,
+            weight=self.weight * s**WEIGHT_POWERS,
+            real=self.real * s**REAL_POWERS,
+            imag=self.imag * s ** np.array(IMAG),
+            square=self.square,
+            lines=self.lines,
+            plain=self.plain * s**WEIGHT_POWERS,
         )
 
 
@@ -125,7 +126,9 @@ def line_sums(x: np.ndarray, real: np.ndarray, imag: np.ndarray, w2: np.ndarray)
     square = np.einsum("fn,fn->f", weighted_real, real) + np.einsum("fn,fn->f", weighted_imag, imag)
     sums_real = weighted_real @ powers[:, 2:8]  # x⁻² … x³
     sums_imag = weighted_imag @ powers[:, [3, 5]]  # x⁻¹, x
-    return LineSums(weight, sums_real, sums_imag, square, len(x), powers.sum(axis=0))
+    return LineSums(
+        weight=weight, real=sums_real, imag=sums_imag, square=square, lines=len(x), plain=powers.sum(axis=0)
+    )
 
 
 def band_lines(frf: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -253,14 +256,22 @@ def fit_band(
     shape = frf.shape[:2]
     A = fit.real[:, 0].reshape(shape)
     if not np.isfinite(A).all():
-        raise MasslineError("a band fit failed (NaN in the FRFs?): check the recording or give --band LO HI")
+        raise MasslineError(f"a band fit failed (NaN in the FRFs?): check the recording or give {GIVE_BAND}")
     rms = np.sqrt(squares / (2 * n)).reshape(shape)
     B = ((fit.real[:, 1] + 1j * fit.imag[:, 0]) * mid2).reshape(shape)
     C = ((fit.real[:, 2] + 1j * fit.imag[:, 1]) / mid2).reshape(shape)
     scale = np.maximum(np.abs(A), 1e-300)
     plain = plain.reshape(shape)
     truncation = truncation_shift(sums, fit, richer).reshape(shape)
-    return BandFit(A, fit.std.reshape(shape), B, C, rms / scale, np.abs(plain - A) / scale, truncation)
+    return BandFit(
+        values=A,
+        std=fit.std.reshape(shape),
+        suspension=B,
+        flexibility=C,
+        quality=rms / scale,
+        bias=np.abs(plain - A) / scale,
+        truncation=truncation,
+    )
 
 
 def line_weights(weights, keep: np.ndarray, shape: tuple) -> np.ndarray:

@@ -27,7 +27,7 @@ from massline.identify.suspicions import (
 from massline.identify.uncertainty import bootstrap, combined_std, truncation_std, with_truncation
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.masslines import Masslines
 from massline.core.methods import DYNAMICS, KINEMATICS, identify
 from massline.core.plate import plate_theta
@@ -37,6 +37,7 @@ from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
 PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF frames carry ~6 digits)
+BEST, PLATE_OR_BEST = param("method", "'best'", cli="best"), param("method", "'plate' or 'best'", cli="plate or best")
 
 
 def is_planar(sensors, exciters) -> bool:
@@ -57,17 +58,17 @@ def check_method(method: str, planar: bool, weighed: WeighedMass | None = None) 
     or a scale's reading with a paper method (they take no prior)."""
     if weighed is not None and method != "best":
         raise MasslineError(
-            f"--weighed-mass needs --method best: method {method} (the paper's) takes no prior on the mass"
+            f"{param('weighed')} needs {BEST}: method {method} (the paper's) takes no prior on the mass"
         )
     if planar and method not in ("best", "plate"):
         raise MasslineError(
             f"method {method} needs 3-D lines, but every line in this recording is along z (plate data): "
-            "use --method plate or best"
+            f"use {PLATE_OR_BEST}"
         )
     if not planar and method == "plate":
         raise MasslineError(
             "method plate needs every line along z (plate data), but this recording has lines off z: "
-            "use --method best or a 3-D method such as method2+method3"
+            f"use {BEST} or a 3-D method such as method2+method3"
         )
 
 
@@ -102,7 +103,7 @@ def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
     return kept, (f"{lines} set aside (an exporter's DC line holds no massline)",)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Identification:
     """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
 
@@ -147,6 +148,7 @@ def identify_recording(
     recording: Recording,
     band=None,
     transverse: float = TRANSVERSE,
+    *,
     draws: int = 100,
     method: str = "best",
     sensor_mass: float = 0.0,
@@ -165,7 +167,7 @@ def identify_recording(
     if band:
         used = given_band(f, *band)
     else:
-        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar, weights)
+        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar=planar, weights=weights)
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
@@ -190,8 +192,24 @@ def identify_recording(
         + recording_warnings(f, recording.frf, recording.coherence, used)
         + units_warnings(tested, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
     )
-    found = (recording, used, fit, data, sigma, planar, best, std, housings.removed_from(tested, planar), method)
-    return Identification(*found, notes, tuple(warnings), housings, tested, tested_std, weighed)
+    return Identification(
+        recording=recording,
+        band=used,
+        fit=fit,
+        data=data,
+        sigma=sigma,
+        planar=planar,
+        best=best,
+        std=std,
+        body=housings.removed_from(tested, planar),
+        method=method,
+        notes=notes,
+        warnings=tuple(warnings),
+        housings=housings,
+        tested=tested,
+        tested_std=tested_std,
+        weighed=weighed,
+    )
 
 
 def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:

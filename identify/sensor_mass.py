@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from massline.identify.estimator import Estimate, is_consistent
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.core.plate import plate_theta
@@ -36,7 +36,8 @@ def parse_sensor_mass(text: str) -> float:
     except ValueError:
         mass = np.nan
     if not (np.isfinite(mass) and mass >= 0):
-        raise MasslineError(f"--sensor-mass '{text}': give one accelerometer housing's mass in kg, 0 ≤ KG < inf")
+        given = param("sensor_mass", f"'{text}'")
+        raise MasslineError(f"{given}: give one accelerometer housing's mass in kg, 0 ≤ KG < inf")
     return mass
 
 
@@ -73,7 +74,10 @@ class Housings:
 
     @classmethod
     def on(cls, sensors: Lines, mass: float) -> "Housings":
-        """The housings of ``sensors`` (one per point), each weighing ``mass`` kg."""
+        """The housings of ``sensors`` (one per point), each weighing ``mass`` kg (finite, ≥ 0)."""
+        if not (np.isfinite(mass) and mass >= 0):
+            given = param("sensor_mass", f"{mass:g}")
+            raise MasslineError(f"{given}: give one accelerometer housing's mass in kg, 0 ≤ KG < inf")
         return cls(mass, housing_points(sensors) if mass > 0 else np.zeros((0, 3)))
 
     @property

@@ -44,6 +44,7 @@ import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
 from massline.core.effect_names import TEST_PHYSICS
+from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 
 TAIL_LAWS = TEST_PHYSICS  # each a single mode shared by every FRF
@@ -176,7 +177,7 @@ class BandData:
         if keep.sum() < MIN_LINES:
             raise MasslineError(
                 f"the band {low:g}–{high:g} Hz holds {keep.sum()} spectral lines; diagnosis needs {MIN_LINES}: "
-                "widen it with --band LO HI"
+                f"widen it with {GIVE_BAND}"
             )
         return cls(frequencies[keep], frf[:, :, keep])
 
@@ -240,7 +241,7 @@ class BandData:
             tails = np.linalg.lstsq(X, rest.reshape(-1, X.shape[0]).T, rcond=None)[0].T.reshape(*massline.shape, -1)
         else:
             tails = np.zeros((*massline.shape, 0))
-        return Reduced(massline, kappa, rss, tails, dict(poles), free)
+        return Reduced(massline=massline, kappa=kappa, rss=rss, tails=tails, poles=dict(poles), free=free)
 
     def reduced(self, laws: frozenset) -> Reduced:
         """The reduction for ``laws``, each pole placed where the weighted RSS over all FRFs is least."""

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.core.band import Band
-from massline.core.errors import MasslineError
+from massline.core.band import Band, GIVE_BAND
+from massline.core.errors import MasslineError, param
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance
 OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbed line
@@ -120,19 +120,24 @@ def find_band(frequencies: np.ndarray, frf: np.ndarray) -> Band:
     if np.count_nonzero((f >= low) & (f <= high)) < MIN_LINES:
         raise MasslineError(
             f"no massline band found: the widest resonance-free stretch is {free.low:.3g}–{free.high:.3g} Hz, "
-            "too narrow once clear of its resonances; soften the suspension or give --band LO HI"
+            f"too narrow once clear of its resonances; soften the suspension or give {GIVE_BAND}"
         )
     return Band(float(low), float(high), free.suspension_top, free.first_elastic, "found")
+
+
+def given(low: float, high: float) -> str:
+    """The band a caller gave, as an error message names it (``band=(3, 40)``; the CLI's ``--band 3 40``)."""
+    return param("band", f"({low:g}, {high:g})", cli=f"{low:g} {high:g}")
 
 
 def given_band(frequencies: np.ndarray, low: float, high: float) -> Band:
     """The band the user gave (``--band LO HI``), checked against the recorded axis."""
     f = np.asarray(frequencies, dtype=float)
     if not 0 <= low < high:
-        raise MasslineError(f"--band {low:g} {high:g}: give LO < HI in Hz")
+        raise MasslineError(f"{given(low, high)}: give LO < HI in Hz")
     if np.count_nonzero((f >= low) & (f <= high)) < MIN_LINES:
         raise MasslineError(
-            f"--band {low:g} {high:g} Hz holds fewer than {MIN_LINES} spectral lines of the recording "
+            f"{given(low, high)} Hz holds fewer than {MIN_LINES} spectral lines of the recording "
             f"({f[0]:g}–{f[-1]:g} Hz): widen it"
         )
     return Band(float(low), float(high), np.nan, np.nan, "given")

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.rigid_body import RigidBody
 
 UNITS = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
@@ -26,6 +26,7 @@ PLAUSIBLE_DENSITY = (10.0, 25_000.0)  # kg/m³: from rigid foams to tungsten all
 MAX_SOLID_VOLUME_M3 = 1.0  # more solid material than any body hung on springs for this test
 MAX_MASS_KG = 5000.0
 MESH_SUFFIXES = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
+ANY_UNITS = param("units", "'m'|'mm'|'in'", cli="m|mm|in")  # the units parameter, as an error names it
 
 
 def _size_phrase(extents: np.ndarray, unit: str) -> str:
@@ -45,7 +46,7 @@ def check_units(extents_native: np.ndarray, units: str | None) -> float:
     hint = f"it looks like {' or '.join(guesses)}" if guesses else "no unit makes it a plausible size"
     if units is None:
         raise MasslineError(
-            f"the mesh does not say its units: pass --units m|mm|in "
+            f"the mesh does not say its units: pass {ANY_UNITS} "
             f"(it is {_size_phrase(extents_native, 'units')} across; {hint})"
         )
     if units not in UNITS:
@@ -54,8 +55,8 @@ def check_units(extents_native: np.ndarray, units: str | None) -> float:
     lo, hi = PLAUSIBLE_SIZE_M
     if not lo <= size_m <= hi:
         raise MasslineError(
-            f"with --units {units} the mesh would be {size_m:.3g} m across, outside the "
-            f"{lo:g}–{hi:g} m of a body tested on soft springs; {hint}: pass the right --units"
+            f"with {param('units', repr(units), cli=units)} the mesh would be {size_m:.3g} m across, outside the "
+            f"{lo:g}–{hi:g} m of a body tested on soft springs; {hint}: pass the right {param('units')}"
         )
     return UNITS[units]
 
@@ -124,7 +125,8 @@ def check_density(density: float, source: str = "") -> float:
     if source:
         if not lo <= density <= hi:
             raise MasslineError(
-                f"{source} gives a density of {density:.4g} kg/m³, which no solid has: check --units and --mass"
+                f"{source} gives a density of {density:.4g} kg/m³, which no solid has: check {param('units')} and "
+                f"{param('mass')}"
             )
         return density
     if density < lo:
@@ -162,7 +164,9 @@ class BodyMesh:
 def load_body(path: str | Path, units: str | None, density: float | None = None, mass: float | None = None) -> BodyMesh:
     """Read, check and scale a mesh to metres; material from density or total mass."""
     if (density is None) == (mass is None):
-        raise MasslineError("give the material as exactly one of --density KG_M3 or --mass KG")
+        raise MasslineError(
+            f"give the material as exactly one of {param('density', cli='KG_M3')} or {param('mass', cli='KG')}"
+        )
     mesh = read_mesh(path)
     name = Path(path).name
     validate_solid(mesh, name)
@@ -180,7 +184,8 @@ def load_body(path: str | Path, units: str | None, density: float | None = None,
         guesses = [u for u in plausible_units(native_extents) if u != units]
         hint = f"it looks like {' or '.join(guesses)}" if guesses else "check the mesh"
         raise MasslineError(
-            f"with --units {units} {name} would hold {body.volume:.3g} m³ of solid material "
-            f"({body.nominal.mass:.4g} kg), more than a body tested on soft springs; {hint}: pass the right --units"
+            f"with {param('units', repr(units), cli=units)} {name} would hold {body.volume:.3g} m³ of solid material "
+            f"({body.nominal.mass:.4g} kg), more than a body tested on soft springs; {hint}: pass the right "
+            f"{param('units')}"
         )
     return body

@@ -20,7 +20,7 @@ import numpy as np
 import trimesh
 from scipy.spatial import cKDTree
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.lines import AXES, Lines
 from massline.placement.mountable import Surface
 
@@ -164,13 +164,19 @@ def candidate_points(
     if not fits.any():
         raise MasslineError(
             f"no place on the surface is flat and {1e3 * hit:.3g} mm clear of every edge, as a hammer hit needs "
-            "(it is all edges, corners, small or curved faces): give a smaller --tip (or --edge-keepout)"
+            f"(it is all edges, corners, small or curved faces): give a smaller {param('options.hammer_tip')} "
+            f"(or {param('options.edge_keepout')})"
         )
     excluded["edges, corners, small or curved faces"] = int((~fits & ~out).sum())
     usable = np.flatnonzero(fits & ~out)
     kept = usable[thin(points[usable], 0.5 * spacing)]
     return CandidatePoints(
-        points[kept], mesh.face_normals[faces[kept]], faces[kept], excluded, clearance[kept] >= sensor, clearance[kept]
+        points=points[kept],
+        normals=mesh.face_normals[faces[kept]],
+        faces=faces[kept],
+        excluded=excluded,
+        sensor_fit=clearance[kept] >= sensor,
+        clearance=clearance[kept],
     )
 
 
@@ -222,7 +228,7 @@ def side_lines(points: CandidatePoints, index: np.ndarray, axes: bool, planar: b
         if on_faces.sum() < 3:
             raise MasslineError(
                 "fewer than 3 candidate points on the plate's faces: relax the exclusions, or give a smaller "
-                "--sensor-base or --tip"
+                f"{param('options.sensor_base')} or {param('options.hammer_tip')}"
             )
         lines = Lines(at.points[on_faces], np.tile([0.0, 0.0, 1.0], (int(on_faces.sum()), 1)))
         return replace(CandidateLines.single(lines), node=index[on_faces])

@@ -118,6 +118,7 @@ class BranchAndBound:
         problem: BlockProblem,
         chosen,
         slack: float,
+        *,
         tol: float = 1e-4,
         root_bound: float = np.inf,
         root_weights: np.ndarray | None = None,
@@ -208,6 +209,7 @@ def branch_and_bound(
     problem: BlockProblem,
     chosen,
     slack: float,
+    *,
     max_nodes: int = 100_000,
     tol: float = 1e-4,
     seconds: float = 10.0,
@@ -216,6 +218,8 @@ def branch_and_bound(
     admissible=None,
 ) -> tuple[float, list]:
     """:class:`BranchAndBound` run for ``seconds`` or ``max_nodes``: its bound and best selection."""
-    search = BranchAndBound(problem, chosen, slack, tol, root_bound, root_weights, admissible)
+    search = BranchAndBound(
+        problem, chosen, slack, tol=tol, root_bound=root_bound, root_weights=root_weights, admissible=admissible
+    )
     search.run(time.perf_counter() + seconds, max_nodes=max_nodes)
     return search.bound, search.best

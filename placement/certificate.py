@@ -59,6 +59,7 @@ def certify_admissible(
     slack: float,
     admissible: Callable[[list], bool],
     cover_for: Callable[[list], np.ndarray | None],
+    *,
     seconds: float = 10.0,
     depth: int = 2,
     root_bound: float = np.inf,
@@ -97,7 +98,9 @@ def certify_admissible(
         if not admissible(start):
             start = list(chosen) if _fits(part, chosen) else start
         remaining = max(deadline - time.perf_counter(), 0.05) / len(parts)
-        part_bound, part_best = certify_admissible(part, start, slack, admissible, cover_for, remaining, depth - 1)
+        part_bound, part_best = certify_admissible(
+            part, start, slack, admissible, cover_for, seconds=remaining, depth=depth - 1
+        )
         bounds.append(part_bound)
         if admissible(part_best) and part.value(part_best) > problem.value(winner):
             winner = part_best
@@ -121,7 +124,7 @@ class SideBound:
     (:func:`certify_admissible`). ``tighten`` may be called again and again.
     """
 
-    def __init__(self, problem, chosen, relaxation="first-order", admissible=None, cover_for=None, targets=TARGETS):
+    def __init__(self, problem, chosen, relaxation="first-order", *, admissible=None, cover_for=None, targets=TARGETS):
         self.problem, self.chosen = problem, list(chosen)
         self.admissible = admissible or (lambda c: True)
         self.cover_for, self.covers = cover_for or (lambda c: None), {}
@@ -179,7 +182,7 @@ class SideBound:
                     self.search.slack,
                     self.admissible,
                     self.cover_for,
-                    max(deadline - time.perf_counter(), 0.0),
+                    seconds=max(deadline - time.perf_counter(), 0.0),
                 )
                 self.cut_best = winner if self.admissible(winner) else None
 
@@ -204,6 +207,6 @@ def certify(
 ) -> tuple[float, list]:
     """Upper bound U on ``problem`` over the admissible selections, and the best one met (:class:`SideBound`
     tightened for ``seconds``)."""
-    side = SideBound(problem, chosen, relaxation, admissible, cover_for)
+    side = SideBound(problem, chosen, relaxation, admissible=admissible, cover_for=cover_for)
     side.tighten(time.perf_counter() + seconds)
     return side.bound, side.best

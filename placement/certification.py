@@ -54,7 +54,7 @@ class _Sides:
     def bound(self, side: str, layout: dict, relaxation: str) -> SideBound:
         """The side's bound at the layout, the other side held: its relaxation solved, ready to tighten."""
         problem, admissible = self.problem(side, layout), self.admissible(side, layout)
-        return SideBound(problem, layout[side], relaxation, admissible, self.cover(side, layout))
+        return SideBound(problem, layout[side], relaxation, admissible=admissible, cover_for=self.cover(side, layout))
 
 
 def _other(side: str) -> str:

@@ -15,7 +15,7 @@ from typing import Callable, Iterator
 
 from massline.placement.candidates import CandidateOptions
 from massline.placement.diagnosability import UndiagnosableError
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
 from massline.meshes.loader import BodyMesh
@@ -42,6 +42,7 @@ def cheapest_diagnosable(
     body: BodyMesh,
     options: CandidateOptions = CandidateOptions(),
     noise: NoiseModel = NoiseModel(),
+    *,
     fixed_sensors: Lines | None = None,
     fixed_exciters: Lines | None = None,
     relaxation: str = "first-order",
@@ -55,8 +56,9 @@ def cheapest_diagnosable(
 
     def planned(budget: Budget, diagnosable: bool, seconds: float) -> Plan:
         return plan(
-            body, budget, options, noise, fixed_sensors, fixed_exciters, relaxation, planar=planar,
-            certify_seconds=seconds, criterion=criterion, diagnosable=diagnosable,
+            body, budget, options, noise, fixed_sensors=fixed_sensors, fixed_exciters=fixed_exciters,
+            relaxation=relaxation, planar=planar, certify_seconds=seconds, criterion=criterion,
+            diagnosable=diagnosable,
         )  # fmt: skip
 
     progress("the minimal layout", 0.0)
@@ -69,5 +71,6 @@ def cheapest_diagnosable(
             continue
     raise MasslineError(
         f"no diagnosable layout of up to {budget.sensors + budget.exciters} lines and hits was found: "
-        "give the budget (--sensors, --exciters) or plan the minimal layout (--minimal)"
+        f"give the budget ({param('budget.sensors')}, {param('budget.exciters')}) or plan the minimal layout "
+        f"({param('minimal_budget')})"
     )

@@ -30,7 +30,6 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.core.band import band_from_dict, band_to_dict  # noqa: F401 (plan.json's band block: core.band)
 from massline.core.errors import MasslineError
 from massline.placement.plans import Plan
 from massline.core.lines import Lines

@@ -14,7 +14,7 @@ from massline.core.accuracy import predicted_std, worst_relative_std
 from massline.placement.candidates import CandidatePoints
 from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import Diagnosability, diagnosability
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, fisher, log_det
 from massline.core.lines import Lines
 from massline.core.masslines import synthesise
@@ -37,17 +37,21 @@ class Budget:
         if lines < need:
             raise MasslineError(
                 f"{lines} sensor lines cannot see the {'3 plate' if planar else '6 rigid-body'} motions: "
-                f"give at least {need} (--sensors, or --triaxial N for 3 lines each)"
+                f"give at least {need} ({param('budget.sensors')}, or {param('budget.triaxial', cli='N')} for 3 "
+                "lines each)"
             )
         if self.triaxial == 2 and self.sensors == 0:
             raise MasslineError(
                 "two triaxial accelerometers alone never see rotation about the line joining them: "
-                "add a third triaxial (--triaxial 3) or uniaxial sensors (--sensors)"
+                f"add a third triaxial ({param('budget.triaxial', '3')}) or uniaxial sensors "
+                f"({param('budget.sensors')})"
             )
         if self.exciters < 3:
-            raise MasslineError(f"{self.exciters} exciter(s) are too few: the paper's minimum is 3 (--exciters 3)")
+            raise MasslineError(
+                f"{self.exciters} exciter(s) are too few: the paper's minimum is 3 ({param('budget.exciters', '3')})"
+            )
         if planar and self.triaxial:
-            raise MasslineError("a plate is planned with out-of-plane lines (§2.3): drop --triaxial")
+            raise MasslineError(f"a plate is planned with out-of-plane lines (§2.3): drop {param('budget.triaxial')}")
 
 
 @dataclass(frozen=True, eq=False)

@@ -90,6 +90,7 @@ def relax_first_order(
     problem: BlockProblem,
     start=(),
     weights: np.ndarray | None = None,
+    *,
     tol: float = 1e-4,
     max_iter: int = 5000,
     working_size: int = 400,

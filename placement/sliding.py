@@ -37,7 +37,7 @@ TOUCH = 0.01  # a point nearer its bound than (1 + this) × its clearance need t
 STALL = 1e-6  # an iteration raising the criterion by less than this ends the search
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Slide:
     """The slid layout, the criterion before and after, how far each moved point went (m), the iterations."""
 
@@ -61,7 +61,7 @@ def plane_basis(normal: np.ndarray) -> np.ndarray:
     return np.array([u, np.cross(normal, u)])
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Mounts:
     """The points that move: side (0 sensors, 1 exciters), their lines, start (m), face, basis, clearance need."""
 
@@ -82,12 +82,12 @@ class Mounts:
         ]
         face = np.array([points.faces[k] for *_, k, _ in rows], dtype=int)
         return cls(
-            np.array([r[0] for r in rows], dtype=int),
-            [r[1] for r in rows],
-            points.points[[r[2] for r in rows]].reshape(-1, 3),
-            face,
-            np.array([plane_basis(n) for n in surface.normal(face)]).reshape(-1, 2, 3),
-            np.array([r[3] for r in rows], dtype=float),
+            side=np.array([r[0] for r in rows], dtype=int),
+            lines=[r[1] for r in rows],
+            start=points.points[[r[2] for r in rows]].reshape(-1, 3),
+            face=face,
+            basis=np.array([plane_basis(n) for n in surface.normal(face)]).reshape(-1, 2, 3),
+            need=np.array([r[3] for r in rows], dtype=float),
         )
 
 
@@ -99,6 +99,7 @@ class Slider:
         surface: Surface,
         model: RigidModel,
         noise: NoiseModel,
+        *,
         layout: tuple,
         mounts: Mounts,
         options: CandidateOptions,
@@ -208,13 +209,16 @@ class Slider:
                 break
             if gained < STALL:
                 break
-        return Slide(*self.layout(x), before, value, np.linalg.norm(x, axis=1), done)
+        sensors, exciters = self.layout(x)
+        moved = np.linalg.norm(x, axis=1)
+        return Slide(sensors=sensors, exciters=exciters, before=before, after=value, moved=moved, iterations=done)
 
 
 def slide(
     surface: Surface,
     model: RigidModel,
     noise: NoiseModel,
+    *,
     layout: tuple,
     nodes: tuple,
     points: CandidatePoints,
@@ -244,4 +248,7 @@ def slide(
         c(F) to maximise, log det F by default.
     """
     mounts = Mounts.of(surface, points, nodes, options.clearances)
-    return Slider(surface, model, noise, layout, mounts, options, criterion, admissible).run()
+    slider = Slider(
+        surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion, admissible=admissible
+    )
+    return slider.run()

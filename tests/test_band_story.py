@@ -14,7 +14,7 @@ from massline.meshes import BUNDLED
 from massline.core.band import Band, frf_scales, held_band, stray
 from massline.core.masslines import synthesise
 from massline.placement.on_surface import plan
-from massline.placement.plan_file import band_from_dict, band_to_dict
+from massline.core.band import band_from_dict, band_to_dict
 from massline.virtual.planned_test import plan_test, planned_suspension
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff

@@ -28,7 +28,7 @@ from skfem import Basis, BilinearForm, ElementTetP2, ElementVector, MeshTet, asm
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.numbers import number, vector_text
 from massline.virtual.tetmesh import default_size, tetrahedralise
 
@@ -84,7 +84,9 @@ class Material:
         try:
             youngs, poisson = (float(v) for v in text.split(","))
         except ValueError:
-            raise MasslineError(f"--material {text}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)") from None
+            raise MasslineError(
+                f"{param('material', repr(text), cli=text)}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)"
+            ) from None
         return cls(youngs, poisson, density)
 
     @staticmethod

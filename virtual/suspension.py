@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.linalg import eigh
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.core.lines import skew
 from massline.core.rigid_body import RigidBody
 from massline.virtual.attachment import UP, lowest_points, point_above
@@ -163,9 +163,11 @@ class Suspension:
         except MasslineError:
             raise
         except ValueError:
-            raise MasslineError(f"cannot read --suspension {spec}: numbers are needed (e.g. cord:k=500,L=1)") from None
+            raise MasslineError(
+                f"cannot read {param('suspension', repr(spec), cli=spec)}: numbers are needed (e.g. cord:k=500,L=1)"
+            ) from None
         if options:
-            raise MasslineError(f"--suspension {kind}: unknown option(s) {', '.join(options)}")
+            raise MasslineError(f"{param('suspension', repr(kind), cli=kind)}: unknown option(s) {', '.join(options)}")
         return suspension
 
     def as_dict(self) -> dict:

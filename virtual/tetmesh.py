@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, param
 from massline.meshes.loader import validate_solid
 
 SIZE_PER_THICKNESS = 4.0  # element size / mean thickness 2V/A
@@ -112,7 +112,7 @@ def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface"
         Vertex indices (k, 4) of positively oriented tetrahedra.
     """
     if not size > 0:
-        raise MasslineError(f"element size {size} m is not positive: give a positive --fe-size")
+        raise MasslineError(f"element size {size} m is not positive: give a positive {param('size')}")
     validate_solid(mesh, name)  # netgen loops forever on some open surfaces
     try:
         result = _netgen_mesh(mesh, size)
@@ -121,11 +121,11 @@ def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface"
     except Exception as err:  # netgen raises plain Exceptions with C++ messages
         raise MasslineError(
             f"tetrahedral meshing of {name} failed: {' '.join(str(err).split()) or type(err).__name__}; "
-            "check that the surface is closed or try a different --fe-size"
+            f"check that the surface is closed or try a different {param('size')}"
         ) from None
     if len(tets) == 0:
         raise MasslineError(
             f"tetrahedral meshing of {name} gave no tetrahedra; check that the surface is closed "
-            "or try a different --fe-size"
+            f"or try a different {param('size')}"
         )
     return points, _positively_oriented(points, tets)

@@ -1,0 +1,273 @@
+"""The planner's alternation: the sensor and exciter selection problems of one model, one criterion and one
+budget over given candidate lines, solved in turn (greedy, then exchanges) until neither side improves
+(:mod:`.planner` runs it from several starts and certifies the result).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from massline.placement.admissible import regular, weakly_seen
+from massline.placement.candidates import CandidateLines
+from massline.placement.criteria import Criterion, D
+from massline.placement.diagnosability import of_coordinates
+from massline.core.errors import MasslineError, param
+from massline.core.information import NoiseModel, weighted_sensitivities
+from massline.placement.plans import Budget
+from massline.core.lines import Lines
+from massline.core.model import RigidModel
+from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
+
+WORKING_SET = 2000  # candidates per side the combinatorial search runs on
+
+
+@dataclass(frozen=True, kw_only=True)
+class PlannerSettings:
+    """What a :class:`Planner` plans besides its candidates: the model, the budget, the noise, the lines held
+    fixed, the criterion it climbs and whether only diagnosable layouts are admitted."""
+
+    model: RigidModel
+    budget: Budget
+    noise: NoiseModel = NoiseModel()
+    fixed_sensors: Lines | None = None
+    fixed_exciters: Lines | None = None
+    criterion: Criterion = D
+    diagnosable: bool = False
+
+    def planner(self, sensor_side: CandidateLines, exciter_side: CandidateLines) -> Planner:
+        """The planner of these settings over the given candidate lines."""
+        return Planner(
+            self.model,
+            sensor_side,
+            exciter_side,
+            self.budget,
+            self.noise,
+            fixed_sensors=self.fixed_sensors,
+            fixed_exciters=self.fixed_exciters,
+            criterion=self.criterion,
+            diagnosable=self.diagnosable,
+        )
+
+
+class Planner:
+    """Alternating selection of sensors and exciters on one model, by one criterion."""
+
+    def __init__(
+        self,
+        model: RigidModel,
+        sensor_side: CandidateLines,
+        exciter_side: CandidateLines,
+        budget: Budget,
+        noise: NoiseModel = NoiseModel(),
+        *,
+        fixed_sensors: Lines | None = None,
+        fixed_exciters: Lines | None = None,
+        criterion: Criterion = D,
+        diagnosable: bool = False,
+    ):
+        self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
+        self.diagnosable = diagnosable
+        self.s, self.e = sensor_side, exciter_side
+        self.s_coords = model.coordinates(sensor_side.lines)
+        self.e_coords = model.coordinates(exciter_side.lines)
+        empty = np.zeros((0, self.s_coords.shape[1]))
+        self.fixed_sensors, self.fixed_exciters = fixed_sensors, fixed_exciters
+        self.fixed_s = empty if fixed_sensors is None else model.coordinates(fixed_sensors)
+        self.fixed_e = empty if fixed_exciters is None else model.coordinates(fixed_exciters)
+        self._built = {}
+
+    # one side's selection problem, the other side fixed
+    def _problem(
+        self,
+        side: CandidateLines,
+        coords: np.ndarray,
+        other: np.ndarray,
+        fixed: np.ndarray,
+        budgets: tuple,
+    ) -> BlockProblem:
+        per_line = weighted_sensitivities(self.model, coords, other, self.noise)  # symmetric: lines first
+        padded = np.concatenate([per_line, np.zeros((1,) + per_line.shape[1:])])  # row −1: nothing
+        blocks = padded[side.members].reshape(len(side), -1, self.model.p)
+        A0 = weighted_sensitivities(self.model, fixed, other, self.noise).reshape(-1, self.model.p)
+        return BlockProblem(compress(blocks), side.group, budgets, A0.T @ A0, self.criterion)
+
+    def check_directions(self) -> None:
+        """Refuse sensor candidates (with the fixed sensors) whose lines cannot see every rigid-body motion."""
+        coords = np.vstack([self.fixed_s, self.s_coords])
+        rank = np.linalg.matrix_rank(coords, tol=1e-9 * np.abs(coords).max(initial=1.0))
+        if rank < coords.shape[1]:
+            raise MasslineError(
+                f"the places an accelerometer fits (flat, clear of every edge, not excluded) leave only degenerate "
+                f"layouts: they face too few directions to see all {coords.shape[1]} rigid-body motions (rank {rank}); "
+                f"use triaxial accelerometers ({param('budget.triaxial', cli='N')}), mounting blocks "
+                f"({param('options.axes')}), a smaller {param('options.sensor_base')} or fewer exclusions"
+            )
+
+    def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
+        other = np.vstack([self.fixed_e, exciter_rows])
+        budgets = (self.budget.sensors, self.budget.triaxial)
+        return self._kept("s", other, lambda: self._problem(self.s, self.s_coords, other, self.fixed_s, budgets))
+
+    def exciter_problem(self, sensor_rows: np.ndarray) -> BlockProblem:
+        other = np.vstack([self.fixed_s, sensor_rows])
+        budgets = (self.budget.exciters,)
+        return self._kept("e", other, lambda: self._problem(self.e, self.e_coords, other, self.fixed_e, budgets))
+
+    def _kept(self, side: str, other: np.ndarray, build) -> BlockProblem:
+        """The last problem built for the side, by held lines: the search, the polish and the certificate come
+        back to the same ones, which take a tenth of a second each to build at 1e5 candidates."""
+        key = (other.shape, other.tobytes())
+        if self._built.get(side, (None,))[0] != key:
+            self._built[side] = (key, build())
+        return self._built[side][1]
+
+    def sensor_rows(self, chosen) -> np.ndarray:
+        return self.s_coords[self.s.line_index(chosen)]
+
+    def exciter_rows(self, chosen) -> np.ndarray:
+        return self.e_coords[self.e.line_index(chosen)]
+
+    def lines(self, side: CandidateLines, chosen) -> Lines:
+        return side.lines[side.line_index(chosen)]
+
+    def sensor_cover(self, exciters: list, conditioning: bool = False):
+        """Cover sets for the sensor side: candidates that see a motion the selection leaves unseen; with
+        ``conditioning`` (a search's repair, not a certificate's cut), those that read well the motion an
+        ill-conditioned selection reads weakly (``admissible.weakly_seen``)."""
+
+        def cover_for(sensors: list):
+            rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+            _, s, Vt = np.linalg.svd(rows)
+            if len(s) == rows.shape[1] and s[-1] > 1e-10 * s[0]:
+                weak = weakly_seen(self.model, rows, self.s_coords) if conditioning else None
+                return None if weak is None else self.s.any_line(weak)  # else no cut known
+            q0 = Vt[-1]
+            sees = np.abs(self.s_coords @ q0) > 1e-9 * np.linalg.norm(self.s_coords, axis=1)
+            return self.s.any_line(sees)
+
+        return cover_for
+
+    def exciter_cover(self, exciters: list):
+        """Cover set for the exciter side: when all hits are parallel, the hits that are not."""
+        lines = self.layout([], exciters)[1]
+        d = lines.directions[0]
+        if np.linalg.norm(np.cross(lines.directions, d), axis=1).max() > 1e-9:
+            return None
+        off = np.linalg.norm(np.cross(self.e.lines.directions, d), axis=1) > 1e-9
+        return self.e.any_line(off)
+
+    def regular(self, sensors: Lines, exciters: Lines) -> bool:
+        return regular(self.model, sensors, exciters)
+
+    def violation(self, sensors: list, exciters: list) -> float:
+        """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
+        if not self.diagnosable:
+            return 0.0
+        S = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+        W = np.vstack([self.fixed_e, self.exciter_rows(exciters)])
+        return of_coordinates(self.model, S, W, self.noise).excess
+
+    def admits(self, sensors: list, exciters: list) -> bool:
+        """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
+        (uniaxial or triaxial) per point (and, if asked, a diagnosable one)?"""
+        nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
+        return (
+            len(set(nodes.tolist())) == len(nodes)
+            and self.violation(sensors, exciters) == 0
+            and self.regular(*self.layout(sensors, exciters))
+        )
+
+    @property
+    def sensor_node(self) -> np.ndarray:
+        """The candidate point of each sensor candidate."""
+        return self.s.node[self.s.members[:, 0]]
+
+    def separated(self, problem: BlockProblem, sensors: list) -> list:
+        """Each accelerometer on a point another one holds (the later one) exchanged for the candidate of its
+        group, on a free point, that adds the most information."""
+        chosen = list(sensors)
+        for position in reversed(range(len(chosen))):
+            taken = np.delete(self.sensor_node[chosen], position)
+            if self.sensor_node[chosen[position]] not in taken:
+                continue
+            free = (problem.group == problem.group[chosen[position]]) & ~np.isin(self.sensor_node, taken)
+            free[chosen] = False
+            M = problem.information(np.delete(chosen, position)) + problem.regulariser()
+            best = best_gains(problem.blocks, np.linalg.inv(M), free)[0]
+            chosen[position] = int(best[0]) if len(best) else chosen[position]
+        return chosen
+
+    def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
+        """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
+        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again."""
+        admissible = lambda c: self.admits(*side(c))  # noqa: E731
+        chosen = settle(problem, start, admissible, cover)
+        if admissible(chosen) or not self.diagnosable:
+            return chosen
+        walked = descend(
+            problem, chosen, lambda c: self.violation(*side(c)), lambda c: self.regular(*self.layout(*side(c)))
+        )
+        return settle(problem, walked, admissible, cover)
+
+    def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
+        """All sensor and exciter lines of a selection, fixed ones first."""
+        S, E = self.lines(self.s, sensors), self.lines(self.e, exciters)
+        return (
+            S if self.fixed_sensors is None else self.fixed_sensors + S,
+            E if self.fixed_exciters is None else self.fixed_exciters + E,
+        )
+
+    def alternate(self, exciters: list, sensors: list | None = None, rounds: int = 12) -> tuple[list, list, float]:
+        """Sensors for the exciters, exciters for the sensors, … until both are stable."""
+        value, settled_for = -np.inf, None
+        for _ in range(rounds):
+            sp = self.sensor_problem(self.exciter_rows(exciters))
+            sensors = self.settled(
+                sp,
+                self.separated(sp, sensors if sensors else greedy(sp)),
+                lambda c: (c, exciters),
+                self.sensor_cover(exciters, conditioning=True),
+            )
+            if sorted(sensors) == settled_for:  # the exciters were settled against these very sensors
+                break
+            ep = self.exciter_problem(self.sensor_rows(sensors))
+            start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
+            new_exciters = self.settled(ep, start, lambda c: (sensors, c), self.exciter_cover)
+            new_value = ep.value(new_exciters)
+            if new_value <= value + 1e-9:
+                break
+            exciters, value, settled_for = new_exciters, new_value, sorted(sensors)
+        return sensors, exciters, value
+
+    def working_sets(self, seed: int, size: int = WORKING_SET) -> tuple[np.ndarray, np.ndarray]:
+        """Candidates the combinatorial search runs on: all of them up to ``size``; beyond,
+        the most informative half (largest trace of information against a random
+        reference layout) and a random half.
+        The certificate still covers every candidate."""
+        rng = np.random.default_rng(seed)
+
+        def pick(n: int, problem_for) -> np.ndarray:
+            if n <= size:
+                return np.arange(n)
+            score = leverages(problem_for().blocks, np.eye(self.model.p))
+            top = np.argsort(-score)[: size // 2]
+            rest = np.setdiff1d(np.arange(n), top)
+            return np.sort(np.concatenate([top, rng.choice(rest, size - len(top), replace=False)]))
+
+        ref_s = rng.choice(len(self.s), min(len(self.s), 10), replace=False)
+        ref_e = rng.choice(len(self.e), min(len(self.e), 3), replace=False)
+        return (
+            pick(len(self.s), lambda: self.sensor_problem(self.exciter_rows(ref_e))),
+            pick(len(self.e), lambda: self.exciter_problem(self.sensor_rows(ref_s))),
+        )
+
+    def starts(self, n_random: int, seed: int) -> list:
+        """Exciter sets to start from: greedy against a spread of reference sensors, and random ones."""
+        rng = np.random.default_rng(seed)
+        reference = rng.choice(len(self.s), min(len(self.s), 50), replace=False)
+        ep = self.exciter_problem(self.sensor_rows(reference))
+        starts = [greedy(ep)]
+        starts += [list(rng.choice(len(self.e), self.budget.exciters, replace=False)) for _ in range(n_random)]
+        return starts
