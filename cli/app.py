@@ -17,7 +17,7 @@ import warnings
 
 from massline.core import __version__
 from massline.options import FLAGS, Parser
-from massline.output import console_for
+from massline.output import console_for, console_stream
 from massline.core.errors import MasslineError
 
 from . import demo, diagnose_command, identify_command, plan, props_command, report_command, simulate
@@ -86,8 +86,12 @@ def run(argv: list[str] | None = None, show_warnings: bool | None = None) -> int
 
 def _command(argv: list[str] | None, debug: bool) -> int:
     try:
-        args = build_parser().parse_args(argv)
-        args.run(args, console_for(sys.stdout))
+        parser = build_parser()
+        if not (sys.argv[1:] if argv is None else argv):  # bare 'massline': what it does and its commands
+            parser.print_help()
+            return 0
+        args = parser.parse_args(argv)
+        args.run(args, console_for(console_stream(args)))
     except SystemExit as done:  # --help, --version or a one-line usage error
         return int(done.code or 0)
     except MasslineError as err:  # the library's parameters in its message named by the command line's flags

@@ -14,8 +14,8 @@ from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, check_band
-from massline.output import write_report
-from massline.core.files import claim_outputs, to_json, write_atomic
+from massline.output import write_json, write_report
+from massline.core.files import claim_outputs, write_atomic
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY
 from massline.uff.grid import to_recording
@@ -39,7 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FRACTION",
         help="accelerometers' cross-axis prior",
     )
-    parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON")
+    parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON; - for stdout")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
     parser.add_argument("--report", metavar="OUT.html", help="write the diagnosis report (one HTML page)")
     parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
@@ -112,8 +112,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
         console.print(f"wrote {args.plot}")
     if args.json:
-        write_atomic(args.json, to_json(found.document), args.force)
-        console.print(f"wrote {args.json}")
+        write_json(console, args.json, found.document, args.force)
     if args.report:
         from massline.reports.diagnosis_report import diagnose_report
 

@@ -14,8 +14,8 @@ from massline.identify.sensor_mass import parse_sensor_mass
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import BAND_EDGE, MAX_DRAWS, TRANSVERSE_PRIOR, check_band, checked, count
-from massline.output import write_report
-from massline.core.files import claim_outputs, to_json, write_atomic
+from massline.output import write_json, write_report
+from massline.core.files import claim_outputs
 from massline.core.numbers import number, sigma_text, value_with_sigma
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody
@@ -65,7 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     add_nominal_arguments(parser)
     parser.add_argument(
-        "--json", metavar="OUT", help="write the properties as JSON (mass, cog, inertia_cog, principal axes, std, …)"
+        "--json",
+        metavar="OUT",
+        help="write the properties as JSON (mass, cog, inertia_cog, principal axes, std, …); - for stdout",
     )
     parser.add_argument("--report", metavar="OUT.html", help="write the identification report (one HTML page)")
     parser.add_argument("--force", action="store_true", help="overwrite OUT and OUT.html")
@@ -117,8 +119,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for warning in found.warnings:
         console.print(f"[bold]warning:[/bold] {warning}")
     if args.json:
-        write_atomic(args.json, to_json(found.payload), args.force)
-        console.print(f"wrote {args.json}")
+        write_json(console, args.json, found.payload, args.force)
     if args.report:
         from massline.reports.identification_report import identify_report
 

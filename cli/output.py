@@ -10,7 +10,9 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.status import Status
 
-from massline.core.files import write_atomic
+import sys
+
+from massline.core.files import STDOUT, to_json, write_atomic
 from massline.reports.html import Report
 from massline.reports.placement_assembly import build_placement_report
 from massline.virtual.planned_test import FEModel
@@ -26,6 +28,23 @@ def console_for(stream) -> Console:
     if terminal:
         return Console(file=stream)
     return Console(file=stream, width=UNWRAPPED, soft_wrap=True)
+
+
+def write_json(console, path: str | Path, document: dict, force: bool = False) -> None:
+    """Write ``document`` as JSON to ``path``, whole, and say so; to the standard output when ``path`` is
+    ``-`` (the console then speaks on stderr: see :func:`console_stream`)."""
+    text = to_json(document)
+    if str(path) == STDOUT:
+        sys.stdout.write(text if text.endswith("\n") else text + "\n")
+        sys.stdout.flush()
+        return
+    write_atomic(path, text, force)
+    console.print(f"wrote {path}")
+
+
+def console_stream(args):
+    """Where a command's console goes: stderr when its results go to stdout (``--json -``), else stdout."""
+    return sys.stderr if getattr(args, "json", None) == STDOUT else sys.stdout
 
 
 def write_report(console, path: str | Path, build, force: bool = False, status: str | None = STATUS) -> Path:

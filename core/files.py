@@ -45,10 +45,15 @@ def writable_folder(folder: Path, label: str) -> Path:
     return folder
 
 
+STDOUT = "-"  # an output named "-" is the standard output (a pipe), never a file
+
+
 def claim_output(path: str | Path, force: bool, option: str = "") -> Path:
     """Check before any work that the file ``path`` may be written (``option``, e.g. '--json', names it in
     the message): not a folder, not an existing file unless ``force``, in a folder that exists and is
-    writable. Return it."""
+    writable. Return it (``STDOUT`` as it is: nothing to check)."""
+    if str(path) == STDOUT:
+        return Path(STDOUT)
     path = Path(path)
     if path.is_dir():
         raise MasslineError(f"{_named(path, option)} is a folder: give a file name (e.g. {path / 'out'})")
@@ -68,7 +73,7 @@ def claim_outputs(named: dict, force: bool) -> dict:
     given = {option: Path(path) for option, path in named.items() if path}
     seen: dict[Path, str] = {}
     for option, path in given.items():
-        twin = seen.setdefault(path.resolve(), option)
+        twin = seen.setdefault(path if str(path) == STDOUT else path.resolve(), option)
         if twin != option:
             raise MasslineError(f"{twin} and {option} both name {path}: give each output its own file")
         claim_output(path, force, option)

@@ -24,6 +24,21 @@ def massline(*args, cwd=None):
     return run
 
 
+def test_bare_massline_prints_the_help():
+    run = massline()
+    assert run.returncode == 0 and run.stderr == "", run.stderr
+    assert run.stdout.startswith("usage: massline") and "identify" in run.stdout and "diagnose" in run.stdout
+
+
+def test_json_dash_writes_only_json_on_stdout(tmp_path):
+    """``--json -``: the JSON alone on stdout (a pipe reads it), the console's tables on stderr, no file '-'."""
+    run = massline("props", "bracket", "--json", "-", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    data = json.loads(run.stdout)
+    assert data["mass"] == pytest.approx(bundled("bracket").nominal.mass, rel=1e-12)
+    assert "nominal properties" in run.stderr and not (tmp_path / "-").exists()
+
+
 def test_props_prints_a_table_with_units():
     run = massline("props", "structure")
     assert run.returncode == 0, run.stderr
