@@ -11,6 +11,9 @@ that is zero in the nominal model:
         f_j = unit(d_j + T_j β_j)          hit direction (C1)
         r_j' = r_j + T_j γ_j               hit point (C2)
 
+Each block's effect is a class of the registry (:mod:`.effects`): where it can sit (``blocks``), its values
+and how they move the lines (``displace``); this module holds the algebra they share.
+
 On a support of stiffness K the FRFs carry its tail s_iᵀ X e_j/(x − x_s) on the same lines, X = M⁻¹KM⁻¹/ω_mid²
 (:mod:`massline.identify.tails`); when the data's support is *shared*, X (symmetric) is fitted with θ, and
 every effect changes the tail on its line as it changes the massline.
