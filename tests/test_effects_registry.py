@@ -202,3 +202,17 @@ def test_every_blind_fault_is_described_as_concealed(name):
     size = None if cls.discrete else cls.blind_size(np.random.default_rng(0), 4.0, (10.0, 200.0))
     text = cls.concealed(size, Scene("12:+X", ("12:+X", "14:+Y"), "3:-Z", (10.0, 200.0)))
     assert text and "{" not in text and "None" not in text
+
+
+def test_the_virtual_test_is_handed_effects_and_never_imports_the_registry():
+    """DESIGN.md's layers: virtual/ imports only core, meshes and uff; the effects reach it as objects."""
+    import ast
+    from pathlib import Path
+
+    import massline.virtual
+
+    for path in Path(massline.virtual.__file__).parent.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            names += [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            assert not any(n.startswith(("massline.identify", "massline.placement")) for n in names), path.name
