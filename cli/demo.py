@@ -17,6 +17,7 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
+from massline.identify.diagnose.effects import Scene, named
 from massline.identify.diagnose.notes import finding_note
 from massline.meshes import BUNDLED
 from massline.options import SEED as SEED_RANGE
@@ -48,34 +49,16 @@ def concealed(truth: dict, planned, recording, sensors: list[str], hits: list[st
     drawn = truth["faults"][0]  # the demo conceals one fault
     fault, size, lines = drawn["name"], drawn["size"], drawn["lines"] or []
     channels, hit = [], None
-    if fault.startswith("excitation"):
+    if named(fault).perturbs == "exciter":
         k = lines[0] - 1
         hit = _line_index(recording.exciters, planned.exciters.points[k], planned.exciters.directions[k])
     else:
         for line in lines:
             k = line - 1
             channels.append(_line_index(recording.sensors, planned.sensors.points[k], planned.sensors.directions[k]))
-    low, high = truth["planned_band_hz"]
-    where = sensors[channels[0]] if channels else None
-    text = {
-        "sensor_gain": lambda: (
-            f"sensor {where} reads {formatted(100 * size, '+.1f')} % of what it should (its sensitivity is wrong)"
-        ),
-        "sensor_direction": lambda: f"sensor {where} is tilted {size:.1f}° off its labelled axis",
-        "sensor_location": lambda: f"sensor {where} sits {1e3 * size:.1f} mm from its labelled point",
-        "sensor_polarity": lambda: f"sensor {where} is wired with its polarity flipped",
-        "channel_swap": lambda: f"channels {sensors[channels[0]]} and {sensors[channels[-1]]} are swapped",
-        "sensor_mass_loading": lambda: f"an extra {1e3 * size:.0f} g sits at sensor {where}",
-        "excitation_direction": lambda: f"hit {hits[hit]} goes in {size:.1f}° off its labelled direction",
-        "excitation_location": lambda: f"hit {hits[hit]} lands {1e3 * size:.1f} mm from its labelled point",
-        "suspension": lambda: (
-            f"the body rests on a stiff support bouncing at {size:.1f} Hz, not the planned soft cord "
-            f"(planned band from {low:.1f} Hz)"
-        ),
-        "residual_flexibility": lambda: (
-            f"the body is softer than its mesh: first elastic mode at {size:.0f} Hz (planned band to {high:.0f} Hz)"
-        ),
-    }[fault]()
+    labels = tuple(sensors[c] for c in channels)
+    scene = Scene(labels[0] if labels else None, labels, None if hit is None else hits[hit], truth["planned_band_hz"])
+    text = named(fault).concealed(size, scene)
     return text, channels, hit
 
 
@@ -83,11 +66,7 @@ def _named(finding, fault: str, channels: list, hit: int | None) -> bool:
     """Whether the finding names the concealed fault at its place."""
     if finding is None or finding.effect != fault:
         return False
-    if fault == "channel_swap":
-        return set(finding.channels) == set(channels)
-    if hit is not None:
-        return finding.exciter == hit
-    return not channels or channels[0] in finding.channels
+    return named(fault).located(finding, channels, hit)
 
 
 def _errors(body, nominal) -> str:

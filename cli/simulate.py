@@ -27,9 +27,10 @@ from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
 from massline.meshes.loader import MAX_MASS_KG
 from massline.placement.plan_file import read_plan
+from massline.identify.diagnose.effects import effect_help, parse_effect
 from massline.uff.units import ACCELERATIONS, UNITS
 from massline.uff.writer import write_uff
-from massline.virtual.effects import EFFECTS, Effect, check_targets
+from massline.virtual.effects import check_targets
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.planned_test import MODES, band_phrase, plan_mesh
@@ -68,7 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="NAME=SIZE@WHERE",
-        help=f"an instrumentation effect (repeatable): {', '.join(EFFECTS)}",
+        help=effect_help(),
     )
     parser.add_argument(
         "--sensor-mass", type=real(0, MAX_MASS_KG, "kg"), default=0.0, metavar="KG", help="mass of each accelerometer"
@@ -165,7 +166,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
     named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
     outputs = list(claim_outputs(named | {"--plot": args.plot}, args.force).values())
-    effects = tuple(Effect.parse(e) for e in args.effect)
+    effects = tuple(parse_effect(e) for e in args.effect)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)
     options = {"suspension": args.suspension, "sensor_mass": args.sensor_mass, "rigid": args.rigid}

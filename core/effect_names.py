@@ -1,41 +1,51 @@
-"""The effects' names: one list for the simulator, the diagnosis and DESIGN.md's diagnose JSON.
+"""The effects' vocabulary: what every effect is made of, for the simulator, the diagnosis and DESIGN.md's JSON.
 
 An effect is what turns the ideal test (a free rigid body, every line as labelled) into the one
 recorded. Faults are the engineer's to mend (instrumentation, excitation, mass loading); test
 physics every real test has and the model carries (the support below the band, the elastic modes
-above it).
+above it); ``unexplained`` (a later finding kind) is a located misfit no registered effect explains.
+
+The effects themselves are classes in :mod:`massline.identify.diagnose.effects` (the registry). The
+layers below ``identify`` (the virtual test) cannot import it: they are handed effect objects and use
+them through :class:`SimulatedEffect` only.
 """
 
 from __future__ import annotations
 
-SENSOR_EFFECTS = (
-    "sensor_direction",
-    "transverse_sensitivity",
-    "sensor_gain",
-    "sensor_polarity",
-    "sensor_location",
-    "sensor_mass_loading",
-    "channel_swap",
-)
-"""What can be wrong with an accelerometer or its channel, as the simulator conceals it."""
+from typing import Protocol
 
-EXCITER_EFFECTS = ("excitation_direction", "excitation_location")
-"""What can be wrong with a hammer hit."""
+import numpy as np
 
-TEST_PHYSICS = ("suspension", "residual_flexibility")
-"""The physics of every test: a support mode below the band, an elastic mode above it (tails)."""
+KINDS = ("fault", "test_physics", "unexplained")
+"""A finding's ``kind`` in the diagnose JSON (DESIGN.md), faults first."""
 
-DISCRETE = ("sensor_polarity", "channel_swap")
-"""Effects without a size: a sign flipped, two channels exchanged."""
-
-SIMULATED = SENSOR_EFFECTS + EXCITER_EFFECTS
-"""The instrumentation effects ``massline simulate --effect`` conceals."""
-
-DIAGNOSED = tuple(name for name in SIMULATED if name != "transverse_sensitivity") + TEST_PHYSICS
-"""The effects ``massline diagnose`` names (DESIGN.md). Transverse sensitivity is no finding: every channel's
-transverse reading is estimated under the datasheet's prior, and one beyond it is a ``sensor_direction``."""
+PERTURBS = ("sensor", "exciter", "support", "modes")
+"""What an effect changes in a simulated test: an accelerometer line (or its channel), a hit line, the
+support the body hangs on, the body's elastic modes. Only the first two are ``--effect`` arguments; the
+support and the modes are simulated by the virtual test's own support and FE model."""
 
 
-def kind(name: str) -> str:
-    """ "test_physics" for the support and the elastic modes, "fault" for everything else (DESIGN.md)."""
-    return "test_physics" if name in TEST_PHYSICS else "fault"
+class SimulatedEffect(Protocol):
+    """An effect as the virtual test applies it (duck-typed: the registry's classes are these).
+
+    Attributes
+    ----------
+    name : str
+        The effect's name (DESIGN.md's list).
+    size : float
+        Its size, in the effect's unit (degrees, fraction, m, kg; 0 for a discrete effect).
+    where : tuple of int, "all" or None
+        0-based lines it sits on, every line, or None for one drawn at random.
+    perturbs : str
+        "sensor" or "exciter": which lines ``where`` counts.
+    """
+
+    name: str
+    size: float
+    where: tuple | str | None
+    perturbs: str
+
+    def simulate(self, state, lines, targets: list[int], rng: np.random.Generator) -> dict:
+        """Change ``state`` (the instrumentation being built: points, vectors, masses, channel order) on the
+        ``targets`` among ``lines``; return what was drawn (perpendiculars, offsets) for the truth file."""
+        ...

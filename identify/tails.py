@@ -43,11 +43,13 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from massline.core.effect_names import TEST_PHYSICS
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 
-TAIL_LAWS = TEST_PHYSICS  # each a single mode shared by every FRF
+# Below the band, above it: each a single mode shared by every FRF, named as the test-physics effect whose
+# tail it is (the registry, massline.identify.diagnose.effects)
+TAIL_LAWS = ("suspension", "residual_flexibility")
+BELOW, ABOVE = TAIL_LAWS
 MIN_LINES = 12
 POLE_RANGE = 1e3  # the poles are searched from the band edge to this factor beyond it (in x)
 
@@ -70,10 +72,10 @@ def tail_columns(omega: np.ndarray, poles: dict) -> np.ndarray:
     x = scaled_frequency(omega)
     zero = np.zeros_like(x)
     columns = []
-    if "suspension" in poles:
-        columns += [(1 / (x - poles["suspension"]), zero), (zero, 1 / x)]
-    if "residual_flexibility" in poles:
-        columns += [(x / (1 - x / poles["residual_flexibility"]), zero), (zero, x)]
+    if BELOW in poles:
+        columns += [(1 / (x - poles[BELOW]), zero), (zero, 1 / x)]
+    if ABOVE in poles:
+        columns += [(x / (1 - x / poles[ABOVE]), zero), (zero, x)]
     return np.array([np.concatenate(c) for c in columns]).reshape(-1, 2 * len(x)).T
 
 
@@ -253,10 +255,10 @@ class BandData:
     def _search(self, laws: frozenset) -> Reduced:
         x = scaled_frequency(self.omega)
         bounds = {
-            "suspension": (np.log(x[0] / POLE_RANGE), np.log(0.95 * x[0])),
-            "residual_flexibility": (np.log(1.05 * x[-1]), np.log(x[-1] * POLE_RANGE)),
+            BELOW: (np.log(x[0] / POLE_RANGE), np.log(0.95 * x[0])),
+            ABOVE: (np.log(1.05 * x[-1]), np.log(x[-1] * POLE_RANGE)),
         }
-        poles = {law: np.exp(bounds[law][0] if law == "suspension" else bounds[law][1]) for law in laws}
+        poles = {law: np.exp(bounds[law][0] if law == BELOW else bounds[law][1]) for law in laws}
         weight = 1 / self.noise**2
 
         def cost(law, log_pole):
@@ -283,7 +285,7 @@ class BandData:
         """Each FRF's fitted ``law`` tail at the band edge where it is largest, relative to the RMS of every
         massline (the FRF matrix's scale: a small cross massline is none)."""
         n = len(self.omega)
-        line = 0 if law == "suspension" else n - 1
+        line = 0 if law == BELOW else n - 1
         X = tail_columns(self.omega, reduced.poles)[[line, n + line]]  # Re and Im rows of the edge line
         k = sorted(reduced.laws, key=TAIL_LAWS.index).index(law)
         value = np.einsum("rk,ijk->ijr", X[:, 2 * k : 2 * k + 2], reduced.tails[..., 2 * k : 2 * k + 2])

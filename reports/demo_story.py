@@ -18,6 +18,7 @@ from pathlib import Path
 from massline.core.band import Band
 from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.rigid_body import RigidBody
+from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.pipeline import Identification, identify_recording
 from massline.meshes import BUNDLED
@@ -137,7 +138,7 @@ def demo_story(
     step(f"4/8 simulating the test with a concealed fault ({fault})")
     fmax = modes.frequencies_hz[0] / BANDWIDTH
     bench = Bench(nominal, planned.sensors, planned.exciters, modes, fmax, support=support, band=demo_band(band))
-    recording, truth = scenario(bench, fault, seed)
+    recording, truth = scenario(bench, fault, seed, effects=BY_NAME)
     write_uff(paths["uff"], recording, force=force)
     write_atomic(paths["truth"], to_json(truth), force)
     step("5/8 identify: band, band fits, estimate, bootstrap")

@@ -40,7 +40,7 @@ def diagnosis_figure(
     f = band.frequencies
     ax = axes[2]
     ax.plot(f, recorded.frf[i, j].real, color="0.3", lw=0.8, label="recorded (real part)")
-    if result.flips or result.swaps:
+    if result.fixes:
         ax.plot(f, band.frf[i, j].real, color="0.6", lw=0.8, ls=":", label="with flips and swaps undone")
     for fit, style, name in ((result.before, "--", "model before"), (result.after, "-", "model after")):
         level = fit.masslines[i, j]

@@ -128,7 +128,7 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
     band = run.data
     f_band = (float(band.frequencies[0]), float(band.frequencies[-1]))
     frfs = frf_figure(recording.frequencies, recording.frf, f_band, picks, sensors, hits, levels)
-    swapped = bool(result.flips or result.swaps)
+    swapped = bool(result.fixes)
     frf_caption = (
         f"Recorded FRFs (the channels the findings name first) with the diagnosis band {num(f_band[0], '.1f')}–"
         f"{num(f_band[1], '.1f')} Hz ({escape(run.band.rule)}) and each model's massline for that FRF"

@@ -37,7 +37,7 @@ from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.attachment import point_above
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
@@ -59,7 +59,7 @@ PLANS = {  # massline plan options per body: 3-D bodies with redundancy (the min
     ),  # the layout the matrix was measured on (before the diagnosable default)
 }
 BOUNDS = {"mass": 0.3, "cog_mm": 1.0, "moments": 1.0, "tensor": 1.5}  # %, mm, %, % (Frobenius)
-TRANSVERSE = (Effect.parse("transverse_sensitivity=0.03@all"),)
+TRANSVERSE = (parse_effect("transverse_sensitivity=0.03@all"),)
 
 
 @lru_cache(maxsize=None)

@@ -17,6 +17,7 @@ from pathlib import Path
 from blind_measures import outcome
 from test_diagnose_blind import STIFF, bench
 
+from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
@@ -28,7 +29,7 @@ def case_file(b, name: str, fault: str, seed: int) -> tuple[Path, dict]:
     folder = Path(os.environ.get("STIFF_CACHE", "/tmp/stiff"))
     path, meta = folder / f"{name}-{fault}-{seed}.uff", folder / f"{name}-{fault}-{seed}.truth"
     if not meta.exists():
-        recording, truth = scenario(b, fault, seed, STIFF)
+        recording, truth = scenario(b, fault, seed, STIFF, effects=BY_NAME)
         write_case(path, recording, STIFF)
         meta.write_bytes(pickle.dumps(truth))
     return path, pickle.loads(meta.read_bytes())

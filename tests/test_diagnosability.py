@@ -20,6 +20,7 @@ import pytest
 from blind_measures import placed
 from test_diagnose_blind import BENCHES
 
+from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
@@ -117,7 +118,7 @@ def bench(name: str, plan) -> Bench:
 def located(b: Bench, fault: str, seed: int, folder: Path) -> tuple[bool, bool, bool]:
     """Whether diagnose's first fault sits at the faulty channel (located), whether it is also ``fault``
     (named), and whether the layout had redundancy."""
-    recording, truth = scenario(b, fault, seed, CONDITIONS)
+    recording, truth = scenario(b, fault, seed, CONDITIONS, effects=BY_NAME)
     path = folder / f"{fault}-{seed}.uff"
     write_case(path, recording, CONDITIONS)
     band = truth["planned_band_hz"]

@@ -25,7 +25,7 @@ from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.measurement import Noise
 from massline.virtual.acquisition import Acquisition, run
 
@@ -74,7 +74,7 @@ def test_effect_model_recovers_an_effect_exactly(structure, effect, block):
     rng = np.random.default_rng(2)
     sensors = Lines(rng.normal(size=(10, 3)) * 0.1, rng.normal(size=(10, 3)))
     setup = Acquisition(100.0, 100, Noise(1e-8, 0))
-    rec, truth = run(structure, sensors, structure_exciters(), effects=(Effect.parse(effect),), setup=setup, seed=3)
+    rec, truth = run(structure, sensors, structure_exciters(), effects=(parse_effect(effect),), setup=setup, seed=3)
     layout = Layout.of(rec.sensors, rec.exciters, False)
     start = base_fit(_band(rec), layout, frozenset(), 0.0)
     found = fit(start.problem, (block,), start)
@@ -126,7 +126,7 @@ def test_clean_test_has_no_fault_and_after_is_identify(structure):
 
 
 def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):
-    effects = (Effect.parse("sensor_polarity@4"),)
+    effects = (parse_effect("sensor_polarity@4"),)
     rec, _ = run(structure, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400))
     path = tmp_path / "flip.uff"
     write_uff(path, rec)
@@ -170,7 +170,7 @@ def test_plate_data_are_diagnosed_with_the_planar_model(effect, channels, excite
     rng = np.random.default_rng(3)
     points = np.column_stack([rng.uniform(-0.2, 0.2, 8), rng.uniform(-0.15, 0.15, 8), np.zeros(8)])
     sensors = Lines(points + plate.cog * [1, 1, 0], np.tile([0, 0, 1.0], (8, 1)))
-    rec, _ = run(plate, sensors, plate_table1()[1], effects=(Effect.parse(effect),), setup=Acquisition(100.0, 400))
+    rec, _ = run(plate, sensors, plate_table1()[1], effects=(parse_effect(effect),), setup=Acquisition(100.0, 400))
     found = diagnose_recording(rec, None, plate)
     first = found.findings[0]
     assert first.kind == "fault"

@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 from blind_measures import TAILS, outcome, report
 
+from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.meshes.loader import load_body
@@ -69,7 +70,7 @@ def bench(name: str) -> Bench:
 def blind_case(b: Bench, faults, seed: int, conditions: Conditions, folder: Path) -> dict:
     """Simulate, write the UFF in the conditions' style, read it back, diagnose with the planned band and the
     mesh's bare body; the measures of :func:`blind_measures.outcome`."""
-    recording, truth = scenario(b, faults, seed, conditions)
+    recording, truth = scenario(b, faults, seed, conditions, effects=BY_NAME)
     path = folder / f"case-{seed}.uff"
     write_case(path, recording, conditions)
     start = time.perf_counter()

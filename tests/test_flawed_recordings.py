@@ -22,13 +22,13 @@ from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.units import G
 from massline.uff.writer import write_uff
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.acquisition import Acquisition, run
 
-TRANSVERSE = (Effect.parse("transverse_sensitivity=0.03@all"),)
+TRANSVERSE = (parse_effect("transverse_sensitivity=0.03@all"),)
 
 
 # --- the checks on their own -------------------------------------------------------------------------------
@@ -175,7 +175,7 @@ def test_band_across_a_resonance(bracket, elastic_test, tmp_path, band, words):
 @pytest.mark.parametrize("effect", ["sensor_polarity@3", "channel_swap@2,5"])
 def test_instrumentation_fault(bracket, tmp_path, effect):
     body, sensors, exciters, _, cord = bracket
-    faults = (*TRANSVERSE, Effect.parse(effect))
+    faults = (*TRANSVERSE, parse_effect(effect))
     recording = run(body, sensors, exciters, None, cord, faults, Acquisition(200.0, 2000), 0)[0]
     assert_never_silently_wrong(from_file(tmp_path, recording), body, ["reduced χ²"])
 

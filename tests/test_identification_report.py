@@ -11,6 +11,7 @@ from conftest import bundled
 from test_cli import massline
 from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
 
+from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.placement.candidates import CandidateOptions
@@ -36,7 +37,7 @@ def test_file(tmp_path_factory):
     body = bundled("structure")
     planned = plan(body, Budget(10, 4), CandidateOptions(n_samples=200), certify_seconds=1.0)
     bench = Bench(body.nominal, planned.sensors, planned.exciters, None, 150.0, lines=400)
-    recording, truth = scenario(bench, "sensor_gain", 1)
+    recording, truth = scenario(bench, "sensor_gain", 1, effects=BY_NAME)
     assert truth["faults"][0]["lines"] == [2]
     path = tmp_path_factory.mktemp("small") / "small.uff"
     write_uff(path, recording)

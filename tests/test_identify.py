@@ -20,7 +20,7 @@ from massline.core.masslines import Masslines, synthesise
 from massline.core.model import RigidModel
 from massline.placement.plan_file import read_plan
 from massline.uff.writer import write_uff
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension
@@ -152,7 +152,7 @@ def bracket_test(bracket_plan):
     sensors, exciters, _ = read_plan(bracket_plan)
     modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    transverse = (Effect.parse("transverse_sensitivity=0.03@all"),)
+    transverse = (parse_effect("transverse_sensitivity=0.03@all"),)
     return (
         body,
         sensors,
@@ -251,12 +251,12 @@ def test_reduced_chi2_is_near_one_on_clean_data_and_a_fault_is_warned(bracket_pl
     body = bundled("bracket").nominal
     sensors, exciters, _ = read_plan(bracket_plan)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    clean = (Effect.parse("transverse_sensitivity=0.03@all"),)
+    clean = (parse_effect("transverse_sensitivity=0.03@all"),)
     rec, _ = run(body, sensors, exciters, None, cord, clean, Acquisition(200.0, 2000), seed)
     found = identify_recording(rec, None, draws=0)
     assert 0.4 < found.best.chi2 < 2.0
     assert found.warnings == ()
-    flipped = (*clean, Effect.parse("sensor_polarity=0@3"))
+    flipped = (*clean, parse_effect("sensor_polarity=0@3"))
     rec, _ = run(body, sensors, exciters, None, cord, flipped, Acquisition(200.0, 2000), seed)
     faulty = identify_recording(rec, None, draws=0)
     assert faulty.best.chi2 > 100

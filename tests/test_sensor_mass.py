@@ -25,7 +25,7 @@ from massline.core.masslines import synthesise
 from massline.placement.plan_file import read_plan
 from massline.core.rigid_body import RigidBody
 from massline.uff.writer import write_uff
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.elastic import ElasticBody, Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension, hung_over
@@ -140,7 +140,7 @@ def loaded_test(structure_plan):
     sensors, exciters, _ = read_plan(structure_plan)
     modes = ElasticBody.from_mesh(mesh.mesh, Material(210e9, 0.3, mesh.density), 0.02).modes(12)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    transverse = (Effect.parse("transverse_sensitivity=0.02@all"),)
+    transverse = (parse_effect("transverse_sensitivity=0.02@all"),)
     return body, sensors, exciters, modes, cord, transverse, modes.frequencies_hz[0] / 2.5
 
 
@@ -204,7 +204,7 @@ def minimal_test(body, seed):
     """The paper's 18 masslines (6 sensors × 3 hits) on the structure: a cord, 1 % noise, 2 % transverse
     sensitivity on every channel; and a 0.05 % scale's reading of it (its error drawn with the same seed)."""
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
-    effects = (Effect.parse("transverse_sensitivity=0.02@all"),)
+    effects = (parse_effect("transverse_sensitivity=0.02@all"),)
     rec, _ = run(body, structure_sensors(), structure_exciters(), None, cord, effects, Acquisition(200.0, 2000), seed)
     sd = 5e-4 * body.mass
     return rec, WeighedMass(body.mass + sd * np.random.default_rng(100 + seed).standard_normal(), sd)

@@ -11,7 +11,7 @@ from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
 from massline.core.methods import identify
 from massline.virtual.analyser import LINE_COUNTS, impact_setup
-from massline.virtual.effects import Effect
+from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.measurement import ImpactTest, Noise, half_sine_spectrum
 from massline.virtual.suspension import single_cord
 from massline.virtual.acquisition import Acquisition, run
@@ -30,7 +30,7 @@ def ideal(body, sensors=None, exciters=None):
 
 def record(body, *effects, setup=QUIET, suspension=None, sensors=None, seed=0):
     sensors = sensors or structure_sensors()
-    return run(body, sensors, structure_exciters(), None, suspension, tuple(map(Effect.parse, effects)), setup, seed)
+    return run(body, sensors, structure_exciters(), None, suspension, tuple(map(parse_effect, effects)), setup, seed)
 
 
 def test_free_rigid_noiseless_recording_is_the_massline(structure):
@@ -96,7 +96,7 @@ def test_sensor_masses_load_the_body(structure):
 )
 def test_bad_effects_are_named(text, message):
     with pytest.raises(MasslineError, match=message):
-        Effect.parse(text)
+        parse_effect(text)
 
 
 def test_effect_on_a_missing_sensor(structure):

@@ -12,12 +12,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from massline.core.effect_names import SimulatedEffect
 from massline.core.lines import Lines
 from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.virtual.analyser import impact_setup
 from massline.virtual.band_prediction import predict_band
-from massline.virtual.effects import Effect, Instrumentation, instrument
+from massline.virtual.effects import Instrumentation, instrument
 from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
@@ -82,11 +83,15 @@ def run(
     exciters: Lines,
     modes=None,
     suspension: Suspension | None = None,
-    effects: tuple[Effect, ...] = (),
+    effects: tuple[SimulatedEffect, ...] = (),
     setup: Acquisition | None = None,
     seed: int = 0,
 ) -> tuple[Recording, dict]:
-    """Simulate the test; return the recording and the truth (a JSON-ready dict)."""
+    """Simulate the test; return the recording and the truth (a JSON-ready dict).
+
+    ``effects``: the instrumentation effects concealed, objects of the registry
+    (:mod:`massline.identify.diagnose.effects`, e.g. ``parse_effect("sensor_gain=0.1@3")``), applied in order.
+    """
     setup = setup or Acquisition()
     suspension = suspension or Suspension()
     rng = np.random.default_rng(seed)

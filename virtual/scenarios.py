@@ -5,9 +5,10 @@ planned soft cord, bounce 1 Hz, 1 m, 2 cm above the CoG; a stiff cord whose top 
 tenth of the first elastic mode; foam pads under the lowest points), the body's elastic modes,
 1 % noise, and every accelerometer reading a few per cent across its axis, as datasheets allow.
 The file is written as a test system exports it (``STYLES``). A fault is one effect of the
-diagnosis library drawn from a realistic range (``RANGES``) at a random place:
+registry (:mod:`massline.identify.diagnose.effects`, handed in as ``effects``: this layer cannot import it)
+drawn from its realistic range (its ``blind_range``) at a random place:
 
-* the instrumentation effects of :mod:`.effects` on one line;
+* an instrumentation effect on one line (two for a swap);
 * ``every_sensor_mass``: every accelerometer housing weighs 5–30 g (capped at ``LOADING_CAP`` of
   the body's mass in all), the tool being given the bare mesh body;
 * ``suspension``: the body rests on a support much stiffer than planned (its bounce
@@ -23,6 +24,7 @@ passes it to the diagnosis (``--band``); where none holds (a plate on foam), non
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -36,7 +38,6 @@ from massline.uff.recording import Recording
 from massline.uff.writer import write_uff
 from massline.virtual.attachment import UP, point_above
 from massline.virtual.band_prediction import predict_band
-from massline.virtual.effects import Effect
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import GRAVITY, Cord, Suspension, hung_over
@@ -44,20 +45,22 @@ from massline.virtual.acquisition import Acquisition, accelerometer_masses, run
 
 TRANSVERSE = (0.0, 0.02)  # every channel's transverse sensitivity, drawn uniformly (fraction)
 LOADING_CAP = 0.2  # every housing's mass together: at most this share of the body's mass
-RANGES = {
-    "sensor_direction": (8.0, 20.0),  # degrees
-    "sensor_gain": (0.05, 0.3),  # fraction, either sign
-    "sensor_location": (0.005, 0.02),  # m
-    "excitation_direction": (8.0, 20.0),  # degrees
-    "excitation_location": (0.005, 0.02),  # m
-    "sensor_mass_loading": (0.02, 0.05),  # fraction of the body's mass
-    "every_sensor_mass": (0.005, 0.030),  # kg per housing
-    "suspension": (0.2, 0.4),  # bounce / planned band's lower edge
-    "residual_flexibility": (2.0, 4.0),  # first elastic mode / planned band's upper edge
-    "sensor_polarity": None,
-    "channel_swap": None,
-}
-FAULTS = tuple(RANGES)
+EVERY_HOUSING = (0.005, 0.030)  # kg per housing: the ``every_sensor_mass`` scenario
+FAULTS = (
+    "sensor_direction",
+    "sensor_gain",
+    "sensor_location",
+    "excitation_direction",
+    "excitation_location",
+    "sensor_mass_loading",
+    "every_sensor_mass",
+    "suspension",
+    "residual_flexibility",
+    "sensor_polarity",
+    "channel_swap",
+)
+"""The blind cases: the registry's effects a blind test conceals (each of its own realistic size,
+``blind_range``) and ``every_sensor_mass`` (every housing loaded: a scenario, not an effect)."""
 PLANAR_FAULTS = (
     "sensor_polarity",
     "channel_swap",
@@ -71,7 +74,6 @@ PAIRS = (
     ("sensor_polarity", "sensor_direction"),
     ("excitation_direction", "suspension"),
 )
-TEST_PHYSICS = ("suspension", "residual_flexibility")
 SUPPORTS = ("soft", "stiff", "foam")
 STYLES = ("direct", "exporter", "impact")  # SI file; g/N and mm; hammer hits with H1 over 5 averages
 
@@ -154,17 +156,20 @@ def support(bench: Bench, kind: str, masses: np.ndarray, points: np.ndarray) -> 
     return hung_over(bench.support, cog) if bench.support else soft_cord(m, cog)
 
 
-def scenario(bench: Bench, faults, seed: int, conditions: Conditions = Conditions()) -> tuple[Recording, dict]:
+def scenario(
+    bench: Bench, faults, seed: int, conditions: Conditions = Conditions(), *, effects: Mapping
+) -> tuple[Recording, dict]:
     """The recording of one blind test and its truth.
 
-    ``faults``: None, a fault's name or a tuple of names. ``truth["faults"]``: each one's name, size and lines
-    (1-based); ``truth["conditions"]``: the support and the file style.
+    ``faults``: None, a fault's name or a tuple of names (``FAULTS``). ``effects``: the effect classes by name
+    (the registry's ``BY_NAME``), which say how each fault is drawn and simulated. ``truth["faults"]``: each
+    one's name, size and lines (1-based); ``truth["conditions"]``: the support and the file style.
     """
     names = () if faults is None else (faults,) if isinstance(faults, str) else tuple(faults)
     rng = np.random.default_rng(seed)
     for attempt in range(20):
         try:
-            return _draw(bench, names, rng, seed * 100 + attempt, conditions)
+            return _draw(bench, names, rng, seed * 100 + attempt, conditions, effects)
         except MasslineError:  # a moved sensor or hit that left the solid: draw again
             continue
     raise MasslineError(f"no valid draw of {names} in 20 attempts")
@@ -179,35 +184,35 @@ def _free_lines(bench: Bench, taken: list, count: int, rng: np.random.Generator)
     return where
 
 
-def _fault(bench: Bench, name: str, rng: np.random.Generator, taken: list, band) -> tuple[dict, dict]:
-    """One fault drawn: its truth (name, size, 0-based lines) and what it changes in the test; a support or
-    elastic fault sized against ``band`` (:func:`placing_band`)."""
-    low, high = band
-    if name == "suspension":
-        size = float(rng.uniform(*RANGES[name])) * low
+def _fault(bench: Bench, kind, rng: np.random.Generator, taken: list, band) -> tuple[dict, dict]:
+    """One fault drawn (``kind``: an effect class of the registry): its truth (size, 0-based lines) and what it
+    changes in the test; a support or elastic fault sized against ``band`` (:func:`placing_band`)."""
+    if kind.perturbs == "support":
+        size = kind.blind_size(rng, bench.body.mass, band)
         point = bench.body.cog + rng.uniform(0.01, 0.05) * UP  # a single cord must hang above the CoG
         return {"size": size, "where": None}, {
             "cord": Suspension(cords=(Cord(point, bench.body.mass * (2 * np.pi * size) ** 2, 0.3),))
         }
-    if name == "residual_flexibility":
-        size = float(rng.uniform(*RANGES[name])) * high
+    if kind.perturbs == "modes":
+        size = kind.blind_size(rng, bench.body.mass, band)
         modes = replace(bench.modes, omega=bench.modes.omega * size / bench.modes.frequencies_hz[0])
         return {"size": size, "where": None}, {"modes": modes}
-    if name == "every_sensor_mass":
-        count = len(accelerometer_masses(bench.sensors, 1.0)[0])
-        cap = min(1.0, LOADING_CAP * bench.body.mass / (count * RANGES[name][1]))
-        return {"size": float(rng.uniform(*RANGES[name])) * cap, "where": None}, {}
-    if name in ("sensor_polarity", "channel_swap"):
-        where = _free_lines(bench, taken, 1 if name == "sensor_polarity" else 2, rng)
-        return {"size": None, "where": where}, {"effect": Effect(name, 0.0, where)}
-    size = float(rng.uniform(*RANGES[name]))
-    size *= rng.choice([-1.0, 1.0]) if name == "sensor_gain" else 1.0
-    size *= bench.body.mass if name == "sensor_mass_loading" else 1.0
-    if name.startswith("excitation"):
+    if kind.discrete:
+        where = _free_lines(bench, taken, kind.lines_needed, rng)
+        return {"size": None, "where": where}, {"effect": kind(0.0, where)}
+    size = kind.blind_size(rng, bench.body.mass, band)
+    if kind.perturbs == "exciter":
         where = (int(rng.integers(len(bench.exciters))),)
     else:
-        where = _free_lines(bench, taken, 1, rng)
-    return {"size": size, "where": where}, {"effect": Effect(name, size, where)}
+        where = _free_lines(bench, taken, kind.lines_needed, rng)
+    return {"size": size, "where": where}, {"effect": kind(size, where)}
+
+
+def every_housing(bench: Bench, rng: np.random.Generator) -> float:
+    """The ``every_sensor_mass`` scenario's mass per housing (kg), capped at ``LOADING_CAP`` of the body in all."""
+    count = len(accelerometer_masses(bench.sensors, 1.0)[0])
+    cap = min(1.0, LOADING_CAP * bench.body.mass / (count * EVERY_HOUSING[1]))
+    return float(rng.uniform(*EVERY_HOUSING)) * cap
 
 
 def placing_band(bench: Bench, band: tuple) -> tuple[float, float]:
@@ -223,32 +228,32 @@ def placing_band(bench: Bench, band: tuple) -> tuple[float, float]:
     return 3 * float(model.suspension_frequencies.max()), float(bench.modes.frequencies_hz[0]) / 3
 
 
-def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions):
+def _draw(bench: Bench, names: tuple, rng: np.random.Generator, seed: int, conditions: Conditions, effects):
     band = bench.planned_band(conditions.support)
     placing = placing_band(bench, band)
-    effects = [Effect("transverse_sensitivity", float(rng.uniform(*TRANSVERSE)), "all")]
-    taken, drawn, changes = [], [], {}
+    concealed = [effects["transverse_sensitivity"](float(rng.uniform(*TRANSVERSE)), "all")]
+    taken, drawn, changes, housing = [], [], {}, 0.0
+    masses, points = [], []
     for name in names:
-        truth, change = _fault(bench, name, rng, taken, placing)
-        drawn.append(
-            {
-                "name": name,
-                "size": truth["size"],
-                "lines": None if truth["where"] is None else [w + 1 for w in truth["where"]],
-            }
-        )
-        effects += [change.pop("effect")] if "effect" in change else []
+        if name == "every_sensor_mass":  # a scenario, not an effect: the housings' mass (Acquisition.sensor_mass)
+            housing = every_housing(bench, rng)
+            drawn.append({"name": name, "size": housing, "lines": None})
+            continue
+        kind = effects[name]
+        truth, change = _fault(bench, kind, rng, taken, placing)
+        lines = None if truth["where"] is None else [w + 1 for w in truth["where"]]
+        drawn.append({"name": name, "size": truth["size"], "lines": lines})
+        concealed += [change.pop("effect")] if "effect" in change else []
         changes.update(change)
-    housing = next((d["size"] for d in drawn if d["name"] == "every_sensor_mass"), 0.0)
-    masses, points = accelerometer_masses(bench.sensors, housing)
-    for d in drawn:
-        if d["name"] == "sensor_mass_loading":
-            masses, points = np.append(masses, d["size"]), np.vstack([points, bench.sensors.points[d["lines"][0] - 1]])
+        if kind.adds_mass:  # the cord is hung above the loaded body's CoG
+            masses.append(truth["size"])
+            points.append(bench.sensors.points[lines[0] - 1])
+    housed, at = accelerometer_masses(bench.sensors, housing)
+    masses, points = np.append(housed, masses), np.vstack([at, *points]) if points else at
     cord = changes.get("cord") or support(bench, conditions.support, masses, points)
     setup = acquisition(bench, conditions, housing)
-    recording, truth = run(
-        bench.body, bench.sensors, bench.exciters, changes.get("modes", bench.modes), cord, tuple(effects), setup, seed
-    )
+    modes = changes.get("modes", bench.modes)
+    recording, truth = run(bench.body, bench.sensors, bench.exciters, modes, cord, tuple(concealed), setup, seed)
     truth["faults"] = drawn
     truth["conditions"] = {"support": conditions.support, "style": conditions.style}
     truth["planned_band_hz"] = list(band) if np.isfinite(band).all() else None  # no band holds: none given

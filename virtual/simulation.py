@@ -25,7 +25,7 @@ from massline.virtual.acquisition import Acquisition, accelerometer_masses
 from massline.virtual.acquisition import run as run_test
 from massline.virtual.attachment import point_above
 from massline.virtual.band_prediction import predict_band, recommend_suspension
-from massline.virtual.effects import Effect
+from massline.core.effect_names import SimulatedEffect
 from massline.virtual.planned_test import (
     MODES,
     FEModel,
@@ -213,7 +213,7 @@ def set_up_test(
 
 def record_test(
     setup: TestSetup,
-    effects: tuple[Effect, ...] = (),
+    effects: tuple[SimulatedEffect, ...] = (),
     acquisition: Acquisition | None = None,
     seed: int = 0,
     plan_path: str | Path | None = None,
@@ -240,7 +240,7 @@ def simulate_test(
     exciters: Lines,
     body: BodyMesh,
     *,
-    effects: tuple[Effect, ...] = (),
+    effects: tuple[SimulatedEffect, ...] = (),
     acquisition: Acquisition | None = None,
     seed: int = 0,
     plan_path: str | Path | None = None,

@@ -29,15 +29,16 @@ after, and mass loading against a mesh, are identify's on the recording as it ca
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from cvxpy.error import SolverError
 
-from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score
+from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score, with_model_form
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
+from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import Finding, accepted_finding, faults_first
-from massline.identify.diagnose.screens import channel_consistency, discrete_fixes, kinematic_matrix
+from massline.identify.diagnose.screens import channel_consistency, corrected_band, discrete_fixes, kinematic_matrix
 from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
@@ -56,13 +57,14 @@ MOST_EFFECTS = 4  # a search adding this many effects is fitting the tails' misf
 PROPOSALS = 0.5  # a discrete fix is tried when it leaves at most this share of the rigid-subspace misfit
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Diagnosis:
     """Findings, faults first, with the fit before and after.
 
     ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
     shown); ``estimates`` the same two models on the estimation band with identify's per-FRF tails.
-    ``flips`` and ``swaps`` are the discrete corrections applied to the recording.
+    ``fixes`` are the discrete corrections applied to the recording: (effect name, channels), e.g. a
+    flipped polarity or a swap.
     """
 
     findings: list
@@ -71,8 +73,7 @@ class Diagnosis:
     estimates: tuple
     band: BandData
     noise: float
-    flips: tuple
-    swaps: tuple
+    fixes: tuple
 
     def relative_rms(self, which: str, axis=None) -> np.ndarray:
         """Relative RMS residual over every band line: overall, or per channel (``axis=1``)."""
@@ -87,14 +88,9 @@ def relative_noise(band: BandData) -> float:
     return float(np.sqrt(np.sum(lines * band.noise**2) / np.sum(band.energy)))
 
 
-def corrected_band(band: BandData, flips, swaps) -> BandData:
-    """The recording with the discrete faults undone: rows flipped and swapped back."""
-    frf = band.frf.copy()
-    for k in flips:
-        frf[k] *= -1
-    for i, j in swaps:
-        frf[[i, j]] = frf[[j, i]]
-    return BandData(band.frequencies, frf)
+def rigid_tail(laws) -> bool:
+    """Whether one of the tail ``laws`` can be the rigid body's own, s_iᵀ X e_j (the support's)."""
+    return any(named(law).rigid_tail for law in laws)
 
 
 def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float, shared=False) -> Problem:
@@ -103,7 +99,7 @@ def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transve
     if laws == "free":
         data = band.free
     else:
-        data = band.shared_support(laws) if shared and "suspension" in laws else band.reduced(laws)
+        data = band.shared_support(laws) if shared and rigid_tail(laws) else band.reduced(laws)
     return Problem(layout, data, band.noise, model, transverse, band.n_values, band.energy)
 
 
@@ -140,18 +136,10 @@ def refit(current: Fit, band: BandData, laws: frozenset, blocks, shared: bool = 
 
 
 def plausible(result: Fit, block: Block) -> bool:
-    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason;
-    an offset of more than three times the layout's size is none)."""
+    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason), as
+    the block's effect judges them."""
     theta, tau, values = result.parts
-    v = values[result.blocks.index(block)]
-    if block.effect == "sensor_direction":  # beyond any datasheet's cross-axis reading, under 45°
-        tilt = np.linalg.norm(tau[result.problem.layout.channels(block)], axis=1).max()
-        return bool(3 * result.problem.transverse < tilt < 1.0)
-    if block.effect == "sensor_gain":
-        return -0.9 < v[0] < 10.0
-    if block.effect in ("sensor_location", "excitation_location"):
-        return np.linalg.norm(v) < 3 * result.problem.layout.extent
-    return bool(np.linalg.norm(v) < 1.0)  # excitation_direction: under 45°
+    return named(block.effect).plausible(result, block, values[result.blocks.index(block)], tau)
 
 
 def roomy(layout: Layout) -> bool:
@@ -159,37 +147,46 @@ def roomy(layout: Layout) -> bool:
     return len(layout.sensors) > (3 if layout.planar else 6) + 1
 
 
-def discrete_stage(before: Fit, band: BandData) -> tuple[tuple, tuple, BandData, Fit, list]:
-    """Flip and swap channels while the BIC says so; returns flips, swaps, the corrected band, its fit
-    and the findings."""
-    flips, swaps, findings = [], [], []
+@dataclass(frozen=True, eq=False)
+class DiscreteStage:
+    """What the discrete stage did: the fixes ((effect name, channels)), the band with them undone, its fit and
+    the findings."""
+
+    fixes: tuple
+    band: BandData
+    fit: Fit
+    findings: list
+
+
+def discrete_stage(before: Fit, band: BandData) -> DiscreteStage:
+    """Undo the discrete effects the rigid-subspace screen proposes (flips, swaps) while the BIC says so."""
+    fixes, findings = [], []
     laws, layout, transverse = frozenset(), before.problem.layout, before.problem.transverse
     current = before
     S = kinematic_matrix(layout.sensors, layout.planar)
     if not roomy(layout):
-        return (), (), band, current, findings
+        return DiscreteStage((), band, current, findings)
     for _ in range(len(layout.sensors)):
-        corrected = corrected_band(band, flips, swaps)
+        corrected = corrected_band(band, fixes)
         A = corrected.reduced(laws).massline
         ranked = discrete_fixes(A, S)
         proposals = [r for r in ranked if r[0] < PROPOSALS][:3]
         best = None
         for _, effect, channels in proposals:
-            trial_flips = flips + ([channels[0]] if effect == "sensor_polarity" else [])
-            trial_swaps = swaps + ([channels] if effect == "channel_swap" else [])
-            trial = base_fit(corrected_band(band, trial_flips, trial_swaps), layout, laws, transverse)
+            trial_fixes = fixes + [(effect, channels)]
+            trial = base_fit(corrected_band(band, trial_fixes), layout, laws, transverse)
             fixed_bic = trial.bic + np.log(current.problem.n_values)  # with the discrete fix's cost
-            if effect == "channel_swap" and moved_instead(current, corrected, channels, fixed_bic):
+            if len(channels) > 1 and moved_instead(current, corrected, channels, fixed_bic):  # a swap's rival
                 continue
             gain = current.bic - fixed_bic
             if gain > EVIDENCE and (best is None or gain > best[0]):
-                best = (gain, effect, channels, trial, trial_flips, trial_swaps)
+                best = (gain, effect, channels, trial, trial_fixes)
         if best is None:
             break
-        gain, effect, channels, current, flips, swaps = best
+        gain, effect, channels, current, fixes = best
         evidence = {"delta_bic": gain, "loco_misfit": float(channel_consistency(A, S)[list(channels)].max())}
         findings.append(Finding(effect, tuple(channels), None, {}, evidence))
-    return tuple(flips), tuple(swaps), corrected_band(band, flips, swaps), current, findings
+    return DiscreteStage(tuple(fixes), corrected_band(band, fixes), current, findings)
 
 
 def moved_instead(current: Fit, band: BandData, channels, bic: float) -> bool:
@@ -197,10 +194,14 @@ def moved_instead(current: Fit, band: BandData, channels, bic: float) -> bool:
     swapping the two (BIC ``bic`` with the swap's cost): a sensor placed off its label leaves a misfit a swap
     with a neighbour can halve, but only a swap makes the two rows exact."""
     layout = current.problem.layout
-    moved = [
-        b for b in layout.candidates() if b.effect == "sensor_location" and set(layout.channels(b)) & set(channels)
-    ]
+    moved = [b for b in layout.candidates() if moves_sensor(b) and set(layout.channels(b)) & set(channels)]
     return any(refit(current, band, frozenset(), current.blocks + (b,)).bic <= bic for b in moved)
+
+
+def moves_sensor(block: Block) -> bool:
+    """Whether the block moves an accelerometer on its face (``sensor_location``)."""
+    effect = named(block.effect)
+    return effect.perturbs == "sensor" and effect.moves == "point"
 
 
 def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tuple[Fit, frozenset, list]:
@@ -229,7 +230,7 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
             for law in TAIL_LAWS
             if law not in laws
         ]
-        tilts = [s for s in ranked[REFITS:] if s[1].effect == "sensor_direction" and s[0] > EVIDENCE]
+        tilts = [s for s in ranked[REFITS:] if named(s[1].effect).widens_prior and s[0] > EVIDENCE]
         ranked = ranked[:REFITS] + tilts
         for first in range(0, max(len(ranked), 1), REFITS):  # the next tilts while none is accepted
             batch = ranked[first : first + REFITS]
@@ -255,7 +256,7 @@ def first_accepted(current: Fit, options: list, band: BandData, noise: float) ->
         gain = current.bic - trial.bic
         explained = (np.sum(current.rss) - np.sum(trial.rss)) / energy
         ok = isinstance(what, str) or plausible(trial, what)
-        by_prior = not isinstance(what, str) and what.effect == "sensor_direction"  # judged by its prior
+        by_prior = not isinstance(what, str) and named(what.effect).widens_prior  # judged by its prior
         moved = 0.0 if isinstance(what, str) else massline_change(current, trial, band)
         material = max(explained, moved) > MATERIAL * noise**2 or by_prior
         if gain > EVIDENCE and material and ok and (isinstance(what, str) or seen_per_frf(current, trial, band)):
@@ -288,7 +289,7 @@ def _alternatives(current: Fit, band: BandData, laws: frozenset, chosen: Block, 
     layout = current.problem.layout
 
     def place(block):
-        if block.effect.startswith("sensor"):
+        if named(block.effect).perturbs == "sensor":
             return {("s", c) for c in layout.channels(block)}
         return {("e", block.target)}
 
@@ -330,28 +331,13 @@ def search(band: BandData, start: Fit, noise: float, shared: bool) -> tuple[Fit,
     return backward_stage(band, result, laws, accepted, shared)
 
 
-def with_model_form(result: Fit, other: Fit) -> Fit:
-    """``result`` with the spread between two tail models added to θ's covariance.
-
-    A single shared mode is the tail's physics when one support or elastic mode dominates; each
-    FRF's own first- and second-order tails are the model-free alternative. Where they disagree
-    the data cannot choose, and the difference is as much the properties' uncertainty as the noise.
-    """
-    p = result.problem.model.p
-    delta = other.x[:p] - result.x[:p]
-    spread = result.spread.copy()
-    spread[: len(delta), : len(delta)] += np.outer(delta, delta)
-    return replace(result, spread=spread)
-
-
 def test_physics_modes(record: BandData, band: BandData, layout: Layout) -> dict:
     """The support's top mode and the first elastic mode (law → Hz, nan where the record does not resolve
     them) around ``band``, on the recording with the discrete faults undone: a flipped or swapped channel
     makes every mode's shape look elastic."""
     edges = Band(float(band.frequencies[0]), float(band.frequencies[-1]), np.nan, np.nan, "found")
     S, E = kinematic_matrix(layout.sensors, layout.planar), kinematic_matrix(layout.exciters, layout.planar)
-    top, first = support_and_elastic(record.frequencies, record.frf, edges, S, E)
-    return {"suspension": top, "residual_flexibility": first}
+    return dict(zip(TAIL_LAWS, support_and_elastic(record.frequencies, record.frf, edges, S, E)))
 
 
 def covers(wide: BandData, band: BandData) -> bool:
@@ -375,12 +361,13 @@ def diagnose(
     """
     noise = relative_noise(band)
     before = base_fit(band, layout, frozenset(), transverse)
-    flips, swaps, fixed, start, findings = discrete_stage(before, band)
+    discrete = discrete_stage(before, band)
+    fixed, start, findings = discrete.band, discrete.fit, list(discrete.findings)
     resonances = None
     if record is not None:
-        resonances = test_physics_modes(corrected_band(record, flips, swaps), estimation or band, layout)
+        resonances = test_physics_modes(corrected_band(record, discrete.fixes), estimation or band, layout)
     result, laws, accepted = search(fixed, start, noise, shared=False)
-    if "suspension" in laws:
+    if rigid_tail(laws):
         rigid = search(fixed, start, noise, shared=True)
         result, laws, accepted = min((result, laws, accepted), rigid, key=lambda r: r[0].bic)
     findings += [accepted_finding(result, fixed, what, evidence, resonances) for what, evidence in accepted]
@@ -388,6 +375,14 @@ def diagnose(
     if estimation is not None and covers(estimation, band):
         estimates = (
             refit(before, estimation, "free", ()),
-            refit(result, corrected_band(estimation, flips, swaps), "free", result.blocks),
+            refit(result, corrected_band(estimation, discrete.fixes), "free", result.blocks),
         )
-    return Diagnosis(faults_first(findings), before, result, estimates, fixed, noise, flips, swaps)
+    return Diagnosis(
+        findings=faults_first(findings),
+        before=before,
+        after=result,
+        estimates=estimates,
+        band=fixed,
+        noise=noise,
+        fixes=discrete.fixes,
+    )

@@ -8,12 +8,13 @@ axis prior.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
 
 from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem, jacobian
+from massline.identify.diagnose.effects import named
 from massline.core.errors import MasslineError
 
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
@@ -57,7 +58,7 @@ class Fit:
         """1-σ of a block's values (empty for a widened axis prior: see ``tau_std``)."""
         k = self.problem.head
         for b in self.blocks:
-            n = 0 if b.effect == "sensor_direction" else self.problem.layout.size(b)
+            n = self.problem.layout.size(b)
             if b == block:
                 return np.sqrt(np.diag(self.spread)[k : k + n])
             k += n
@@ -75,7 +76,7 @@ class Fit:
         are counted in ``bic``)."""
         lay = self.problem.layout
         tails = self.problem.data.n_tail_parameters + self.problem.support_rank
-        free = [lay.size(b) for b in self.blocks if b.effect != "sensor_direction"]
+        free = [lay.size(b) for b in self.blocks]
         return self.problem.model.p + sum(free) + tails
 
     @property
@@ -179,7 +180,7 @@ def score(current: Fit, block: Block, J: np.ndarray) -> float:
     r_now = problem.residual(current.x, current.blocks)
     r = problem.residual(x, blocks)
     J_new = np.hstack([J, jacobian(problem, x, blocks, range(len(current.x), len(x)))])
-    if block.effect == "sensor_direction":  # the widened prior's rows: ∂(τ_k / t_k)/∂τ_k = 1/t_k
+    if named(block.effect).widens_prior:  # the widened prior's rows: ∂(τ_k / t_k)/∂τ_k = 1/t_k
         scale = np.where(problem.released(blocks), MISALIGNMENT, problem.transverse)
         rows = np.arange(len(r) - problem.n_tau, len(r))
         J_new[rows, problem.model.p + np.arange(problem.n_tau)] = np.repeat(1 / scale, 2)
@@ -194,6 +195,20 @@ def score(current: Fit, block: Block, J: np.ndarray) -> float:
 
 def penalty(problem: Problem, block: Block) -> float:
     """What ``block`` adds to the BIC besides χ²: k ln n, or the Occam factor of a widened axis prior."""
-    if block.effect == "sensor_direction":
+    if named(block.effect).widens_prior:
         return 2 * len(problem.layout.groups[block.target]) * 2 * np.log(MISALIGNMENT / problem.transverse)
     return problem.layout.size(block) * np.log(problem.n_values)
+
+
+def with_model_form(result: Fit, other: Fit) -> Fit:
+    """``result`` with the spread between two tail models added to θ's covariance.
+
+    A single shared mode is the tail's physics when one support or elastic mode dominates; each
+    FRF's own first- and second-order tails are the model-free alternative. Where they disagree
+    the data cannot choose, and the difference is as much the properties' uncertainty as the noise.
+    """
+    p = result.problem.model.p
+    delta = other.x[:p] - result.x[:p]
+    spread = result.spread.copy()
+    spread[: len(delta), : len(delta)] += np.outer(delta, delta)
+    return replace(result, spread=spread)

@@ -11,6 +11,9 @@ that is zero in the nominal model:
         f_j = unit(d_j + T_j β_j)          hit direction (C1)
         r_j' = r_j + T_j γ_j               hit point (C2)
 
+Each block's effect is a class of the registry (:mod:`.effects`): where it can sit (``blocks``), its values
+and how they move the lines (``displace``); this module holds the algebra they share.
+
 On a support of stiffness K the FRFs carry its tail s_iᵀ X e_j/(x − x_s) on the same lines, X = M⁻¹KM⁻¹/ω_mid²
 (:mod:`massline.identify.tails`); when the data's support is *shared*, X (symmetric) is fitted with θ, and
 every effect changes the tail on its line as it changes the massline.
@@ -31,22 +34,14 @@ from functools import cached_property
 
 import numpy as np
 
+from massline.identify.diagnose.effects import modelled, named
+from massline.identify.diagnose.effects.base import MISALIGNMENT, Block, MeasuredLines
 from massline.identify.estimator import perpendicular_bases
 from massline.identify.tails import Reduced
-from massline.core.effect_names import EXCITER_EFFECTS
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 
-MISALIGNMENT = 0.35  # prior 1-σ of a released axis (≈ 20°): a mounting error, not a datasheet's cross-axis reading
-
-
-@dataclass(frozen=True)
-class Block:
-    """One effect at one place: ``target`` is a channel (gain), an accelerometer (index into
-    ``Layout.groups``: direction, location) or an exciter."""
-
-    effect: str
-    target: int
+__all__ = ["MISALIGNMENT", "Block", "Layout", "Problem", "jacobian", "line_coordinates"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,13 +79,8 @@ class Layout:
         return perpendicular_bases(self.exciters.directions)
 
     def size(self, block: Block) -> int:
-        """Number of parameters the block adds (a released prior counts its two components per channel)."""
-        triaxial = block.effect in ("sensor_direction", "sensor_location") and len(self.groups[block.target]) > 1
-        return {
-            "sensor_direction": 2 * (3 if triaxial else 1),
-            "sensor_gain": 1,
-            "sensor_location": 3 if triaxial else 2,
-        }.get(block.effect, 2)
+        """Number of values the block adds to x (a widened prior adds none: its τ are estimated anyway)."""
+        return named(block.effect).values(self, block.target)
 
     @property
     def extent(self) -> float:
@@ -99,17 +89,16 @@ class Layout:
         return float(np.linalg.norm(points - points.mean(axis=0), axis=1).max())
 
     def candidates(self) -> list[Block]:
-        """Every effect at every place: direction and location per accelerometer, gain per channel, the
-        hit's per exciter (a plate's out-of-plane lines have no transverse readings to tilt)."""
-        blocks = [Block("sensor_location", k) for k in range(len(self.groups))]
-        blocks += [Block("sensor_gain", i) for i in range(len(self.sensors))]
-        blocks += [] if self.planar else [Block("sensor_direction", k) for k in range(len(self.groups))]
-        exciter_effects = EXCITER_EFFECTS[1:] if self.planar else EXCITER_EFFECTS
-        return blocks + [Block(e, j) for j in range(len(self.exciters)) for e in exciter_effects]
+        """Every block effect of the registry at every place it can sit (:meth:`Effect.blocks`): the sensors'
+        effects first, each effect's places together, then the hits', exciter by exciter (in ``rank``)."""
+        effects = sorted(modelled("block"), key=lambda cls: cls.rank)
+        sensors = [b for cls in effects if cls.perturbs == "sensor" for b in cls.blocks(self)]
+        hits = [b for cls in effects if cls.perturbs == "exciter" for b in cls.blocks(self)]
+        return sensors + sorted(hits, key=lambda b: b.target)
 
     def channels(self, block: Block) -> list[int]:
         """The sensor channels a sensor block acts on (a gain: its channel; else the accelerometer's)."""
-        return [block.target] if block.effect == "sensor_gain" else list(self.groups[block.target])
+        return named(block.effect).channels(self, block.target)
 
 
 def line_coordinates(points: np.ndarray, vectors: np.ndarray, planar: bool) -> np.ndarray:
@@ -184,20 +173,17 @@ class Problem:
         d = lay.sensors.directions + (np.einsum("nak,nk->na", T, tau) if tau.size else 0.0)
         norm = np.linalg.norm(d, axis=1)
         d = d / norm[:, None]  # a tilted axis, not a gain
-        p, gain = lay.sensors.points.copy(), np.ones(len(d))
-        f, r = lay.exciters.directions.copy(), lay.exciters.points.copy()
+        moved = MeasuredLines(
+            points=lay.sensors.points.copy(),
+            gains=np.ones(len(d)),
+            forces=lay.exciters.directions.copy(),
+            hits=lay.exciters.points.copy(),
+            T=T,
+            U=U,
+        )
         for block, v in zip(blocks, values):
-            channels, j = lay.channels(block) if block.effect.startswith("sensor") else [], block.target
-            if block.effect == "sensor_gain":
-                gain[channels] *= 1 + v[0]
-            elif block.effect == "sensor_location":
-                p[channels] += v if len(v) == 3 else T[channels[0]] @ v
-            elif block.effect == "excitation_direction":
-                f[j] = f[j] + U[j] @ v
-                f[j] /= np.linalg.norm(f[j])
-            elif block.effect == "excitation_location":
-                r[j] += U[j] @ v
-        return p, d, norm, gain, f, r
+            named(block.effect).displace(moved, lay, block.target, v)
+        return moved.points, d, norm, moved.gains, moved.forces, moved.hits
 
     def line_vectors(self, tau: np.ndarray, blocks, values) -> tuple[np.ndarray, np.ndarray]:
         """The sensors' line coordinates with their gains (n_s, q) and the hits' (n_e, q), as measured."""
@@ -250,10 +236,10 @@ class Problem:
         return np.hstack([J, jacobian(self, x, blocks, extra)]) if len(extra) else J
 
     def released(self, blocks) -> np.ndarray:
-        """Channels whose transverse prior is released by a ``sensor_direction`` block."""
+        """Channels whose transverse prior is released by a block that widens it (``sensor_direction``)."""
         mask = np.zeros(len(self.layout.sensors), dtype=bool)
         for block in blocks:
-            if block.effect == "sensor_direction":
+            if named(block.effect).widens_prior:
                 mask[list(self.layout.groups[block.target])] = True
         return mask
 
@@ -272,7 +258,7 @@ class Problem:
         tau = x[p : p + n_tau].reshape(-1, 2)
         values, k = [], self.head
         for block in blocks:
-            n = 0 if block.effect == "sensor_direction" else self.layout.size(block)
+            n = self.layout.size(block)
             values.append(x[k : k + n])
             k += n
         return x[:p], tau, values
@@ -288,7 +274,7 @@ class Problem:
         else:
             theta, tau, values = previous.parts
             old = dict(zip(previous.blocks, values))
-        sizes = [0 if b.effect == "sensor_direction" else self.layout.size(b) for b in blocks]
+        sizes = [self.layout.size(b) for b in blocks]
         values = [old.get(b, np.zeros(n)) for b, n in zip(blocks, sizes)]
         if not self.n_support:
             X = np.zeros(0)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
+from massline.identify.diagnose.effects.sensor_mass_loading import SensorMassLoading
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate
 from massline.identify.sensor_mass import Housings, housing_points, point_mass_theta
@@ -81,7 +82,7 @@ class MassLoading:
             "points_m": self.housings.points.tolist(),
         }
         evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 6 if self.planar else 10}
-        return Finding("sensor_mass_loading", self.channels, None, parameters, evidence)
+        return Finding(SensorMassLoading.name, self.channels, None, parameters, evidence)
 
 
 def si_covariance(found: Estimate) -> np.ndarray:

@@ -21,6 +21,7 @@ from massline.identify.band_choice import choose_band
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
+from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import faults_first, finding_payload
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
@@ -34,7 +35,7 @@ from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class DiagnosisRun:
     """A diagnosis of a recording with what it was run on.
 
@@ -145,7 +146,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
 
     When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved them).
     """
-    faults = [f for f in findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
+    faults = [f for f in findings if f.kind == "fault" and named(f.effect).undone_on == "recording"]
     if not faults:
         return before, findings
     after = attempt(corrected(recording, faults), band, transverse, 100)
@@ -216,22 +217,22 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     if loading is not None:
         findings = faults_first(findings + [loading.finding()])
     return DiagnosisRun(
-        recording,
-        used,
-        estimation,
-        data,
-        layout,
-        planar,
-        recording.sensor_channels,
-        recording.exciter_channels,
-        relative_noise(data),
-        screens,
-        result,
-        before,
-        after,
-        findings,
-        loading,
-        notes + refused,
+        recording=recording,
+        band=used,
+        estimation_band=estimation,
+        data=data,
+        layout=layout,
+        planar=planar,
+        sensors=recording.sensor_channels,
+        hits=recording.exciter_channels,
+        noise=relative_noise(data),
+        screens=screens,
+        result=result,
+        before=before,
+        after=after,
+        findings=findings,
+        loading=loading,
+        notes=notes + refused,
     )
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from massline.identify.diagnose.effect_model import Layout, line_coordinates
+from massline.identify.diagnose.effects import EFFECTS, modelled, named
 from massline.identify.tails import BandData
 from massline.core.lines import Lines
 
@@ -60,7 +61,8 @@ def singular_values(frf: np.ndarray) -> np.ndarray:
 
 
 def discrete_fixes(A: np.ndarray, S: np.ndarray) -> list[tuple[float, str, tuple]]:
-    """Polarity flips and channel swaps ranked by the rigid-subspace misfit they leave (relative to now).
+    """The registry's discrete effects (polarity flips, channel swaps) ranked by the rigid-subspace misfit
+    their undoing leaves (relative to now).
 
     Returns (misfit after / misfit now, effect, channels), best first; needs n_s > q + 1 channels.
     """
@@ -70,16 +72,22 @@ def discrete_fixes(A: np.ndarray, S: np.ndarray) -> list[tuple[float, str, tuple
 
     now = max(misfit(A), 1e-300)
     ranked = []
-    for k in range(len(A)):
-        B = A.copy()
-        B[k] *= -1
-        ranked.append((misfit(B) / now, "sensor_polarity", (k,)))
-    for i in range(len(A)):
-        for j in range(i + 1, len(A)):
+    for effect in modelled("discrete"):
+        for channels in effect.proposals(len(A)):
             B = A.copy()
-            B[[i, j]] = B[[j, i]]
-            ranked.append((misfit(B) / now, "channel_swap", (i, j)))
+            effect.undo_rows(B, channels)
+            ranked.append((misfit(B) / now, effect.name, channels))
     return sorted(ranked)
+
+
+def corrected_band(band: BandData, fixes) -> BandData:
+    """The recording with the discrete faults ``fixes`` ((effect name, channels)) undone on its rows, effect by
+    effect in the registry's order (every flip, then every swap), each effect's in the order found."""
+    frf = band.frf.copy()
+    order = [cls.name for cls in EFFECTS]
+    for name, channels in sorted(fixes, key=lambda fix: order.index(fix[0])):
+        named(name).undo_rows(frf, channels)
+    return BandData(band.frequencies, frf)
 
 
 def driving_points(sensors: Lines, exciters: Lines, tolerance: float = 1e-3) -> list[tuple[int, int]]:

@@ -1,0 +1,94 @@
+"""The effects' registry: one class per effect (one module each), listed once here.
+
+Adding an effect is one new module and one line in ``EFFECTS`` (docs/adding-an-effect.md); everything that
+lists effects reads this registry: ``massline simulate --effect`` (``parse_effect``, ``simulated``), the
+simulator (it is handed the effect objects), the diagnosis (blocks, discrete fixes, tails, mass loading), the
+findings' kind, notes, the demo and the blind scenarios. ``tests/test_effects_registry.py`` walks it.
+"""
+
+from __future__ import annotations
+
+from massline.core.errors import MasslineError
+from massline.identify.diagnose.effects.base import Block, Effect, Scene
+from massline.identify.diagnose.effects.channel_swap import ChannelSwap
+from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
+from massline.identify.diagnose.effects.excitation_location import ExcitationLocation
+from massline.identify.diagnose.effects.residual_flexibility import ResidualFlexibility
+from massline.identify.diagnose.effects.sensor_direction import SensorDirection
+from massline.identify.diagnose.effects.sensor_gain import SensorGain
+from massline.identify.diagnose.effects.sensor_location import SensorLocation
+from massline.identify.diagnose.effects.sensor_mass_loading import SensorMassLoading
+from massline.identify.diagnose.effects.sensor_polarity import SensorPolarity
+from massline.identify.diagnose.effects.suspension import Suspension
+from massline.identify.diagnose.effects.transverse_sensitivity import TransverseSensitivity
+
+EFFECTS: tuple[type[Effect], ...] = (
+    SensorDirection,
+    TransverseSensitivity,
+    SensorGain,
+    SensorPolarity,
+    SensorLocation,
+    SensorMassLoading,
+    ChannelSwap,
+    ExcitationDirection,
+    ExcitationLocation,
+    Suspension,
+    ResidualFlexibility,
+)
+"""Every effect, in the order they are listed (``--help``, errors)."""
+
+BY_NAME: dict[str, type[Effect]] = {cls.name: cls for cls in EFFECTS}
+
+
+def named(name: str) -> type[Effect]:
+    """The effect class of ``name`` (a KeyError for a name the registry does not hold)."""
+    return BY_NAME[name]
+
+
+def simulated() -> tuple[type[Effect], ...]:
+    """The effects ``massline simulate --effect`` conceals."""
+    return tuple(cls for cls in EFFECTS if cls.simulated)
+
+
+def modelled(model: str) -> tuple[type[Effect], ...]:
+    """The effects the diagnosis models as ``model`` ("block", "discrete", "tail", "mass")."""
+    return tuple(cls for cls in EFFECTS if cls.model == model)
+
+
+def effect_help() -> str:
+    """The ``--effect`` help: every simulated effect with its size's unit (a discrete one with its syntax)."""
+    listed = ", ".join(cls.syntax() if cls.discrete else f"{cls.name} ({cls.unit})" for cls in simulated())
+    return f"an instrumentation effect (repeatable; WHERE: 1-based lines, e.g. 3,5, or all): {listed}"
+
+
+def _indices(where: str) -> tuple[int, ...]:
+    """'3,5' → (2, 4): 1-based numbers on the command line, 0-based indices inside."""
+    return tuple(int(w) - 1 for w in where.split(","))
+
+
+def parse_effect(text: str) -> Effect:
+    """``NAME[=SIZE][@WHERE]``, e.g. ``sensor_direction=3@4``, ``transverse_sensitivity=0.03@all``.
+
+    WHERE is a 1-based sensor (or exciter) number, several numbers separated by commas, or ``all``; without it
+    one line is drawn at random. Sensor numbers count channels (a triaxial accelerometer has three).
+    """
+    head, _, where = text.partition("@")
+    name, has_size, size = head.partition("=")
+    name = name.strip()
+    names = [cls.name for cls in simulated()]
+    if name not in names:
+        raise MasslineError(f"unknown effect '{name}': use one of {', '.join(names)}")
+    cls = named(name)
+    if not has_size and not cls.discrete:
+        raise MasslineError(f"effect {name} needs a size: {cls.syntax()} (see 'massline simulate --help')")
+    try:
+        value = float(size) if has_size else 0.0
+        place = None if not where else "all" if where.strip() == "all" else _indices(where)
+    except ValueError:
+        raise MasslineError(f"cannot read effect '{text}': write NAME=SIZE@N or NAME=SIZE@all") from None
+    cls.check_place(place)
+    return cls(value, place)
+
+
+__all__ = ["BY_NAME", "EFFECTS", "Block", "Effect", "Scene", "effect_help", "modelled", "named", "parse_effect"]
+__all__ += ["simulated"]
