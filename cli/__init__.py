@@ -55,7 +55,8 @@ PUBLIC = {  # name: the module defining it
     "diagnose_report": "massline.reports.diagnosis_report",
     "demo_story": "massline.reports.demo_story",
 }
-RENAMED = {"plan_layout": "plan"}  # exported names that differ from the defining module's (``massline.plan`` is a command)
+# exported names that differ from the defining module's (``massline.plan`` is a command)
+RENAMED = {"plan_layout": "plan"}
 
 __all__ = sorted(PUBLIC)
 

@@ -33,7 +33,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="massline-demo", metavar="DIR", help="output folder (default ./massline-demo)")
     parser.add_argument("--fault", default=FAULT, choices=FAULTS, help=f"the fault concealed (default {FAULT})")
     parser.add_argument(
-        "--seed", type=SEED_RANGE, default=SEED, metavar="N", help=f"its size and place (default {SEED})"
+        "--seed",
+        type=SEED_RANGE,
+        default=SEED,
+        metavar="N",
+        help=f"the seed that draws its size and place (default {SEED})",
     )
     parser.add_argument("--force", action="store_true", help="overwrite the files of an earlier demo in DIR")
 

@@ -37,7 +37,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=TRANSVERSE_PRIOR,
         default=TRANSVERSE,
         metavar="FRACTION",
-        help="accelerometers' cross-axis prior",
+        help=f"prior 1-σ of each accelerometer's transverse sensitivity, a fraction (default {TRANSVERSE}; "
+        "0: exact axes)",
     )
     parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON; - for stdout")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")

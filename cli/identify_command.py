@@ -39,7 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=TRANSVERSE_PRIOR,
         default=TRANSVERSE,
         metavar="FRACTION",
-        help=f"prior 1-σ of each accelerometer's transverse sensitivity (default {TRANSVERSE}; 0: exact axes)",
+        help=f"prior 1-σ of each accelerometer's transverse sensitivity, a fraction (default {TRANSVERSE}; "
+        "0: exact axes)",
     )
     parser.add_argument(
         "--bootstrap",

@@ -66,7 +66,11 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
 def progress_bar(console: Console):
     """Show a library pipeline's progress on ``console`` through the callback yielded, ``progress(stage, done,
     total)`` (the pipelines' None-able argument): a bar over the stages of a known count, a spinner for a stage of
-    unknown length (``total`` None). Shown from the first call, transient, gone when the block ends."""
+    unknown length (``total`` None). Shown from the first call, transient, gone when the block ends; on a console
+    that is not a terminal nothing is shown (a file or a pipe gets results only, not a bar's blank line)."""
+    if not console.is_terminal:
+        yield lambda stage, done, total: None
+        return
     shown: dict = {}  # "live": the bar (Progress) or spinner (Status) on show; "task": the bar's task
 
     def end() -> None:
@@ -99,12 +103,12 @@ def progress_bar(console: Console):
         end()
 
 
-def say_material(console: Console, fe: FEModel) -> None:
-    """The material assumed for the FE model, when none was given (nothing otherwise)."""
+def say_material(console: Console, fe: FEModel, option: bool = False) -> None:
+    """The material assumed for the FE model, when none was given (nothing otherwise); ``option``: the command
+    has ``--material`` (simulate), else the sentence names the command that has it."""
     if fe.assumed is not None:
-        console.print(
-            f"[yellow]no --material given: assuming {fe.assumed} from the density {fe.material.density:g} kg/m³[/]"
-        )
+        given = "no --material given" if option else "no material in the plan ('massline simulate --material' sets one)"
+        console.print(f"[yellow]{given}: assuming {fe.assumed} from the density {fe.material.density:g} kg/m³[/]")
 
 
 def say_fe_model(console: Console, fe: FEModel) -> None:

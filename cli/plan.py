@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
@@ -74,7 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=count(1, MAX_CANDIDATES),
         default=400,
         metavar="N",
-        help="area-uniform sample points (default 400)",
+        help="candidate points spread area-uniformly on the surface, a count (default 400)",
     )
     parser.add_argument("--axes", action="store_true", help="also allow global-axis directions (mounting blocks)")
     _repeatable_six(parser, "--exclude-box", ("X0", "Y0", "Z0", "X1", "Y1", "Z1"), "no candidate in this box")
@@ -118,7 +117,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="F",
         help="noise floor, fraction of 1/mass (default 0.02)",
     )
-    parser.add_argument("--relaxation", choices=["first-order", "cvxpy"], default="first-order")
+    parser.add_argument(
+        "--relaxation",
+        choices=["first-order", "cvxpy"],
+        default="first-order",
+        help="how the convex relaxation that certifies the layout is solved: first-order (default, fast at any "
+        "size) or cvxpy (an interior-point solver, for small candidate sets)",
+    )
     parser.add_argument(
         "--criterion",
         choices=["D", "A", "E"],
@@ -302,17 +307,14 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     noise = NoiseModel(args.noise_relative, args.noise_floor)
     budget = chosen_budget(args, is_plate(body))
-    with Progress(
-        TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console, transient=True
-    ) as bar:
-        task = bar.add_task("planning", total=1.0)
+    with progress_bar(console) as bar:
         fixed = {
             "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
             "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
         }
 
         def progress(stage: str, f: float) -> None:
-            bar.update(task, completed=f, description=stage)
+            bar(stage, f, 1.0)
 
         if budget is None:
             result = cheapest_diagnosable(

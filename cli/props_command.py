@@ -8,13 +8,16 @@ from rich.console import Console
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.core.files import claim_output
+from massline.core.properties import JSON_UNITS
 from massline.output import write_json
 from massline.tables import body_table
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_mesh_arguments(parser)
-    parser.add_argument("--json", metavar="OUT", help="also write the properties as JSON (identify's keys); - for stdout")
+    parser.add_argument(
+        "--json", metavar="OUT", help="also write the properties as JSON (identify's keys); - for stdout"
+    )
     parser.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
 
 
@@ -25,5 +28,5 @@ def run(args: argparse.Namespace, console: Console) -> None:
     nominal = body.nominal
     console.print(body_table(nominal, f"{body.name}: nominal properties ({body.density:g} kg/m³, frame of the mesh)"))
     if args.json:
-        payload = {**nominal.as_dict(), "std": None, "band_hz": None, "planar": False}
+        payload = {**nominal.as_dict(), "std": None, "band_hz": None, "planar": False, "units": JSON_UNITS}
         write_json(console, args.json, payload, args.force)

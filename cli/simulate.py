@@ -53,10 +53,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--seed", type=SEED, default=0, metavar="N", help="seed of noise and effect placement (default 0)"
     )
     parser.add_argument(
-        "--noise", type=fraction(), default=0.01, metavar="REL", help="relative FRF noise (default 0.01)"
+        "--noise",
+        type=fraction(),
+        default=0.01,
+        metavar="REL",
+        help="relative FRF noise, a fraction of each FRF's level (default 0.01)",
     )
     parser.add_argument(
-        "--noise-floor", type=fraction(), default=0.0, metavar="F", help="noise floor, fraction of 1/mass"
+        "--noise-floor", type=fraction(), default=0.0, metavar="F", help="noise floor, fraction of 1/mass (default 0)"
     )
     parser.add_argument(
         "--suspension",
@@ -72,7 +76,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=effect_help(),
     )
     parser.add_argument(
-        "--sensor-mass", type=real(0, MAX_MASS_KG, "kg"), default=0.0, metavar="KG", help="mass of each accelerometer"
+        "--sensor-mass",
+        type=real(0, MAX_MASS_KG, "kg"),
+        default=0.0,
+        metavar="KG",
+        help="mass of each accelerometer, kg (default 0)",
     )
     parser.add_argument(
         "--impact",
@@ -83,7 +91,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="simulate hammer hits (half-sine pulse of MS ms; without MS the tip an engineer fits to the bandwidth)",
     )
     parser.add_argument(
-        "--averages", type=count(1, 1000), default=5, metavar="N", help="hits averaged per exciter (impact route)"
+        "--averages",
+        type=count(1, 1000),
+        default=5,
+        metavar="N",
+        help="hits averaged per exciter (impact route; default 5)",
     )
     parser.add_argument(
         "--fmax",
@@ -129,7 +141,11 @@ def add_file_arguments(parser: argparse.ArgumentParser) -> None:
         help="accelerance in g per force unit (g/N, or g/lbf with --units in; default) or in length/s² per force",
     )
     parser.add_argument(
-        "--nodes", type=int, choices=(15, 2411), default=15, help="nodes in dataset 15 (+18) or 2411 (+2420)"
+        "--nodes",
+        type=int,
+        choices=(15, 2411),
+        default=15,
+        help="nodes in dataset 15 (+18) or 2411 (+2420) (default 15)",
     )
     parser.add_argument("--no-dc", action="store_true", help="start the axis at Δf, without the exporter's 0 Hz line")
 
@@ -174,7 +190,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     with progress_bar(console) as progress:
         setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
         if setup.fe is not None:
-            say_material(console, setup.fe)
+            say_material(console, setup.fe, option=True)
     if setup.fe is not None:
         say_fe_model(console, setup.fe)
     console.print(band_table(list(setup.rows)))

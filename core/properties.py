@@ -115,6 +115,9 @@ def _inertia_entries() -> list[Quantity]:
     ]
 
 
+JSON_UNITS = {"mass": "kg", "length": "m", "inertia": "kg m^2", "frequency": "Hz"}
+"""The units of every number in the JSON massline writes (identify, diagnose, props: the ``units`` block)."""
+
 QUANTITIES: tuple[Quantity, ...] = (
     Quantity("mass", "kg", 1.0, "mass", ()),
     *(Quantity(f"CoG {a}", "mm", 1e3, "cog", k) for k, a in enumerate("xyz")),

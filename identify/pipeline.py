@@ -31,7 +31,7 @@ from massline.core.errors import MasslineError, param
 from massline.core.masslines import Masslines
 from massline.core.methods import DYNAMICS, KINEMATICS, identify
 from massline.core.plate import plate_theta
-from massline.core.properties import reported_values
+from massline.core.properties import JSON_UNITS, reported_values
 from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
@@ -139,6 +139,7 @@ class Identification:
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
         found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.mass}
+        found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
         return found

@@ -37,6 +37,7 @@ def test_json_dash_writes_only_json_on_stdout(tmp_path):
     data = json.loads(run.stdout)
     assert data["mass"] == pytest.approx(bundled("bracket").nominal.mass, rel=1e-12)
     assert "nominal properties" in run.stderr and not (tmp_path / "-").exists()
+    assert data["units"] == {"mass": "kg", "length": "m", "inertia": "kg m^2", "frequency": "Hz"}
 
 
 def test_props_prints_a_table_with_units():
@@ -252,3 +253,30 @@ def test_identify_rounds_each_value_to_its_sigma(structure_uff):
     cells = [cell.strip() for row in rows for cell in row]
     assert not any(cell.startswith(("-", "−0")) and cell.strip("−0.") == "" for cell in cells)
     assert not any("-" in cell or "[" in cell for cell in cells)
+
+
+UNIT_WORDS = ("kg", "m", "mm", "Hz", "°", "degrees", "fraction", "%", "ms", "lines", "Pa", "N/m", "s", "of 1/mass")
+
+
+def test_every_option_states_its_default_and_a_number_its_unit():
+    """Each option that has a default says it in its help, and each numeric one names its unit (or that it is a
+    fraction or a count); output paths and meshes, off unless given, are exempt."""
+    import argparse
+
+    from massline.app import build_parser
+
+    commands = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)).choices
+    missing = []
+    for name, parser in commands.items():
+        for action in parser._actions:
+            if not action.option_strings or action.nargs == 0 or action.default in (None, [], argparse.SUPPRESS):
+                continue
+            text = action.help or ""
+            if "default" not in text:
+                missing.append(f"{name} {action.option_strings[0]}: no default in {text!r}")
+            numeric = isinstance(action.default, float) or (isinstance(action.default, int) and action.type is not int)
+            words = re.findall(r"[^\s(),;:]+", text)
+            if numeric and not action.choices and not any(w.strip(".") in UNIT_WORDS for w in words):
+                if not any(w in text for w in ("fraction", "count", "seed", "hits", "modes", "draws", "lines")):
+                    missing.append(f"{name} {action.option_strings[0]}: no unit in {text!r}")
+    assert not missing, "\n".join(missing)

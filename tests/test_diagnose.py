@@ -125,6 +125,14 @@ def test_clean_test_has_no_fault_and_after_is_identify(structure):
     assert to_json(properties["before"]) == to_json(identify_recording(rec).payload)
 
 
+def test_identify_and_diagnose_json_say_their_units(structure):
+    """DESIGN.md's ``units`` block in identify's JSON and in diagnose's, beside the numbers it governs."""
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=2)
+    units = {"mass": "kg", "length": "m", "inertia": "kg m^2", "frequency": "Hz"}
+    found = diagnose_recording(rec, None, structure)
+    assert found.document["units"] == units and found.document["properties"]["before"]["units"] == units
+
+
 def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):
     effects = (parse_effect("sensor_polarity@4"),)
     rec, _ = run(structure, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400))

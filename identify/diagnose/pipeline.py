@@ -31,6 +31,7 @@ from massline.identify.tails import BandData
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
 from massline.core.errors import MasslineError
+from massline.core.properties import JSON_UNITS
 from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 
@@ -123,6 +124,7 @@ class DiagnosisRun:
             "band_hz": [self.band.low, self.band.high],
             "screens": self.screens,
             "warnings": list(self.notes) + ([] if self.before is None else list(self.before.warnings)),
+            "units": JSON_UNITS,
         }
 
 
