@@ -14,8 +14,9 @@ def body_table(body: RigidBody, title: str) -> Table:
     for col, justify in (("quantity", "left"), ("value", "right"), ("unit", "left")):
         table.add_column(col, justify=justify)
     for q in TENSOR:
-        table.add_row(q.name, number(q.value(body) * q.scale), q.unit)
+        scale = q.resolution_scale(body) * q.scale
+        table.add_row(q.name, number(q.value(body) * q.scale, scale=scale), q.unit)
     for k, (moment, axis) in enumerate(zip(body.principal_moments, body.principal_axes.T), 1):
-        table.add_row(f"principal moment {k}", number(moment), "kg·m²")
+        table.add_row(f"principal moment {k}", number(moment, scale=max(body.principal_moments)), "kg·m²")
         table.add_row(f"  axis {k}", vector_text(axis), "—")
     return table

@@ -17,6 +17,7 @@ from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Context, Decimal
 
 MINUS = "−"
 SMALLEST_PLAIN, LARGEST_PLAIN = -3, 5  # decimal exponents of the leading digit written without an exponent
+RESOLUTION = 1e-9  # a value below this fraction of its quantity's scale is rounding noise: written 0
 EXACT = Context(prec=1000)  # room for any double's digits from its leading one to a σ's last (|exponents| ≤ 324)
 
 
@@ -96,8 +97,11 @@ def sigma_text(sigma: float) -> str:
     return _written(s, place, _leading(s))
 
 
-def number(value: float, digits: int = 6) -> str:
-    """A value with at most ``digits`` significant digits, trailing zeros dropped ("—" for NaN)."""
+def number(value: float, digits: int = 6, scale: float | None = None) -> str:
+    """A value with at most ``digits`` significant digits, trailing zeros dropped ("—" for NaN); 0 when it is
+    below ``RESOLUTION`` of its quantity's ``scale`` (a CoG of 1e−16 m on a 0.1 m body is the arithmetic's)."""
+    if scale is not None and abs(value) < RESOLUTION * abs(scale):
+        value = 0.0
     if math.isnan(value):
         return "—"
     if math.isinf(value):

@@ -100,6 +100,16 @@ class Quantity:
             return float(np.asarray(reported_values(body, True)[self.key])[self.index])
         return float(np.asarray(getattr(body, self.key))[self.index])
 
+    def resolution_scale(self, body: RigidBody) -> float:
+        """The quantity's scale on ``body`` (SI): the mass; for a length the larger of |CoG| and the largest
+        radius of gyration; for an inertia the largest principal moment. A value 1e−9 of it is rounding."""
+        if self.key == "mass":
+            return body.mass
+        moment = float(np.max(np.abs(body.principal_moments)))
+        if self.key == "cog":
+            return max(float(np.linalg.norm(body.cog)), float(np.sqrt(moment / body.mass)))
+        return moment
+
     def sigma(self, std: dict) -> float:
         """Its 1-σ from identify's ``std`` keys, SI (degrees for a principal axis)."""
         key = "principal_axes_deg" if self.key == "principal_axes" else self.key

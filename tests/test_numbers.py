@@ -107,3 +107,29 @@ def test_numbers_and_vectors_examples():
         and formatted(-3.25, ".1f") == "−3.2"
     )
     assert formatted(1650.0, ".3g") == "1.65e3" and formatted(-2.5e-5, ".2g") == "−2.5e−5"
+
+
+def test_a_value_below_its_scales_resolution_is_written_zero():
+    """Rounding noise is no value: 1e−16 m of CoG on a 0.1 m body prints 0; 1e−9 of the scale and above
+    prints as it is, and so does any value without a scale."""
+    assert number(-1.1721e-16, scale=0.1) == "0" and number(1.76668e-14 * 1e-3, scale=0.0136) == "0"
+    assert number(2e-10, scale=0.1) == "2e−10" and number(-1.1721e-16) == "−1.1721e−16"
+
+
+def test_props_of_a_centred_box_prints_no_rounding_noise(tmp_path):
+    """A box centred on the origin: CoG and products of inertia are 0 (the mesh integrals leave ~1e−17)."""
+    import trimesh
+
+    from massline.app import run
+    from massline.core.properties import TENSOR
+    from massline.meshes.loader import load_body
+    from massline.tables import body_table
+
+    path = tmp_path / "box.stl"
+    trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(path)
+    body = load_body(path, "m", 2700.0).nominal
+    raw = [q.value(body) for q in TENSOR if q.key == "cog" or q.index in ((0, 1), (0, 2), (1, 2))]
+    assert max(abs(v) for v in raw) < 1e-12  # what the mesh gives: 0 up to rounding, maybe not exactly 0
+    rows = {cells[0]: cells[1] for cells in zip(*(col._cells for col in body_table(body, "box").columns))}
+    assert all(rows[name] == "0" for name in ("CoG x", "CoG y", "CoG z", "J_G xy", "J_G xz", "J_G yz")), rows
+    assert run(["props", str(path), "--units", "m", "--density", "2700"]) == 0
