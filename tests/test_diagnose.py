@@ -133,6 +133,15 @@ def test_identify_and_diagnose_json_say_their_units(structure):
     assert found.document["units"] == units and found.document["properties"]["before"]["units"] == units
 
 
+def test_diagnose_checks_the_mesh_as_identify_does(structure):
+    """A mesh of another body: diagnose's "before" carries identify --mesh's mismatch warning, in its
+    warnings and in the JSON, where before it said nothing (the bracket's 0.35 kg against the 4 kg structure)."""
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=2)
+    found = diagnose_recording(rec, None, bundled("bracket").nominal)
+    assert any("mesh's nominal" in w for w in found.before.warnings)
+    assert any("mesh's nominal" in w for w in found.document["warnings"])
+
+
 def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):
     effects = (parse_effect("sensor_polarity@4"),)
     rec, _ = run(structure, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400))

@@ -26,7 +26,14 @@ from massline.identify.diagnose.finding import faults_first, finding_payload
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import Identification, identify_recording, is_planar, properties_payload, usable_lines
+from massline.identify.pipeline import (
+    Identification,
+    against_nominal,
+    identify_recording,
+    is_planar,
+    properties_payload,
+    usable_lines,
+)
 from massline.identify.tails import BandData
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
@@ -199,6 +206,8 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     check_seen(layout)
     before, refused = identified(recording, band, transverse)
+    if before is not None:
+        before = against_nominal(before, nominal)  # the mesh's mass checked as identify --mesh checks it
     identify_band = band if before is not None and before.band.rule == "given" else None
     f = recording.frequencies
     if band:
