@@ -103,6 +103,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted, snapped onto the surface")
     _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
+    add_criterion_arguments(parser)
+    parser.add_argument("--seed", type=SEED, default=0, metavar="N", help="seed of the surface sampling (default 0)")
+    parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
+    parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
+
+
+def add_criterion_arguments(parser: argparse.ArgumentParser) -> None:
+    """The noise model the layout is judged on, the criterion maximised and how its certificate is solved."""
     parser.add_argument(
         "--noise-relative",
         type=fraction(low_open=True),
@@ -130,9 +138,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="D",
         help="D: log det F (default); A: −trace F⁻¹; E: smallest eigenvalue of F (F in relative parameters)",
     )
-    parser.add_argument("--seed", type=SEED, default=0, metavar="N", help="seed of the surface sampling (default 0)")
-    parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
-    parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
 
 
 def _fixed(rows, scale, option: str) -> Lines | None:
