@@ -149,7 +149,9 @@ class Effect:
 
     @classmethod
     def correct(cls, frf: np.ndarray, sensors: Lines, exciters: Lines, finding) -> tuple:
-        """The recording's FRFs and lines with the finding undone (unchanged by default)."""
+        """The recording's FRFs and lines with the finding undone: a discrete effect's rows by ``undo_rows`` (the
+        lines unchanged); anything else unchanged unless the effect says how."""
+        cls.undo_rows(frf, finding.channels)
         return frf, sensors, exciters
 
     @classmethod

@@ -40,11 +40,6 @@ class ChannelSwap(Effect):
         return [(i, j) for i in range(n_channels) for j in range(i + 1, n_channels)]
 
     @classmethod
-    def correct(cls, frf, sensors, exciters, finding):
-        cls.undo_rows(frf, finding.channels)
-        return frf, sensors, exciters
-
-    @classmethod
     def sentence(cls, finding, who, hit):
         return f"{who} are swapped: each channel reads what the other should; corrected"
 

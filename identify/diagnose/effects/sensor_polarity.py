@@ -30,11 +30,6 @@ class SensorPolarity(Effect):
         return [(k,) for k in range(n_channels)]
 
     @classmethod
-    def correct(cls, frf, sensors, exciters, finding):
-        cls.undo_rows(frf, finding.channels)
-        return frf, sensors, exciters
-
-    @classmethod
     def sentence(cls, finding, who, hit):
         return f"{who} has its polarity flipped: its readings are the rigid body's with the opposite sign; corrected"
 
