@@ -172,6 +172,17 @@ class Effect:
         return not channels or channels[0] in finding.channels
 
 
+class LocationEffect(Effect):
+    """A line glued or hit away from its labelled point: an offset δ of the point (m)."""
+
+    moves = "point"
+
+    @classmethod
+    def plausible(cls, result, block: Block, v: np.ndarray, tau: np.ndarray) -> bool:
+        """An offset of more than three times the layout's size is none."""
+        return np.linalg.norm(v) < 3 * result.problem.layout.extent
+
+
 class TailEffect(Effect):
     """Test physics the band fit carries as a tail law (:mod:`massline.identify.tails`): a mode outside the band
     whose tail reaches into it. Simulated by the virtual test's support or FE modes, never an ``--effect``."""

@@ -10,7 +10,7 @@ import numpy as np
 
 from massline.identify.diagnose.effects.base import (
     Block,
-    Effect,
+    LocationEffect,
     block_values,
     mm,
     moved_lines,
@@ -20,12 +20,11 @@ from massline.identify.diagnose.effects.base import (
 )
 
 
-class ExcitationLocation(Effect):
+class ExcitationLocation(LocationEffect):
     name = "excitation_location"
     unit = "m"
     perturbs = "exciter"
     summary = "hit δ away from its planned point, δ ⊥ d"
-    moves = "point"
     rank = 11
     blind_range = (0.005, 0.02)
 
@@ -44,11 +43,6 @@ class ExcitationLocation(Effect):
     @classmethod
     def displace(cls, lines, layout, target, v):
         lines.hits[target] += lines.U[target] @ v
-
-    @classmethod
-    def plausible(cls, result, block, v, tau):
-        """An offset of more than three times the layout's size is none."""
-        return np.linalg.norm(v) < 3 * result.problem.layout.extent
 
     @classmethod
     def parameters(cls, result, block):

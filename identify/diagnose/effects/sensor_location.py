@@ -11,7 +11,7 @@ import numpy as np
 
 from massline.identify.diagnose.effects.base import (
     Block,
-    Effect,
+    LocationEffect,
     accelerometers,
     block_values,
     mm,
@@ -22,11 +22,10 @@ from massline.identify.diagnose.effects.base import (
 )
 
 
-class SensorLocation(Effect):
+class SensorLocation(LocationEffect):
     name = "sensor_location"
     unit = "m"
     summary = "glued δ away from its planned point, δ ⊥ d"
-    moves = "point"
     rank = 0
     blind_range = (0.005, 0.02)
 
@@ -50,11 +49,6 @@ class SensorLocation(Effect):
     def displace(cls, lines, layout, target, v):
         channels = list(layout.groups[target])
         lines.points[channels] += v if len(v) == 3 else lines.T[channels[0]] @ v
-
-    @classmethod
-    def plausible(cls, result, block, v, tau):
-        """An offset of more than three times the layout's size is none."""
-        return np.linalg.norm(v) < 3 * result.problem.layout.extent
 
     @classmethod
     def parameters(cls, result, block):
