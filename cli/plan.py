@@ -20,7 +20,7 @@ from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
 from massline.meshes.loader import UNITS
-from massline.core.numbers import formatted, number, sigma_text, vector_text
+from massline.core.numbers import counted, formatted, number, sigma_text, vector_text
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget
@@ -151,14 +151,16 @@ def _fixed(rows, scale, option: str) -> Lines | None:
     return Lines(rows[:, :3] * scale, rows[:, 3:])
 
 
-def layout_table(title: str, lines: Lines, nodes) -> Table:
+def layout_table(title: str, lines: Lines, nodes, labels) -> Table:
+    """One row per line: its point's label (the test's numbering, as in plan.json, the report and the Universal
+    File), where it is and which way it reads; "fixed" for a line the user gave."""
     table = Table(title=title)
-    for col in ("#", "node", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial"):
+    for col in ("#", "point", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial"):
         table.add_column(col, justify="right")
-    for k, (n, p, d, t) in enumerate(zip(nodes, lines.points, lines.directions, lines.triaxial), 1):
+    for k, (n, label, p, d, t) in enumerate(zip(nodes, labels, lines.points, lines.directions, lines.triaxial), 1):
         table.add_row(
             str(k),
-            str(n) if n >= 0 else "fixed",
+            str(label) + ("" if n >= 0 else " (fixed)"),
             *(formatted(v * 1e3, ".1f") for v in p),
             vector_text(d, 3),
             "" if t < 0 else str(t),
@@ -216,12 +218,12 @@ def std_table(plan) -> Table:
 def criterion_text(result) -> str:
     """The criterion, its certificate, λ_min, the D certificate and the paper's condition numbers."""
     c, systems = result.criterion, condition_systems(result.model.planar)
+    d_too = "" if c.name == "D" else f", D-efficiency ≥ {result.d_efficiency_lower_bound:.1%}"
     lines = [
-        f"criterion {c.name}: {c.title} = {result.value:.4g}; certified {c.name}-efficiency ≥ "
+        f"criterion {c.name}: {c.title} = {result.value:.4g}; the candidate layout's certified {c.name}-efficiency ≥ "
         f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone",
-        f"log det F = {result.log_det:.3f} ({result.model.p} parameters), D-efficiency ≥ "
-        f"{result.d_efficiency_lower_bound:.1%}; smallest eigenvalue of F (relative parameters) "
-        f"{result.smallest_eigenvalue:.4g}",
+        f"log det F = {result.log_det:.3f} ({result.model.p} parameters){d_too}; smallest eigenvalue of F "
+        f"(relative parameters) {result.smallest_eigenvalue:.4g}",
         "condition numbers: " + ", ".join(f"{systems.get(k, k)} {v:.3g}" for k, v in result.condition.items()),
     ]
     return "\n".join(lines)
@@ -262,8 +264,8 @@ def diagnosability_note(console: Console, result) -> None:
     if result.minimal is not None:
         m = result.minimal
         console.print(
-            f"diagnosability costs {len(result.sensors) - len(m.sensors)} lines and "
-            f"{len(result.exciters) - len(m.exciters)} hits over the minimal {len(m.sensors)} × {len(m.exciters)} "
+            f"diagnosability costs {counted(len(result.sensors) - len(m.sensors), 'line')} and "
+            f"{counted(len(result.exciters) - len(m.exciters), 'hit')} over the minimal {len(m.sensors)} × {len(m.exciters)} "
             f"layout (--minimal); predicted worst 1-σ {result.worst_relative_std:.2%} against its "
             f"{m.worst_relative_std:.2%}"
         )
@@ -330,8 +332,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
                 progress=progress,
             )  # fmt: skip
-    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes))
-    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes))
+    sensor_labels, hit_labels = result.point_labels
+    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
+    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
     console.print(std_table(result))
     console.print(criterion_text(result))
     console.print(sliding_line(result))

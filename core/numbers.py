@@ -145,3 +145,8 @@ def vector_text(vector, digits: int = 4) -> str:
     exponent = max((_leading(x) for x in entries if not x.is_zero()), default=0)
     rounded = [_rounded(x, exponent - digits + 1) for x in entries]
     return "(" + ", ".join(_trimmed(x) for x in rounded) + ")"
+
+
+def counted(n: int, noun: str, plural: str | None = None) -> str:
+    """"1 hit", "3 hits": a count with its noun in the number it takes (``plural`` where it is not noun + s)."""
+    return f"{n} {noun if n == 1 else plural or noun + 's'}"

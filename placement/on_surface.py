@@ -57,7 +57,15 @@ def slid(
     )
     assessment = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
     value = plan.criterion.value(assessment["information"])
-    return replace(plan, sensors=moved.sensors, exciters=moved.exciters, value=value, sliding=moved, **assessment)
+    return replace(
+        plan,
+        sensors=moved.sensors,
+        exciters=moved.exciters,
+        value=value,
+        candidate_value=plan.value,
+        sliding=moved,
+        **assessment,
+    )
 
 
 def is_plate(body: BodyMesh) -> bool:

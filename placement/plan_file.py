@@ -1,8 +1,10 @@
 """plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "point", "direction", "triaxial"}``, metres, mesh frame;
-fixed lines first, snapped onto the surface, with node null and ``"fixed": true``), ``criterion`` (``name``
+``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial"}``, metres, mesh frame;
+``node`` is the point's label, the test's one numbering (:mod:`massline.core.numbering`: accelerometers from 1,
+hits from 101), ``candidate`` the candidate point a slid point started from; fixed lines first, snapped onto the
+surface, with candidate null and ``"fixed": true``), ``criterion`` (``name``
 D, A or E, its ``value``, ``bounds`` and ``efficiency_lower_bound``; ``smallest_eigenvalue`` of the scaled
 information; ``log_det``, ``condition_numbers`` with ``condition_systems`` naming each system by the paper's
 equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound and efficiency is against
@@ -35,17 +37,18 @@ from massline.placement.plans import Plan
 from massline.core.lines import Lines
 
 
-def _lines(lines: Lines, nodes: np.ndarray) -> list:
+def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray) -> list:
     groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
     return [
         {
-            "node": int(n) if n >= 0 else None,
+            "node": int(label),
+            "candidate": int(n) if n >= 0 else None,
             "point": p.tolist(),
             "direction": d.tolist(),
             "triaxial": groups.get(int(t)),
         }
         | ({"fixed": True} if n < 0 else {})
-        for n, p, d, t in zip(nodes, lines.points, lines.directions, lines.triaxial)
+        for n, label, p, d, t in zip(nodes, labels, lines.points, lines.directions, lines.triaxial)
     ]
 
 
@@ -83,8 +86,8 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
         "density": density,
         "planar": plan.model.planar,
         "nominal": nominal.as_dict(),
-        "sensors": _lines(plan.sensors, plan.sensor_nodes),
-        "exciters": _lines(plan.exciters, plan.exciter_nodes),
+        "sensors": _lines(plan.sensors, plan.sensor_nodes, plan.point_labels[0]),
+        "exciters": _lines(plan.exciters, plan.exciter_nodes, plan.point_labels[1]),
         "criterion": {
             "name": plan.criterion.name,
             "title": plan.criterion.title,

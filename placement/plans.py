@@ -16,6 +16,7 @@ from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import Diagnosability, diagnosability
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, fisher, log_det
+from massline.core.numbering import point_labels
 from massline.core.lines import Lines
 from massline.core.masslines import synthesise
 from massline.core.methods import identify
@@ -87,6 +88,13 @@ class Plan:
     sliding: Slide | None = None
     clearances: tuple = (0.0, 0.0)
     candidate_log_det: float = np.nan  # log det F of the layout chosen among the candidates, before sliding
+    candidate_value: float = np.nan  # its criterion value (NaN: not slid, ``value`` is the candidate layout's)
+
+    @property
+    def point_labels(self) -> tuple[np.ndarray, np.ndarray]:
+        """The label of each sensor and exciter line: the test's numbering (:mod:`massline.core.numbering`), as the
+        console, plan.json, the reports and the simulated Universal File give it."""
+        return point_labels(self.sensors, self.exciters)
 
     @property
     def diagnosability(self) -> Diagnosability:
@@ -95,14 +103,17 @@ class Plan:
 
     @property
     def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) for the worse of the two sides, against one-side changes among the candidate
-        points (above 1 when sliding took the plan beyond every such layout)."""
-        return float(np.exp((self.log_det - max(self.d_bounds.values())) / self.model.p))
+        """exp((log det F − U)/p) of the candidate layout, for the worse of the two sides, against one-side changes
+        among the candidate points: what the certificate covers (sliding's gain is stated beside it as a gain),
+        so never above 1 (the bound's rounding aside, clipped)."""
+        return min(float(np.exp((self.candidate_log_det - max(self.d_bounds.values())) / self.model.p)), 1.0)
 
     @property
     def efficiency_lower_bound(self) -> float:
-        """The certified efficiency in the plan's criterion, for the worse of the two sides."""
-        return self.criterion.efficiency(self.value, max(self.bounds.values()), self.model.p)
+        """The certified efficiency in the plan's criterion of the candidate layout, for the worse of the two
+        sides, never above 1."""
+        value = self.value if np.isnan(self.candidate_value) else self.candidate_value
+        return min(self.criterion.efficiency(value, max(self.bounds.values()), self.model.p), 1.0)
 
     @property
     def smallest_eigenvalue(self) -> float:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,8 +53,8 @@ def png_data_uri(image: np.ndarray) -> str:
 
 
 def escape(text) -> str:
-    """Text escaped for HTML."""
-    return html.escape(str(text))
+    """Text escaped for HTML, a command or option quoted in backticks (`simulate --check`) set as code."""
+    return re.sub(r"`([^`]+)`", r"<code>\1</code>", html.escape(str(text)))
 
 
 def num(value, fmt: str = ".4g") -> str:
@@ -89,7 +90,7 @@ def png_uri(data: bytes) -> str:
 
 def plot_figure(data: bytes, alt: str, caption: str) -> str:
     """A plot as a figure with its caption."""
-    return f'<figure><img src="{png_uri(data)}" alt="{escape(alt)}"><figcaption>{caption}</figcaption></figure>'
+    return f'<figure><img src="{png_uri(data)}" alt="{html.escape(str(alt))}"><figcaption>{caption}</figcaption></figure>'
 
 
 def page(title: str, parts: list[str]) -> str:

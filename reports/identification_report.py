@@ -17,7 +17,7 @@ import numpy as np
 from massline.core import __version__
 from massline.identify.pipeline import Identification
 from massline.meshes.loader import BodyMesh
-from massline.core.numbers import formatted, number, sigma_text, signed, value_with_sigma, vector_text
+from massline.core.numbers import counted, formatted, number, sigma_text, signed, value_with_sigma, vector_text
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody
 from massline.reports.body_scene import identification_scene, principal_frame
@@ -41,7 +41,7 @@ def recording_line(recording, path) -> str:
     f = recording.frequencies
     n_s, n_e = recording.frf.shape[:2]
     return (
-        f"Recording {escape(Path(path).name)}: {n_s} accelerometer channels × {n_e} hits, {len(f)} spectral lines, "
+        f"Recording {escape(Path(path).name)}: {counted(n_s, 'accelerometer channel')} × {counted(n_e, 'hit')}, {len(f)} spectral lines, "
         f"{num(f[0], '.3g')}–{num(f[-1], '.4g')} Hz. Frame of the file; written by massline {__version__}."
     )
 

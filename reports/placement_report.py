@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from massline.core import __version__
+from massline.core.numbers import counted
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
@@ -130,8 +131,8 @@ def criterion_html(doc: dict) -> str:
             [f"certified {escape(c['name'])}-efficiency", f"≥ {chosen} % of {ONE_SIDE}"],
             ["smallest eigenvalue of F", f"{num(c['smallest_eigenvalue'], '.4g')} (relative parameters)"],
         ]
+    rows += [["certified D-efficiency", f"≥ {efficiency} % of {ONE_SIDE}"]] if c.get("name") != "D" else []
     rows += [
-        ["certified D-efficiency", f"≥ {efficiency} % of {ONE_SIDE}"],
         ["log det F", f"{num(c['log_det'], '.3f')} over {len(names)} parameters: {escape(', '.join(names))}"],
         *[
             [f"condition number, {escape(systems.get(k, k))}", num(v, ".3g")]
@@ -160,7 +161,7 @@ def diagnosability_html(doc: dict) -> str:
         rows.append(
             [
                 "cost over the minimal layout",
-                f"{c['extra_lines']} lines and {c['extra_hits']} hits over {c['minimal_lines']} × {c['minimal_hits']}; "
+                f"{counted(c['extra_lines'], 'line')} and {counted(c['extra_hits'], 'hit')} over {c['minimal_lines']} × {c['minimal_hits']}; "
                 f"worst relative 1-σ {num(100 * c['worst_relative_std'], '.2f')} % against "
                 f"{num(100 * c['minimal_worst_relative_std'], '.2f')} %",
             ]

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
+from massline.core.numbering import point_labels
 from massline.core.lines import Lines
 
 ARROW = 0.16  # arrow length, fraction of the body's largest extent
@@ -28,7 +29,7 @@ class Marker:
     Attributes
     ----------
     label : str
-        "A1", "A2", … for accelerometers, "H1", … for hits.
+        The point's label: "1", "2", … for accelerometers, "101", … for hits (:mod:`massline.core.numbering`).
     kind : str
         ``SENSOR`` or ``HIT``.
     point : (3,) array
@@ -79,18 +80,13 @@ class Scene:
 
 
 def markers_of(sensors: Lines, exciters: Lines) -> list[Marker]:
-    """Accelerometers (triaxial lines grouped under one number) then hammer hits, numbered from 1."""
-    groups: dict[tuple, list[int]] = {}
-    for i, t in enumerate(sensors.triaxial):
-        groups.setdefault(("t", int(t)) if t >= 0 else ("u", i), []).append(i)
-    markers = [
-        Marker(f"A{k}", SENSOR, sensors.points[idx[0]], sensors.directions[idx], tuple(idx))
-        for k, idx in enumerate(groups.values(), 1)
-    ]
-    markers += [
-        Marker(f"H{k}", HIT, p, d[None], (k - 1,))
-        for k, (p, d) in enumerate(zip(exciters.points, exciters.directions), 1)
-    ]
+    """Accelerometers then hammer hits, one marker per point, labelled by the test's numbering
+    (:mod:`massline.core.numbering`: accelerometers from 1, hits from 101)."""
+    markers = []
+    for kind, lines, labels in zip((SENSOR, HIT), (sensors, exciters), point_labels(sensors, exciters)):
+        for label in dict.fromkeys(labels.tolist()):
+            idx = np.flatnonzero(labels == label)
+            markers.append(Marker(str(label), kind, lines.points[idx[0]], lines.directions[idx], tuple(idx.tolist())))
     return markers
 
 

@@ -39,7 +39,7 @@ SCRIPT = """
     return [canvas.width / 2 + s * q[0], canvas.height / 2 - s * q[2]];
   }
   function draw() {
-    const t = v.map(turn), items = [];
+    const t = v.map(turn), items = [], labels = [];
     for (const [a, b, c] of f) {
       const u = t[b].map((x, k) => x - t[a][k]), w = t[c].map((x, k) => x - t[a][k]);
       const ny = u[2] * w[0] - u[0] * w[2], n = Math.hypot(u[1] * w[2] - u[2] * w[1], ny, u[0] * w[1] - u[1] * w[0]);
@@ -73,14 +73,27 @@ SCRIPT = """
       g.lineTo(b[0] - 9 * ux - 4 * uy, b[1] - 9 * uy + 4 * ux);
       g.lineTo(b[0] - 9 * ux + 4 * uy, b[1] - 9 * uy - 4 * ux);
       g.closePath(); g.fill();
-      if (it.arrow.label) {
-        const p = screen(turn(it.arrow.anchor));
-        g.font = "bold 13px sans-serif"; g.fillText(it.arrow.label, p[0] + 4, p[1] - 4);
-      }
+      if (it.arrow.label) labels.push({text: it.arrow.label, at: screen(turn(it.arrow.anchor)), colour: it.arrow.colour});
     }
     const c = screen(turn(data.cog));
     g.fillStyle = "#000"; g.beginPath(); g.arc(c[0], c[1], 5, 0, 2 * Math.PI); g.fill();
-    g.font = "bold 13px sans-serif"; g.fillText("CoG", c[0] + 7, c[1] - 7);
+    labels.push({text: "CoG", at: c, colour: "#000"});
+    place(labels);
+  }
+  // Labels last, each at the first of eight spots around its anchor that overlaps no label placed before it
+  // (the nearest spot when all do), with a white halo: numbers stay apart and legible as the body turns.
+  function place(labels) {
+    const boxes = [], h = 13;
+    g.font = "bold 13px sans-serif"; g.lineWidth = 3; g.strokeStyle = "#fff";
+    for (const l of labels) {
+      const w = g.measureText(l.text).width, [x, y] = l.at;
+      const spots = [[6, -6], [6, h + 6], [-w - 6, -6], [-w - 6, h + 6], [-w / 2, -h - 4], [-w / 2, h + 14],
+                     [12, 4], [-w - 12, 4]].map(([dx, dy]) => [x + dx, y + dy]);
+      const free = spots.find(([sx, sy]) => !boxes.some(([bx, by, bw]) =>
+        sx < bx + bw + 2 && bx < sx + w + 2 && sy - h < by + 2 && by - h < sy + 2)) || spots[0];
+      boxes.push([free[0], free[1], w]);
+      g.fillStyle = l.colour; g.strokeText(l.text, ...free); g.fillText(l.text, ...free);
+    }
   }
   canvas.addEventListener("pointerdown", e => {
     drag = [e.clientX, e.clientY];

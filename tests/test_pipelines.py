@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from conftest import bundled
 
-from massline import plan_layout, plan_test, plan_to_dict, simulate_test
+from massline import plan_layout, plan_mesh, plan_test, plan_to_dict, simulate_test
 from massline.core.errors import MasslineError
 from massline.virtual.acquisition import Acquisition
 from massline.virtual.measurement import Noise
@@ -54,3 +54,14 @@ def test_a_library_refusal_comes_before_the_fe_work(plate_plan):
     doc = plan_to_dict(layout, "plate", "m", body.density)
     with pytest.raises(MasslineError, match="as much as the body"):
         set_up_test(doc, layout.sensors, layout.exciters, body, sensor_mass=10.0, progress=lambda *c: 1 / 0)
+
+
+def test_a_plan_whose_mesh_was_swapped_is_refused_before_the_fe_work(plate_plan, tmp_path):
+    """plan.json names a mesh file; the file now holds another body: refused on reading, in the plan's unit."""
+    body, layout = plate_plan
+    bundled("bracket").mesh.apply_scale(1e3).export(tmp_path / "part.stl")
+    doc = plan_to_dict(layout, "part.stl", "mm", body.density)
+    with pytest.raises(MasslineError, match=r"not the body the plan was made on: .* mm where the plan says"):
+        plan_mesh(doc, tmp_path / "plan.json")
+    body.mesh.copy().apply_scale(1e3).export(tmp_path / "part.stl")
+    assert plan_mesh(doc, tmp_path / "plan.json").nominal.mass == pytest.approx(body.nominal.mass, rel=1e-6)  # STL: float32

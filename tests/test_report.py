@@ -129,7 +129,7 @@ def test_labels_do_not_overlap_and_arrows_are_in_the_pictures(reports, name):
         assert len(rendering.tips), rendering.view.name
         seen |= assert_legible(rendering)
     html = reports[name].html
-    everyone = set(re.findall(r'<span class="(?:sensor|hit)">([AH]\d+)</span>', html))
+    everyone = set(re.findall(r'<span class="(?:sensor|hit)">(\d+)</span>', html))
     assert everyone and seen == everyone, "every accelerometer and hit is seen in some view"
 
 

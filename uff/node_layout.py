@@ -1,10 +1,10 @@
 """Where each line goes in a Universal File: nodes, their displacement frames, direction codes.
 
-A node is one (point, frame): a triaxial accelerometer is one node with codes 1, 2, 3 along its channels (a
-left-handed triad has its third axis flipped and code -3); a uniaxial line gets the frame nearest to the identity
-whose axis k (the global axis closest to the line) lies along ±d, so that a slightly tilted "+z" sensor is still
-code +3. Lines along ± global axes keep the global frame. Sensors' nodes are numbered from 1, exciters' nodes from
-the next hundred (101, ...), also where an exciter sits on a sensor's point. A code c at a node of frame R is the
+A node is one of the test's points, labelled as the plan labels it (:mod:`massline.core.numbering`: accelerometers
+from 1, hits from the next hundred): a triaxial accelerometer, or orthogonal uniaxial lines at one spot, is one node
+with codes 1, 2, 3 along its channels (a left-handed triad has its third axis flipped and code -3); a lone uniaxial
+line gets the frame nearest to the identity whose axis k (the global axis closest to the line) lies along ±d, so
+that a slightly tilted "+z" sensor is still code +3. Lines along ± global axes keep the global frame. A code c at a node of frame R is the
 global direction sign(c) R[:, |c| - 1] (`line_from_code`).
 """
 
@@ -16,11 +16,12 @@ import numpy as np
 
 from massline.core.errors import MasslineError
 from massline.core.lines import AXES, Lines, skew
+from massline.core.numbering import POINT_TOL, point_groups, point_labels
 from massline.uff.recording import code_direction
 
 AXIS_TOL = 1e-12  # a unit direction is along a global axis when it is this close to it
+SAME_DIRECTION_TOL = 1e-9  # two unit directions closer than this are one
 ORTHOGONALITY_TOL = 1e-9  # |d_i . d_j| allowed between the channels of a triaxial accelerometer
-POINT_TOL = 1e-9  # m, spread allowed between the points of one accelerometer's channels
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,34 +109,30 @@ def _group_frame(directions: np.ndarray, node_systems: bool, name: str) -> tuple
     return _tilted_frame(directions[0]) if len(directions) == 1 else _triad_frame(directions)
 
 
-def _groups(lines: Lines) -> list[np.ndarray]:
-    """Indices of the lines of each triaxial accelerometer, then of each uniaxial line."""
-    triaxials = [np.flatnonzero(lines.triaxial == g) for g in np.unique(lines.triaxial[lines.triaxial >= 0])]
-    return triaxials + [np.array([i]) for i in np.flatnonzero(lines.triaxial < 0)]
-
-
-def _line_frames(lines: Lines, node_systems: bool, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Node point (n, 3), node frame (n, 3, 3) and direction code (n,) of every line."""
+def _line_frames(lines: Lines, node_systems: bool, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Point label group (n,), node point (n, 3), node frame (n, 3, 3) and direction code (n,) of every line."""
+    group = point_groups(lines)
     points, frames, codes = lines.points.copy(), np.empty((len(lines), 3, 3)), np.empty(len(lines), dtype=int)
-    for index in _groups(lines):
+    for g in range(int(group.max(initial=-1)) + 1):
+        index = np.flatnonzero(group == g)
         name = f"{kind} {', '.join(str(i + 1) for i in index)} ({lines.describe(index[0])})"
         if np.ptp(lines.points[index], axis=0).max() > POINT_TOL:
             raise MasslineError(f"{name}: the channels of one accelerometer must share one point")
         frame, group_codes = _group_frame(lines.directions[index], node_systems, name)
         points[index], frames[index], codes[index] = lines.points[index[0]], frame, group_codes
-    return points, frames, codes
+    _refuse_repeats(lines, kind)
+    return group, points, frames, codes
 
 
-def _number_nodes(points: np.ndarray, frames: np.ndarray, codes: np.ndarray, kind: str):
-    """Node number (0-based) of every line, one per distinct (point, frame), and each node's first line."""
-    numbers, channels = {}, {}
-    index = np.array([numbers.setdefault(p.tobytes() + f.tobytes(), len(numbers)) for p, f in zip(points, frames)])
-    for i, channel in enumerate(zip(index, codes)):
-        if channel in channels:
-            first = channels[channel] + 1
-            raise MasslineError(f"{kind}s {first} and {i + 1} are the same line: a file cannot tell them apart")
-        channels[channel] = i
-    return index, np.unique(index, return_index=True)[1]
+def _refuse_repeats(lines: Lines, kind: str) -> None:
+    """Refuse two lines through one point along one direction: a file cannot tell them apart."""
+    for i in range(len(lines)):
+        same = np.flatnonzero(
+            (np.abs(lines.points[:i] - lines.points[i]).max(axis=1, initial=0) <= POINT_TOL)
+            & (np.abs(lines.directions[:i] - lines.directions[i]).max(axis=1, initial=0) <= SAME_DIRECTION_TOL)
+        )
+        if len(same):
+            raise MasslineError(f"{kind}s {same[0] + 1} and {i + 1} are the same line: a file cannot tell them apart")
 
 
 def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> UffLayout:
@@ -154,12 +151,11 @@ def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> Uf
     MasslineError (a ValueError)
         Non-orthogonal triaxial channels, an oblique line without node systems, or two identical lines.
     """
-    s_points, s_frames, s_codes = _line_frames(sensors, node_systems, "sensor")
-    e_points, e_frames, e_codes = _line_frames(exciters, node_systems, "exciter")
-    s_index, s_first = _number_nodes(s_points, s_frames, s_codes, "sensor")
-    e_index, e_first = _number_nodes(e_points, e_frames, e_codes, "exciter")
-    first_exciter = 100 * (len(s_first) // 100 + 1) + 1
-    ids = np.concatenate([np.arange(1, len(s_first) + 1), np.arange(first_exciter, first_exciter + len(e_first))])
+    s_group, s_points, s_frames, s_codes = _line_frames(sensors, node_systems, "sensor")
+    e_group, e_points, e_frames, e_codes = _line_frames(exciters, node_systems, "exciter")
+    s_labels, e_labels = point_labels(sensors, exciters)
+    s_first, e_first = np.unique(s_group, return_index=True)[1], np.unique(e_group, return_index=True)[1]
+    ids = np.concatenate([s_labels[s_first], e_labels[e_first]]).astype(int)
     frames = np.concatenate([s_frames[s_first], e_frames[e_first]])
     in_global = np.all(frames == np.eye(3), axis=(1, 2))
     return UffLayout(
@@ -167,8 +163,8 @@ def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> Uf
         node_points=np.concatenate([s_points[s_first], e_points[e_first]]),
         node_frames=frames,
         node_systems=np.where(in_global, 0, ids),
-        sensor_nodes=s_index + 1,
+        sensor_nodes=s_labels.astype(int),
         sensor_codes=s_codes,
-        exciter_nodes=e_index + first_exciter,
+        exciter_nodes=e_labels.astype(int),
         exciter_codes=e_codes,
     )

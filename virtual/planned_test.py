@@ -15,10 +15,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from massline.core.band import Band, band_from_dict, band_to_dict
 from massline.core.errors import MasslineError
+from massline.core.numbers import vector_text
 from massline.meshes import BUNDLED
-from massline.meshes.loader import BodyMesh, load_body
+from massline.meshes.loader import UNITS, BodyMesh, load_body
 from massline.virtual.band_prediction import choose_support, support_candidates
 from massline.virtual.elastic import ElasticBody, ElasticModes, Material
 from massline.virtual.fe_cache import cached_modes
@@ -27,6 +30,7 @@ from massline.virtual.suspension import Suspension
 from massline.virtual.tetmesh import default_size
 
 MODES = 20  # elastic modes of the FE model (simulate's default --modes)
+MESH_MATCH = 1e-6  # relative mass and CoG (of the body's size) within which a mesh is the plan's body
 FE_STAGES = 4  # meshing, assembling stiffness, assembling mass, solving for modes
 
 
@@ -170,10 +174,29 @@ def plan_mesh(doc: dict, plan_path: str | Path) -> BodyMesh:
     plan_path = Path(plan_path)
     name, units, density = doc.get("mesh"), doc.get("units", "m"), doc.get("density")
     if name in BUNDLED and not Path(name).exists():
-        return load_body(BUNDLED[name].path, "m", density or BUNDLED[name].density)
+        return planned_body(load_body(BUNDLED[name].path, "m", density or BUNDLED[name].density), doc)
     path = Path(name or "")
     if not path.exists() and (plan_path.parent / path).exists():
         path = plan_path.parent / path
     if not path.is_file():
         raise MasslineError(f"the plan's mesh '{name}' is not found: run from the folder where it was planned")
-    return load_body(path, units, density)
+    return planned_body(load_body(path, units, density), doc)
+
+
+def planned_body(body: BodyMesh, doc: dict) -> BodyMesh:
+    """``body``, refused when its mass or CoG is not the plan's ``nominal`` (the mesh was changed or swapped
+    since it was planned): checked before any FE work. Named in the plan's length unit."""
+    nominal = doc.get("nominal") or {}
+    if "mass" not in nominal or "cog" not in nominal:
+        return body
+    mass, cog = float(nominal["mass"]), np.asarray(nominal["cog"], dtype=float)
+    size = float(body.mesh.extents.max())
+    if abs(body.nominal.mass - mass) <= MESH_MATCH * mass and np.abs(body.nominal.cog - cog).max() <= MESH_MATCH * size:
+        return body
+    unit = doc.get("units", "m")
+    scale = UNITS.get(unit, 1.0)
+    raise MasslineError(
+        f"the mesh '{doc.get('mesh')}' is not the body the plan was made on: {body.nominal.mass:.4g} kg with its CoG at "
+        f"{vector_text(body.nominal.cog / scale, 4)} {unit} where the plan says {mass:.4g} kg at "
+        f"{vector_text(cog / scale, 4)} {unit}: give the plan's mesh, or plan again on this one"
+    )
