@@ -170,7 +170,7 @@ def test_fixed_points_are_in_plan_json_the_table_and_the_simulated_test(tmp_path
     assert run.returncode == 0, run.stderr
     assert "fixed" in run.stdout and "changed log det F by +" in run.stdout
     doc = json.loads((out / "plan.json").read_text())
-    assert doc["sensors"][0] == {"node": None, "point": [0.006, 0.06, 0.15], "direction": [0.0, 0.0, 1.0],
+    assert doc["sensors"][0] == {"node": 1, "candidate": None, "point": [0.006, 0.06, 0.15], "direction": [0.0, 0.0, 1.0],
                                  "triaxial": None, "fixed": True}  # fmt: skip
     assert doc["exciters"][0]["fixed"] and "fixed" not in doc["exciters"][1]
     assert doc["criterion"]["sliding"]["gain"] > 0
