@@ -10,6 +10,7 @@ from rich.table import Table
 
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import PAPER_METHODS, Identification, against_nominal, identify_recording
+from massline.identify.exciter_mass import parse_exciter_mass
 from massline.identify.sensor_mass import parse_sensor_mass
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
@@ -58,6 +59,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "the properties reported are the bare body's (default 0)",
     )
     parser.add_argument(
+        "--exciter-mass",
+        type=checked(parse_exciter_mass),
+        default=0.0,
+        metavar="KG",
+        help="structure-side mass of the force gauge at each drive point (a shaker test; 0 for a hammer), kg: "
+        "each column is fitted on the body plus it at its drive point, the properties reported are without "
+        "(default 0)",
+    )
+    parser.add_argument(
         "--weighed-mass",
         type=checked(WeighedMass.parse),
         metavar="KG[±SD]",
@@ -96,7 +106,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     recording = to_recording(read_uff(args.uff))
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
-        weighed=weighed,
+        exciter_mass=args.exciter_mass, weighed=weighed,
     )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
@@ -130,6 +140,11 @@ def run(args: argparse.Namespace, console: Console) -> None:
 def mass_lines(found: Identification) -> list[str]:
     """What was taken off the body as tested and what the scale said, one sentence each (none without)."""
     lines = []
+    if found.exciter_mass:
+        lines.append(
+            f"exciter mass: each column fitted with a {number(1e3 * found.exciter_mass, 4)} g force gauge at its "
+            f"drive point ({len(found.recording.exciters)} drive points); the body reported is without them"
+        )
     housings = found.housings
     if housings.count:
         lines.append(

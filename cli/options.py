@@ -38,6 +38,7 @@ FLAGS = {
     "options.n_samples": "--candidates",
     "options.sensor_base": "--sensor-base",
     "sensor_mass": "--sensor-mass",
+    "exciter_mass": "--exciter-mass",
     "size": "--fe-size",
     "suspension": "--suspension",
     "units": "--units",

@@ -83,6 +83,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="mass of each accelerometer, kg (default 0)",
     )
     parser.add_argument(
+        "--gauge-mass",
+        type=real(0, MAX_MASS_KG, "kg"),
+        default=0.0,
+        metavar="KG",
+        help="a shaker test: the force gauge's structure-side mass riding at each drive point while that exciter "
+        "drives (each column its own body; the effect excitation_mass_loading at every exciter), kg (default 0: "
+        "none); not with --impact",
+    )
+    parser.add_argument(
         "--impact",
         type=positive("ms", MAX_PULSE_MS),
         nargs="?",
@@ -167,6 +176,7 @@ def departures(args: argparse.Namespace) -> str:
     given = {
         "--suspension": args.suspension,
         "--sensor-mass": args.sensor_mass,
+        "--gauge-mass": args.gauge_mass,
         "--rigid": args.rigid,
         "--modes": args.modes != MODES,
         "--fe-size": args.fe_size,
@@ -182,7 +192,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
     named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
     outputs = list(claim_outputs(named | {"--plot": args.plot}, args.force).values())
-    effects = tuple(parse_effect(e) for e in args.effect)
+    effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)
     options = {"suspension": args.suspension, "sensor_mass": args.sensor_mass, "rigid": args.rigid}
@@ -220,6 +230,15 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{frf_units(args)}) and {outputs[1]} (what was simulated, including "
         f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
     )
+
+
+def gauge_effects(args: argparse.Namespace) -> tuple:
+    """``--gauge-mass``'s effect (the gauge at every drive point), refused with ``--impact`` (a hammer has none)."""
+    if not args.gauge_mass:
+        return ()
+    if args.impact is not None:
+        raise MasslineError("--gauge-mass is a shaker's force gauge: a hammer test (--impact) has none; drop one")
+    return (parse_effect(f"excitation_mass_loading={args.gauge_mass!r}@all"),)
 
 
 def acquisition(args: argparse.Namespace) -> Acquisition:

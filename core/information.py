@@ -41,13 +41,35 @@ class NoiseModel:
         return np.sqrt((self.relative * H) ** 2 + (self.floor / mass) ** 2)
 
 
-def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray):
+def driven_inverses(model: RigidModel, riding: np.ndarray) -> np.ndarray:
+    """M_j⁻¹ (n_e, q, q) of the body each exciter drives, M_j = M(θ + θ_j): the model's body with the mass riding
+    at exciter j's point (SI parameters ``riding`` (n_e, p), e.g. a force gauge's structure side; eq. 14)."""
+    return np.linalg.inv(np.array([model.mass_matrix(model.theta + theta) for theta in riding]))
+
+
+def driven(model: RigidModel, exciter_coords: np.ndarray, riding: np.ndarray | None = None) -> np.ndarray:
+    """v_j = M_j⁻¹ ℓ_j (n_e, q): the rigid acceleration per newton of each exciter, on the body it drives
+    (:func:`driven_inverses`; ``riding`` None: the model's body for every exciter)."""
+    if riding is None:
+        return exciter_coords @ model.mass_matrix_inverse
+    return np.einsum("jab,jb->ja", driven_inverses(model, riding), exciter_coords)
+
+
+def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, riding=None):
     """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model.
 
     Summed as g_ij,k = −Σ_a u_ia Y(v_j)_ak by einsum: fast when the exciters are few (pass the many
     lines first, by the symmetry above), and single-threaded, which a tall product with a
-    six-long inner dimension gains nothing from.
+    six-long inner dimension gains nothing from. With ``riding`` (SI parameters (n_e, p) of a mass riding at
+    each exciter), column j is the body M_j = M(θ + θ_j) exciter j drives: H_ij = ℓ_iᵀ M_j⁻¹ ℓ_j and
+    g_ij,k = −ℓ_iᵀ M_j⁻¹ B_k M_j⁻¹ ℓ_j (∂M_j/∂θ̃_k = B_k, as for the bare body).
     """
+    if riding is not None:
+        inverses = driven_inverses(model, riding)
+        U = np.einsum("ia,jab->ijb", sensor_coords, inverses)  # u_ij = M_j⁻¹ ℓ_i
+        V = np.einsum("jab,jb->ja", inverses, exciter_coords)
+        G = -np.einsum("ija,kab,jb->ijk", U, model.basis, V)
+        return G, np.einsum("ija,ja->ij", U, exciter_coords)
     Minv = model.mass_matrix_inverse
     U = sensor_coords @ Minv  # u_i (M symmetric)
     V = exciter_coords @ Minv  # v_j

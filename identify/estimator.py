@@ -36,7 +36,7 @@ import numpy as np
 from massline.identify.weighing import WeighedMass
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
-from massline.core.information import sensitivities
+from massline.core.information import driven, sensitivities
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
@@ -75,6 +75,9 @@ class Estimate:
     weighed_z : float
         That row's studentised residual (m_W − m)/(σ_W √(1 − h)), h its leverage: how many σ the scale and the
         masslines disagree by (nan without a reading, or when the masslines do not see the mass at all).
+    riding : (n_e, p) array or None
+        SI parameters of the mass riding at each exciter's point while it drives (a force gauge's structure
+        side): column j's masslines are those of ``body`` plus it (``core.information.sensitivities``).
     """
 
     body: RigidBody
@@ -88,6 +91,7 @@ class Estimate:
     prior: float
     weighed: WeighedMass | None = None
     weighed_z: float = np.nan
+    riding: np.ndarray | None = None
 
 
 def pseudo_inertia(theta: np.ndarray) -> np.ndarray:
@@ -249,19 +253,20 @@ def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
 
 
 def weighted_system(
-    model, s, e, data, sigma, *, lines, tilt, transverse, weighed=None
+    model, s, e, data, sigma, *, lines, tilt, transverse, weighed=None, riding=None
 ) -> tuple[WeightedSystem, np.ndarray]:
     """The weighted system and the model's masslines H.
 
     A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d') = s_i + L_i τ_i, with
     L_i = ``lines`` (:func:`transverse_lines`), so ∂H_ij/∂τ_i = L_iᵀ M⁻¹ w_j; the prior
     τ_ik ~ N(0, transverse²) adds the rows τ_ik / transverse. A scale reading adds the row
-    (m_W − θ_0)/σ_W, with ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative.
+    (m_W − θ_0)/σ_W, with ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative. ``riding``
+    (n_e, p): the mass riding at each exciter (:class:`Estimate`).
     """
-    G, H = sensitivities(model, s, e)
+    G, H = sensitivities(model, s, e, riding)
     D = None
     if lines is not None:
-        D = (e @ model.mass_matrix_inverse) @ lines / sigma[:, :, None]
+        D = driven(model, e, riding) @ lines / sigma[:, :, None]
     scale = {}
     if weighed is not None:
         row = np.eye(model.p)[0] * model.scale[0] / weighed.sd
@@ -277,6 +282,7 @@ def estimate(
     transverse: float = TRANSVERSE,
     iterations: int = 40,
     weighed: WeighedMass | None = None,
+    riding: np.ndarray | None = None,
 ) -> Estimate:
     """Weighted, consistent least squares of all masslines; σ (n_s, n_e) in (m/s²)/N.
 
@@ -285,6 +291,8 @@ def estimate(
     are estimated with the properties, under that prior; 0 takes the axes as exact.
     Plate data (§2.3) use exact axes: a plate's z-lines have no in-plane reading to model.
     ``weighed``: a scale's reading of the body as tested (with whatever the masslines weigh on it).
+    ``riding`` (n_e, p), SI: a mass riding at each exciter's point while it drives (force gauges; the body
+    estimated is then the one without them, mass cancellation by the model).
     """
     model = RigidModel(starting_body(data, planar), planar)
     s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
@@ -296,7 +304,8 @@ def estimate(
     for _ in range(iterations):
         s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
         system, _ = weighted_system(
-            model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed
+            model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
+            riding=riding,
         )
         x, tau, _ = system.step()
         candidate = theta + model.scale * x
@@ -315,7 +324,8 @@ def estimate(
             break
     s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
     system, H = weighted_system(
-        model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed
+        model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
+        riding=riding,
     )
     chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
@@ -334,6 +344,7 @@ def estimate(
         prior=prior,
         weighed=weighed,
         weighed_z=z,
+        riding=riding,
     )
 
 

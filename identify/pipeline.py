@@ -13,6 +13,7 @@ import numpy as np
 from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
+from massline.identify.exciter_mass import riding_masses
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings
@@ -53,12 +54,17 @@ def properties_payload(body: RigidBody, std: dict, band: tuple, planar: bool) ->
     return {**values, "std": std, "band_hz": list(band), "planar": planar}
 
 
-def check_method(method: str, planar: bool, weighed: WeighedMass | None = None) -> None:
+def check_method(method: str, planar: bool, weighed: WeighedMass | None = None, exciter_mass: float = 0.0) -> None:
     """Refuse a paper method the data's lines cannot serve (the 3-D methods on plate data, the plate's on 3-D),
-    or a scale's reading with a paper method (they take no prior)."""
+    or a scale's reading or a force gauge's mass with a paper method (they take no prior, and one body for every
+    column)."""
     if weighed is not None and method != "best":
         raise MasslineError(
             f"{param('weighed')} needs {BEST}: method {method} (the paper's) takes no prior on the mass"
+        )
+    if exciter_mass > 0 and method != "best":
+        raise MasslineError(
+            f"{param('exciter_mass')} needs {BEST}: method {method} (the paper's) takes one body for every column"
         )
     if planar and method not in ("best", "plate"):
         raise MasslineError(
@@ -112,7 +118,8 @@ class Identification:
     masslines weigh) and ``tested`` / ``tested_std`` the reported body and 1-σ before the housings are taken off
     (the same as ``body`` / ``std`` without housings). ``weighed`` is the scale's reading of the bare body, when
     given. ``recording`` is the one identified: the file's without its lines at or below 0 Hz; ``notes`` say
-    what was set aside.
+    what was set aside. ``exciter_mass`` is the force gauges' structure-side mass (kg) each column was fitted
+    with (0: a hammer), never part of ``body``.
     """
 
     recording: Recording
@@ -131,6 +138,7 @@ class Identification:
     tested: RigidBody | None = None
     tested_std: dict | None = None
     weighed: WeighedMass | None = None
+    exciter_mass: float = 0.0
 
     @property
     def payload(self) -> dict:
@@ -139,6 +147,7 @@ class Identification:
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
         found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.mass}
+        found["exciter_mass"] = self.exciter_mass
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
@@ -153,16 +162,20 @@ def identify_recording(
     draws: int = 100,
     method: str = "best",
     sensor_mass: float = 0.0,
+    exciter_mass: float = 0.0,
     weighed: WeighedMass | None = None,
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
 
     ``sensor_mass``: each accelerometer housing's mass (kg), taken off the body as tested (:mod:`.sensor_mass`);
+    ``exciter_mass``: each force gauge's structure-side mass (kg), riding at its drive point while it drives, so
+    that each column is fitted on its own body and the one reported is without them (:mod:`.exciter_mass`);
     ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
     """
     recording, notes = usable_lines(recording)
     planar = is_planar(recording.sensors, recording.exciters)
-    check_method(method, planar, weighed)
+    check_method(method, planar, weighed, exciter_mass)
+    riding = riding_masses(recording.exciters, exciter_mass, planar)
     f = recording.frequencies
     weights = coherence_weights(recording.coherence)
     if band:
@@ -174,7 +187,7 @@ def identify_recording(
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     housings = Housings.on(recording.sensors, sensor_mass)
     prior = None if weighed is None else weighed.plus(housings.total)
-    best = estimate(data, sigma, planar, transverse, weighed=prior)
+    best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
     bare = housings.removed(best)  # refused first when the housings leave no physical body
     shift = truncation_std(data, fit.truncation, sigma, best, prior)
     draws_found = bootstrap(data, sigma, best, draws) if draws else []
@@ -210,6 +223,7 @@ def identify_recording(
         tested=tested,
         tested_std=tested_std,
         weighed=weighed,
+        exciter_mass=exciter_mass,
     )
 
 

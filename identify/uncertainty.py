@@ -56,6 +56,7 @@ def bootstrap(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int, 
                     result.prior,
                     iterations=8,
                     weighed=result.weighed,
+                    riding=result.riding,
                 )
         except (MasslineError, np.linalg.LinAlgError):
             continue  # a draw whose sensors cannot see every motion
@@ -80,7 +81,7 @@ def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result
     for fraction in (1.0, 0.5, 0.25, 0.125):
         moved = Masslines(data.values - fraction * shift, data.sensors, data.exciters)
         try:
-            again = estimate(moved, sigma, planar, result.prior, weighed=weighed)
+            again = estimate(moved, sigma, planar, result.prior, weighed=weighed, riding=result.riding)
         except (MasslineError, np.linalg.LinAlgError, SolverError):
             continue
         return np.abs(aligned(property_vector(again.body, planar), reference) - reference) / fraction

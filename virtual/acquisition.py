@@ -123,6 +123,7 @@ def run(
         "effects": inst.applied,
         "sensor_mass": setup.sensor_mass,
         "added_masses": {"mass": model.masses.tolist(), "points": model.mass_points.tolist()},
+        "exciter_masses": inst.exciter_masses.tolist(),
         "suspension": suspension_summary(suspension, model),
         "elastic_hz": [] if modes is None else (np.asarray(modes.omega) / (2 * np.pi)).tolist(),
         "natural_hz": model.natural_frequencies.tolist(),
@@ -145,12 +146,26 @@ def run(
     return recording, truth
 
 
+def driven_bodies(model: SuspendedBody, inst: Instrumentation) -> list[SuspendedBody]:
+    """The body each exciter drives: ``model`` with the mass riding at that exciter's point (a force gauge's
+    structure side), one per column."""
+    return [model.carrying(m, p) for m, p in zip(inst.exciter_masses, inst.exciter_points)]
+
+
 def measure(model: SuspendedBody, inst: Instrumentation, setup: Acquisition, mass: float, rng: np.random.Generator):
-    """Frequencies (Hz), FRFs ((m/s²)/N) and coherence as the test system stores them, by either route."""
+    """Frequencies (Hz), FRFs ((m/s²)/N) and coherence as the test system stores them, by either route; column j
+    measured on the body exciter j drives (:func:`driven_bodies`)."""
+    bodies = driven_bodies(model, inst)
 
     def accelerance(f):
-        H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
-        return H[inst.channel_order]
+        if not inst.exciter_masses.any():
+            H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
+            return H[inst.channel_order]
+        columns = [
+            body.accelerance(f, inst.sensor_points, inst.sensor_vectors, p[None], v[None])
+            for body, p, v in zip(bodies, inst.exciter_points, inst.exciter_vectors)
+        ]
+        return np.concatenate(columns, axis=1)[inst.channel_order]
 
     n_s, n_e = len(inst.sensor_vectors), len(inst.exciter_vectors)
     if setup.impact is not None:

@@ -31,6 +31,9 @@ class Instrumentation:
         Where each hit lands (m) and its unit force direction.
     masses, mass_points : (k,) and (k, 3) arrays
         Point masses added to the body (kg, m).
+    exciter_masses : (n_e,) array
+        Mass (kg) riding on the body at each exciter's point while that exciter drives it, and only then: a
+        force gauge's structure side (a shaker moved between runs; each column of the FRF matrix its own body).
     channel_order : (n_s,) int array
         Recorded channel c holds the signal of sensor ``channel_order[c]``.
     applied : list of dict
@@ -43,6 +46,7 @@ class Instrumentation:
     exciter_vectors: np.ndarray
     masses: np.ndarray
     mass_points: np.ndarray
+    exciter_masses: np.ndarray
     channel_order: np.ndarray
     applied: list = field(default_factory=list)
 
@@ -56,6 +60,7 @@ class Instrumentation:
             exciter_vectors=exciters.directions.copy(),
             masses=np.zeros(0),
             mass_points=np.zeros((0, 3)),
+            exciter_masses=np.zeros(len(exciters)),
             channel_order=np.arange(len(sensors)),
         )
 

@@ -23,6 +23,7 @@ from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_n
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import faults_first, finding_payload
+from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
@@ -155,27 +156,33 @@ def identified_after(recording, findings: list, band, transverse: float, before:
 
     When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved them).
     """
-    faults = [f for f in findings if f.kind == "fault" and named(f.effect).undone_on == "recording"]
+    faults = [f for f in findings if f.kind == "fault" and named(f.effect).undone_on in ("recording", "identify")]
     if not faults:
         return before, findings
-    after = attempt(corrected(recording, faults), band, transverse, 100)
+    after = attempt(corrected(recording, faults), band, transverse, 100, **identify_options(faults))
     if after is None:
         return before, findings
     marked = []
     for finding in findings:
         if finding in faults and before is not None:
             rest = [f for f in faults if f is not finding]
-            without = attempt(corrected(recording, rest), band, transverse, 0)
+            without = attempt(corrected(recording, rest), band, transverse, 0, **identify_options(rest))
             if without is not None:
                 finding = replace(finding, evidence={**finding.evidence, "moved": moved(without.body, after.body)})
         marked.append(finding)
     return after, marked
 
 
-def attempt(recording, band, transverse: float, draws: int) -> Identification | None:
-    """identify on ``recording``, or None when it refuses it or its solve fails."""
+def identify_options(findings: list) -> dict:
+    """identify's options that undo the findings undone by identify itself (a gauge's mass: ``exciter_mass``)."""
+    effects = [(named(f.effect), f) for f in findings]
+    return {e.identify_option: e.option_value(f) for e, f in effects if e.undone_on == "identify"}
+
+
+def attempt(recording, band, transverse: float, draws: int, **options) -> Identification | None:
+    """identify on ``recording`` (with ``options``), or None when it refuses it or its solve fails."""
     try:
-        return identify_recording(recording, band, transverse, draws=draws)
+        return identify_recording(recording, band, transverse, draws=draws, **options)
     except (MasslineError, np.linalg.LinAlgError, ValueError):
         return None
 
@@ -215,12 +222,15 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     else:
         used = before.band if before else choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
     estimation = used if before is None else before.band
-    data = BandData.from_recording(f, recording.frf, used.low, used.high)
-    wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
+    gauge = None if before is None else gauge_mass(before.data, before.sigma, planar, transverse, before.best)
+    searched = recording if gauge is None else shifted(recording, gauge)  # the other effects, on the bare body
+    data = BandData.from_recording(f, searched.frf, used.low, used.high)
+    wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
-    record = BandData.from_recording(f, recording.frf, f[0], f[-1])
+    record = BandData.from_recording(f, searched.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
-    after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
+    found = ([] if gauge is None else [gauge.finding()]) + result.findings
+    after, findings = identified_after(recording, found, identify_band, transverse, before)
     if nominal is None or after is None:
         loading = None
     else:
@@ -245,6 +255,12 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         loading=loading,
         notes=notes + refused,
     )
+
+
+def shifted(recording: Recording, gauge: GaugeMass) -> Recording:
+    """The recording moved column by column onto the masslines of the bare body the gauge fit found."""
+    shift = gauge.column_shift(recording.sensors, recording.exciters)
+    return replace(recording, frf=recording.frf + shift[:, :, None])
 
 
 def identified(recording, band, transverse: float) -> tuple[Identification | None, tuple]:

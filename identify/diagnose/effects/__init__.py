@@ -13,6 +13,7 @@ from massline.identify.diagnose.effects.base import Block, Effect, Scene
 from massline.identify.diagnose.effects.channel_swap import ChannelSwap
 from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
 from massline.identify.diagnose.effects.excitation_location import ExcitationLocation
+from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.effects.residual_flexibility import ResidualFlexibility
 from massline.identify.diagnose.effects.sensor_direction import SensorDirection
 from massline.identify.diagnose.effects.sensor_gain import SensorGain
@@ -32,6 +33,7 @@ EFFECTS: tuple[type[Effect], ...] = (
     ChannelSwap,
     ExcitationDirection,
     ExcitationLocation,
+    ExcitationMassLoading,
     Suspension,
     ResidualFlexibility,
 )
@@ -51,7 +53,7 @@ def simulated() -> tuple[type[Effect], ...]:
 
 
 def modelled(model: str) -> tuple[type[Effect], ...]:
-    """The effects the diagnosis models as ``model`` ("block", "discrete", "tail", "mass")."""
+    """The effects the diagnosis models as ``model`` ("block", "discrete", "tail", "mass", "gauge")."""
     return tuple(cls for cls in EFFECTS if cls.model == model)
 
 

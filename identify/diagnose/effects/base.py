@@ -8,9 +8,10 @@ virtual test (``size`` at ``where``); the class holds the rest as class attribut
   the support or the modes), ``discrete`` (no size), ``summary`` (the ``--help`` line);
 * the simulator: ``simulate`` (what it changes in the instrumentation), ``check_place`` (``--effect`` syntax),
   ``blind_range`` / ``blind_size`` (the blind scenarios' realistic size);
-* the diagnosis: ``model`` ("block", "discrete", "tail", "mass" or None: knowingly not diagnosed), the block
+* the diagnosis: ``model`` ("block", "discrete", "tail", "mass", "gauge" or None: knowingly not diagnosed), the block
   hooks (``blocks``, ``values``, ``channels``, ``displace``, ``plausible``, ``parameters``), ``undo_rows``
-  (discrete), ``correct`` (undone on the recording), ``sentence`` (notes), ``concealed`` (the demo's words).
+  (discrete), ``correct`` (undone on the recording), ``identify_option`` / ``option_value`` (undone by identify
+  itself), ``sentence`` (notes), ``concealed`` (the demo's words).
 
 Hooks get the diagnosis's layout and fits duck-typed (:mod:`..effect_model`, :mod:`..effect_fit`), so that
 the registry stays below them.
@@ -83,7 +84,8 @@ class Effect:
     widens_prior: ClassVar[bool] = False  # its block releases the channels' transverse prior (no values)
     moves: ClassVar[str] = ""  # what of its line a block changes: "point", "axis", "gain"
     rank: ClassVar[int] = 0  # order among the search's candidates (ties in score keep it)
-    undone_on: ClassVar[str | None] = "recording"  # where identify undoes it: "recording", "body", None
+    undone_on: ClassVar[str | None] = "recording"  # where it is undone: "recording", "body", "identify", None
+    identify_option: ClassVar[str | None] = None  # undone by identify itself: the keyword it is given
     blind_range: ClassVar[tuple | None] = None  # a realistic size in the blind scenarios (None: no size)
     lines_needed: ClassVar[int] = 1  # lines a blind scenario draws for it
     adds_mass: ClassVar[bool] = False  # a mass on the body: a blind scenario hangs the cord above the loaded CoG
@@ -153,6 +155,11 @@ class Effect:
         lines unchanged); anything else unchanged unless the effect says how."""
         cls.undo_rows(frf, finding.channels)
         return frf, sensors, exciters
+
+    @classmethod
+    def option_value(cls, finding) -> float:
+        """What identify is given (``identify_option``) to undo the finding (an effect undone by identify)."""
+        raise NotImplementedError(f"{cls.name} is not undone by identify")
 
     @classmethod
     def sentence(cls, finding, who: str, hit: str | None) -> str:
