@@ -27,9 +27,11 @@ from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import BY_NAME, EFFECTS, effect_help, parse_effect, simulated
 from massline.identify.diagnose.effects.base import Block, Scene
 from massline.identify.diagnose.finding import Finding, accepted_finding, finding_payload
+from massline.identify.diagnose.gauge_mass import gauge_mass
 from massline.identify.diagnose.mass_loading import mass_loading
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix
+from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import point_mass_theta
 from massline.identify.tails import TAIL_LAWS, BandData
 from massline.meshes import BUNDLED
@@ -90,7 +92,8 @@ def test_the_registry_is_well_formed():
         assert cls.__module__ == f"massline.identify.diagnose.effects.{cls.name}"  # one module per effect
         assert cls.discrete or cls.unit, cls.name  # a size has a unit
         assert cls.simulated == (cls.perturbs in ("sensor", "exciter"))  # else the support or the modes
-        assert cls.model in ("block", "discrete", "tail", "mass", None)
+        assert cls.model in ("block", "discrete", "tail", "mass", "gauge", None)
+        assert (cls.undone_on == "identify") == (cls.identify_option is not None)  # identify takes it as an option
 
 
 @pytest.mark.parametrize("cls", EFFECTS, ids=lambda c: c.name)
@@ -175,7 +178,27 @@ def mass_finding(cls, body, sensors) -> tuple[Finding, object]:
     return loading.finding(), rec
 
 
-FINDINGS = {"block": block_finding, "discrete": discrete_finding, "tail": tail_finding, "mass": mass_finding}
+def gauge_finding(cls, body, sensors) -> tuple[Finding, object]:
+    """A mass riding at every drive point, found in the masslines by profiling identify's estimator over it (exact
+    axes: ten uniaxials and three hits leave no redundancy beside their transverse readings)."""
+    mass = SAMPLE["kg"] / 5
+    effect = parse_effect(f"{cls.name}={mass}@all")
+    rec, _ = run(body, sensors, structure_exciters(), effects=(effect,), setup=EXACT, seed=1)
+    found = identify_recording(rec, None, 0.0, draws=0)
+    gauge = gauge_mass(found.data, found.sigma, False, 0.0, found.best)
+    assert gauge is not None and gauge.mass == pytest.approx(mass, rel=1e-3)
+    option = {cls.identify_option: cls.option_value(gauge.finding())}
+    assert identify_recording(rec, None, 0.0, draws=0, **option).best.chi2 < 1e-3 * found.best.chi2
+    return gauge.finding(), rec
+
+
+FINDINGS = {
+    "block": block_finding,
+    "discrete": discrete_finding,
+    "tail": tail_finding,
+    "mass": mass_finding,
+    "gauge": gauge_finding,
+}
 
 
 @pytest.mark.parametrize("cls", EFFECTS, ids=lambda c: c.name)

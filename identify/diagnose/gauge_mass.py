@@ -101,3 +101,12 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
     if not (beyond_chance and explains and m >= SIGMAS * std and m < 0.99 * largest):
         return None
     return GaugeMass(mass=m, std=float(std), chi2_before=before, chi2_after=after, fit=fit)
+
+
+def left_out(data, sigma: np.ndarray, planar: bool, transverse: float, without: Estimate) -> np.ndarray:
+    """ψ (p,), SI per kg: how identify's θ̂ moves per kg of a gauge at every drive point that it left out,
+    (θ̂ − θ̂_δ)/δ with θ̂_δ fitted with δ kg riding at each (δ a thousandth of the body per drive point)."""
+    delta = 1e-3 * without.body.mass / len(data.exciters)
+    riding = riding_masses(data.exciters, delta, planar)
+    fitted = estimate(data, sigma, planar, transverse, iterations=20, riding=riding)
+    return (without.model.theta - fitted.model.theta) / delta

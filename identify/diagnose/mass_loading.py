@@ -12,7 +12,10 @@ are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀ
 χ² = ‖Δθ − m̂ φ‖²_C⁻¹ saying how well it explains the difference:
 
 * every housing alike (what every test has: each accelerometer's own mass), φ = Σ_k φ(p_k);
-* one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k.
+* one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k;
+* the excitation side: a force gauge of one mass at every drive point, riding only while its exciter drives
+  (:mod:`massline.identify.exciter_mass`), φ = ψ the change of identify's θ̂ per kg of gauge it left out
+  (given by the caller, from identify's estimator: ψ = (θ̂ − θ̂_δ)/δ, θ̂_δ fitted with δ kg at every drive point).
 
 The finding needs the difference to be real (χ²₀ beyond its chance level for 10 parameters, or 6), the best
 hypothesis to explain it (χ² within chance or under a tenth of χ²₀: C leaves out the band's small
@@ -26,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
+from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.effects.sensor_mass_loading import SensorMassLoading
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate
@@ -59,6 +63,8 @@ class MassLoading:
         1-σ of the mass of each, kg.
     chi2_before, chi2_after : float
         χ² of the identified body against the mesh's, without and with the masses.
+    side : str
+        "sensor" (the housings) or "excitation" (a gauge at every drive point; ``housings.mass`` its mass).
     """
 
     housings: Housings
@@ -68,12 +74,17 @@ class MassLoading:
     std: float
     chi2_before: float
     chi2_after: float
+    side: str = "sensor"
 
     def bare(self, body: RigidBody) -> RigidBody:
         """``body`` (identified as tested) with the loading masses taken away."""
         return self.housings.removed_from(body, self.planar)
 
     def finding(self) -> Finding:
+        evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 6 if self.planar else 10}
+        if self.side == "excitation":
+            parameters = {"mass_kg": self.housings.mass, "mass_std_kg": self.std, "drive_points": self.housings.count}
+            return Finding(ExcitationMassLoading.name, (), None, parameters | {"against_mesh": True}, evidence)
         parameters = {
             "mass_kg": self.housings.mass,
             "mass_std_kg": self.std,
@@ -81,7 +92,6 @@ class MassLoading:
             "every_housing": self.every,
             "points_m": self.housings.points.tolist(),
         }
-        evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 6 if self.planar else 10}
         return Finding(SensorMassLoading.name, self.channels, None, parameters, evidence)
 
 
@@ -109,9 +119,15 @@ def hypotheses(sensors: Lines) -> list[tuple[bool, tuple, np.ndarray]]:
 
 
 def mass_loading(
-    theta: np.ndarray, covariance: np.ndarray, planar: bool, sensors: Lines, nominal: RigidBody
+    theta: np.ndarray,
+    covariance: np.ndarray,
+    planar: bool,
+    sensors: Lines,
+    nominal: RigidBody,
+    excitation: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> MassLoading | None:
-    """The loading that best explains θ̂ − θ_mesh (θ̂ SI with its ``covariance``), when the evidence says one does."""
+    """The loading that best explains θ̂ − θ_mesh (θ̂ SI with its ``covariance``), when the evidence says one does;
+    ``excitation``: the drive points (n_e, 3) m and ψ (p,), to weigh a gauge at every drive point too."""
     delta = theta - RigidModel(nominal, planar).theta
     p = len(delta)
     if not (np.isfinite(delta).all() and np.isfinite(covariance).all()):
@@ -120,17 +136,20 @@ def mass_loading(
     chi2_before = float(delta @ information @ delta)
     if chi2_before < chi2_distribution.isf(CHANCE, p):
         return None
+    weighed = [(every, channels, points, sum(point_mass_theta(1.0, r, planar) for r in points), "sensor")
+               for every, channels, points in hypotheses(sensors)]  # fmt: skip
+    if excitation is not None:
+        weighed.append((True, (), excitation[0], excitation[1], "excitation"))
     fits = []
-    for every, channels, points in hypotheses(sensors):
-        phi = sum(point_mass_theta(1.0, r, planar) for r in points)  # φ
+    for every, channels, points, phi, side in weighed:
         weight = float(phi @ information @ phi)
         mass = float(phi @ information @ delta) / weight
         rest = delta - mass * phi
-        fits.append((float(rest @ information @ rest), every, channels, points, mass, 1 / np.sqrt(weight)))
+        fits.append((float(rest @ information @ rest), every, channels, points, mass, 1 / np.sqrt(weight), side))
     fits.sort(key=lambda f: f[0])
-    chi2_after, every, channels, points, mass, std = fits[0]
+    chi2_after, every, channels, points, mass, std, side = fits[0]
     explains = chi2_after < max(chi2_distribution.isf(CHANCE, p - 1), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
     if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
         return None
-    return MassLoading(Housings(mass, points), every, planar, channels, std, chi2_before, chi2_after)
+    return MassLoading(Housings(mass, points), every, planar, channels, std, chi2_before, chi2_after, side)

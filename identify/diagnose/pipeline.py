@@ -23,7 +23,7 @@ from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_n
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import faults_first, finding_payload
-from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass
+from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, left_out
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
@@ -231,11 +231,11 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     result = diagnose(data, layout, transverse, wide, record)
     found = ([] if gauge is None else [gauge.finding()]) + result.findings
     after, findings = identified_after(recording, found, identify_band, transverse, before)
-    if nominal is None or after is None:
-        loading = None
-    else:
-        loading = mass_loading(*weighed(after.best, result.after), recording.sensors, nominal)
-    if loading is not None:
+    loading = None if nominal is None or after is None else weighed_loading(after, result, nominal, transverse)
+    if loading is not None and loading.side == "excitation":  # undone by identify, column by column
+        after, findings = identified_after(recording, found + [loading.finding()], identify_band, transverse, before)
+        findings, loading = faults_first(findings), None
+    elif loading is not None:
         findings = faults_first(findings + [loading.finding()])
     return DiagnosisRun(
         recording=recording,
@@ -255,6 +255,15 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         loading=loading,
         notes=notes + refused,
     )
+
+
+def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody, transverse: float):
+    """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points."""
+    excitation = None
+    if not after.exciter_mass and len(after.recording.exciters) > 1:
+        pattern = left_out(after.data, after.sigma, after.planar, transverse, after.best)
+        excitation = (after.recording.exciters.points, pattern)
+    return mass_loading(*weighed(after.best, result.after), after.recording.sensors, nominal, excitation)
 
 
 def shifted(recording: Recording, gauge: GaugeMass) -> Recording:
