@@ -11,7 +11,7 @@ from rich.table import Table
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import PAPER_METHODS, Identification, against_nominal, identify_recording
 from massline.identify.exciter_mass import parse_exciter_mass
-from massline.identify.sensor_mass import parse_sensor_mass
+from massline.core.housing_masses import HousingMasses, sensor_mass_token
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import BAND_EDGE, MAX_DRAWS, TRANSVERSE_PRIOR, check_band, checked, count
@@ -52,10 +52,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sensor-mass",
-        type=checked(parse_sensor_mass),
-        default=0.0,
-        metavar="KG",
-        help="mass of each accelerometer housing (a triaxial counts once): the FRFs weigh the body with them on; "
+        nargs="+",
+        type=checked(sensor_mass_token),
+        default=[],
+        metavar="KG [NODE=KG ...]",
+        help="mass of each accelerometer housing, kg (a triaxial counts once), then NODE=KG for a point whose "
+        "housing differs (node labels as in the file, e.g. 0.004 1=0.025): the FRFs weigh the body with them on; "
         "the properties reported are the bare body's (default 0)",
     )
     parser.add_argument(
@@ -101,7 +103,7 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
 def run(args: argparse.Namespace, console: Console) -> None:
     claim_outputs({"--json": args.json, "--report": args.report}, args.force)
     check_band(args.band)
-    sensor_mass, weighed = args.sensor_mass, args.weighed_mass
+    sensor_mass, weighed = HousingMasses.parse(args.sensor_mass), args.weighed_mass
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
     found = identify_recording(
@@ -148,8 +150,7 @@ def mass_lines(found: Identification) -> list[str]:
     housings = found.housings
     if housings.count:
         lines.append(
-            f"sensor mass: {housings.count} accelerometer housings × {number(1e3 * housings.mass, 4)} g = "
-            f"{number(1e3 * housings.total, 4)} g subtracted; as tested (accelerometers on) the body weighed "
+            f"sensor mass: {housings.describe()} = {number(1e3 * housings.total, 4)} g subtracted; as tested (accelerometers on) the body weighed "
             f"{' ± '.join(value_with_sigma(found.tested.mass, found.tested_std['mass']))} kg"
         )
     if found.weighed is not None:

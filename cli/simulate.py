@@ -20,9 +20,10 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from massline.options import SEED, count, fraction, positive, real
+from massline.options import SEED, checked, count, fraction, positive, real
 from massline.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
+from massline.core.housing_masses import HousingMasses, sensor_mass_token
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
 from massline.meshes.loader import MAX_MASS_KG
@@ -77,10 +78,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sensor-mass",
-        type=real(0, MAX_MASS_KG, "kg"),
-        default=0.0,
-        metavar="KG",
-        help="mass of each accelerometer, kg (default 0)",
+        nargs="+",
+        type=checked(sensor_mass_token),
+        default=[],
+        metavar="KG [POINT=KG ...]",
+        help="mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for an accelerometer "
+        "whose housing differs (the plan's point labels, e.g. 0.008 1=0.025) (default 0)",
     )
     parser.add_argument(
         "--gauge-mass",
@@ -195,7 +198,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)
-    options = {"suspension": args.suspension, "sensor_mass": args.sensor_mass, "rigid": args.rigid}
+    options = {"suspension": args.suspension, "sensor_mass": housing_masses(args), "rigid": args.rigid}
     options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}
     with progress_bar(console) as progress:
         setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
@@ -232,6 +235,11 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
 
 
+def housing_masses(args: argparse.Namespace) -> HousingMasses:
+    """``--sensor-mass``'s housing masses (none: 0 kg)."""
+    return HousingMasses.parse(args.sensor_mass or ["0"])
+
+
 def gauge_effects(args: argparse.Namespace) -> tuple:
     """``--gauge-mass``'s effect (the gauge at every drive point), refused with ``--impact`` (a hammer has none)."""
     if not args.gauge_mass:
@@ -251,7 +259,7 @@ def acquisition(args: argparse.Namespace) -> Acquisition:
         lines=args.lines,
         noise=Noise(args.noise, args.noise_floor),
         impact=impact,
-        sensor_mass=args.sensor_mass,
+        sensor_mass=housing_masses(args),
         dc_line=not args.no_dc,
     )
 

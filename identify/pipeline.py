@@ -16,7 +16,7 @@ from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
-from massline.identify.sensor_mass import Housings
+from massline.identify.sensor_mass import Housings, file_labels
 from massline.identify.suspicions import (
     band_warnings,
     coherence_warnings,
@@ -29,6 +29,7 @@ from massline.identify.uncertainty import bootstrap, combined_std, truncation_st
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
 from massline.core.errors import MasslineError, param
+from massline.core.housing_masses import HousingMasses
 from massline.core.masslines import Masslines
 from massline.core.methods import DYNAMICS, KINEMATICS, identify
 from massline.core.plate import plate_theta
@@ -146,7 +147,7 @@ class Identification:
         band = (self.band.low, self.band.high)
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
-        found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.mass}
+        found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.payload()}
         found["exciter_mass"] = self.exciter_mass
         found["units"] = JSON_UNITS
         if self.housings.count:
@@ -161,13 +162,14 @@ def identify_recording(
     *,
     draws: int = 100,
     method: str = "best",
-    sensor_mass: float = 0.0,
+    sensor_mass: float | HousingMasses = 0.0,
     exciter_mass: float = 0.0,
     weighed: WeighedMass | None = None,
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
 
-    ``sensor_mass``: each accelerometer housing's mass (kg), taken off the body as tested (:mod:`.sensor_mass`);
+    ``sensor_mass``: each accelerometer housing's mass (kg, or per point label: :class:`HousingMasses`), taken
+    off the body as tested (:mod:`.sensor_mass`);
     ``exciter_mass``: each force gauge's structure-side mass (kg), riding at its drive point while it drives, so
     that each column is fitted on its own body and the one reported is without them (:mod:`.exciter_mass`);
     ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
@@ -185,7 +187,7 @@ def identify_recording(
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
-    housings = Housings.on(recording.sensors, sensor_mass)
+    housings = Housings.on(recording.sensors, sensor_mass, file_labels(recording))
     prior = None if weighed is None else weighed.plus(housings.total)
     best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
     bare = housings.removed(best)  # refused first when the housings leave no physical body

@@ -21,6 +21,7 @@ import numpy as np
 
 from massline.identify.estimator import Estimate, is_consistent
 from massline.core.errors import MasslineError, param
+from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.core.plate import plate_theta
@@ -29,16 +30,10 @@ from massline.core.rigid_body import RigidBody, six_from_tensor, steiner
 SHARED_HOUSING = 1e-3  # m: channels whose points lie closer share one housing (no two housings fit within 1 mm)
 
 
-def parse_sensor_mass(text: str) -> float:
-    """``--sensor-mass KG``: the mass of one accelerometer housing, kg (finite, ≥ 0)."""
-    try:
-        mass = float(text)
-    except ValueError:
-        mass = np.nan
-    if not (np.isfinite(mass) and mass >= 0):
-        given = param("sensor_mass", f"'{text}'")
-        raise MasslineError(f"{given}: give one accelerometer housing's mass in kg, 0 ≤ KG < inf")
-    return mass
+def file_labels(recording) -> np.ndarray | None:
+    """The point label (the file's node) of each sensor line of ``recording``, None when it carries none."""
+    labels = recording.sensor_labels
+    return None if labels is None else np.array([node for node, _ in labels], dtype=int)
 
 
 def housing_points(sensors: Lines, tolerance: float = SHARED_HOUSING) -> np.ndarray:
@@ -63,22 +58,41 @@ class Housings:
 
     Attributes
     ----------
-    mass : float
-        Mass of each housing, kg (0: none subtracted).
+    masses : (k,) array
+        Mass of each housing, kg.
     points : (k, 3) array
         Where each housing sits, m, test frame.
+    labels : (k,) int array
+        Each housing's point label (the file's node; 1, 2, … where the lines carry none).
     """
 
-    mass: float = 0.0
+    masses: np.ndarray = field(default_factory=lambda: np.zeros(0))
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    labels: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
 
     @classmethod
-    def on(cls, sensors: Lines, mass: float) -> "Housings":
-        """The housings of ``sensors`` (one per point), each weighing ``mass`` kg (finite, ≥ 0)."""
-        if not (np.isfinite(mass) and mass >= 0):
-            given = param("sensor_mass", f"{mass:g}")
-            raise MasslineError(f"{given}: give one accelerometer housing's mass in kg, 0 ≤ KG < inf")
-        return cls(mass, housing_points(sensors) if mass > 0 else np.zeros((0, 3)))
+    def alike(cls, mass: float, points: np.ndarray) -> "Housings":
+        """``mass`` kg at each of ``points`` (k, 3), labelled 1, 2, …"""
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        return cls(np.full(len(points), float(mass)), points, np.arange(1, len(points) + 1))
+
+    @classmethod
+    def on(cls, sensors: Lines, masses, labels=None) -> "Housings":
+        """The housings of ``sensors`` with ``masses`` (kg for each, or :class:`HousingMasses`), one per point
+        label (``labels`` of each line, the file's nodes) or, without labels, per point; none weighing 0 kg."""
+        masses = masses if isinstance(masses, HousingMasses) else HousingMasses.parse(masses)
+        if labels is None:
+            points = housing_points(sensors)
+            labels_k = np.arange(1, len(points) + 1)
+        else:
+            labels = np.asarray(labels, dtype=int)
+            masses.check_labels(labels)
+            labels_k, first = np.unique(labels, return_index=True)
+            order = np.argsort(first)
+            labels_k, points = labels_k[order], sensors.points[first[order]]
+        each = masses.of(labels_k)
+        kept = each > 0
+        return cls(each[kept], points[kept], labels_k[kept])
 
     @property
     def count(self) -> int:
@@ -87,11 +101,33 @@ class Housings:
     @property
     def total(self) -> float:
         """Their mass together, kg."""
-        return self.mass * self.count
+        return float(self.masses.sum())
+
+    @property
+    def alike_mass(self) -> float | None:
+        """The one mass of every housing, kg (0 with none); None when they differ."""
+        if not self.count:
+            return 0.0
+        return float(self.masses[0]) if np.all(self.masses == self.masses[0]) else None
+
+    def payload(self) -> float | dict:
+        """DESIGN.md's ``sensor_mass``: kg per housing, or {label: kg} where they differ."""
+        alike = self.alike_mass
+        return alike if alike is not None else {str(k): float(m) for k, m in zip(self.labels, self.masses)}
+
+    def describe(self) -> str:
+        """'8 accelerometer housings × 25 g' or '3 accelerometer housings: 25, 25, 8 g (points 1, 2, 5)'."""
+        alike = self.alike_mass
+        if alike is not None:
+            return f"{self.count} accelerometer housing{'s' if self.count != 1 else ''} × {1e3 * alike:.4g} g"
+        grams = ", ".join(f"{1e3 * m:.4g}" for m in self.masses)
+        return f"{self.count} accelerometer housings: {grams} g (points {', '.join(str(x) for x in self.labels)})"
 
     def theta(self, planar: bool = False) -> np.ndarray:
         """Σ_k θ_k of the housings in the model's parameters (10, or the plate's 6), SI."""
-        return sum((point_mass_theta(self.mass, r, planar) for r in self.points), np.zeros(6 if planar else 10))
+        return sum(
+            (point_mass_theta(m, r, planar) for m, r in zip(self.masses, self.points)), np.zeros(6 if planar else 10)
+        )
 
     def removed_from(self, body: RigidBody, planar: bool = False) -> RigidBody:
         """The bare body: θ_tested − Σ_k θ_k (for a plate, its unobservable entries kept as ``body``'s)."""
@@ -113,8 +149,8 @@ class Housings:
         theta = found.model.theta - self.theta(planar)
         if theta[0] <= 0 or not (planar or is_consistent(theta, 0.0)):
             raise MasslineError(
-                f"--sensor-mass: {self.count} housings of {self.mass:g} kg leave no physical body of the "
-                f"{found.body.mass:.4g} kg identified with them on: give one housing's mass in kg"
+                f"--sensor-mass: {self.describe()} leave no physical body of the {found.body.mass:.4g} kg identified "
+                "with them on: give each housing's mass in kg"
             )
         bare = RigidModel(found.model.body(theta), planar)
         ratio = found.model.scale / bare.scale

@@ -88,11 +88,11 @@ vectors = st.tuples(*[st.floats(-0.3, 0.3, allow_nan=False)] * 3).map(np.array)
 @given(points=st.lists(vectors, min_size=1, max_size=8), mass=st.floats(1e-3, 0.1), rotvec=vectors, shift=vectors)
 def test_taking_k_housings_off_is_exact_and_frame_invariant(structure, points, mass, rotvec, shift):
     """θ_tested = θ_bare + Σ θ_k, so taking the k housings off gives the bare body back, in any frame."""
-    housings = Housings(mass, np.array(points))
+    housings = Housings.alike(mass, np.array(points))
     tested = RigidBody.from_theta(structure.theta + housings.theta())
     assert_body_close(housings.removed_from(tested), structure, rtol=1e-11)
     R = Rotation.from_rotvec(3 * rotvec).as_matrix()
-    moved = Housings(mass, np.array(points) @ R.T + shift)
+    moved = Housings.alike(mass, np.array(points) @ R.T + shift)
     there = moved.removed_from(tested.transformed(R, shift))
     assert_body_close(there, structure.transformed(R, shift), rtol=1e-11)
 

@@ -13,7 +13,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from massline.core.effect_names import SimulatedEffect
+from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
+from massline.core.numbering import point_groups
 from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.virtual.analyser import impact_setup
@@ -44,8 +46,8 @@ class Acquisition:
     impact : ImpactTest or None
         Simulate hammer hits and H1 averaging instead of adding noise to exact FRFs (its pulse None: the
         hammer tip :mod:`.analyser` chooses).
-    sensor_mass : float
-        Mass of every accelerometer (kg), added at its point (a triaxial counts once).
+    sensor_mass : float or HousingMasses
+        Mass of every accelerometer (kg), or per point label, added at its point (a triaxial counts once).
     modal_loss : float
         Loss factor of the elastic modes.
     dc_line : bool
@@ -57,17 +59,29 @@ class Acquisition:
     lines: int | None = None
     noise: Noise = field(default_factory=Noise)
     impact: ImpactTest | None = None
-    sensor_mass: float = 0.0
+    sensor_mass: float | HousingMasses = 0.0
     modal_loss: float = 0.002
     dc_line: bool = True
 
 
-def accelerometer_masses(sensors: Lines, mass: float) -> tuple[np.ndarray, np.ndarray]:
-    """One mass per physical accelerometer (a triaxial counts once): masses (k,), points (k, 3)."""
-    if mass <= 0:
-        return np.zeros(0), np.zeros((0, 3))
-    first = [i for i, g in enumerate(sensors.triaxial) if g < 0 or i == np.flatnonzero(sensors.triaxial == g)[0]]
-    return np.full(len(first), mass), sensors.points[first]
+def accelerometer_masses(sensors: Lines, mass: float | HousingMasses) -> tuple[np.ndarray, np.ndarray]:
+    """One mass per physical accelerometer (a point of :mod:`massline.core.numbering`: a triaxial counts once),
+    ``mass`` kg each or per point label: masses (k,), points (k, 3) of those weighing more than 0."""
+    masses = mass if isinstance(mass, HousingMasses) else HousingMasses(float(mass))
+    group = point_groups(sensors)
+    labels, first = np.unique(group, return_index=True)
+    masses.check_labels(labels + 1)
+    each = masses.of(labels + 1)
+    return each[each > 0], sensors.points[first[each > 0]]
+
+
+def sensor_mass_payload(mass: float | HousingMasses) -> float | dict:
+    """The truth file's ``sensor_mass``: kg per housing, or {"default": kg, "by_point": {label: kg}}."""
+    if not isinstance(mass, HousingMasses):
+        return float(mass)
+    if not mass.by_label:
+        return mass.default
+    return {"default": mass.default, "by_point": {str(k): v for k, v in mass.by_label.items()}}
 
 
 def auto_fmax(model: SuspendedBody) -> float:
@@ -121,7 +135,7 @@ def run(
         "nominal": body.as_dict(),
         "loaded": model.loaded.as_dict(),
         "effects": inst.applied,
-        "sensor_mass": setup.sensor_mass,
+        "sensor_mass": sensor_mass_payload(setup.sensor_mass),
         "added_masses": {"mass": model.masses.tolist(), "points": model.mass_points.tolist()},
         "exciter_masses": inst.exciter_masses.tolist(),
         "suspension": suspension_summary(suspension, model),

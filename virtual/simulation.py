@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from massline.core.housing_masses import HousingMasses
 from massline.core.band import Band
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
@@ -111,15 +112,16 @@ def simulated_support(spec: str | None, planned: Suspension | None, mesh, loaded
     return Suspension.parse(spec or "cord", mesh, loaded)
 
 
-def loaded_body(nominal: RigidBody, housings: tuple, mass: float) -> RigidBody:
+def loaded_body(nominal: RigidBody, housings: tuple, mass: float | HousingMasses) -> RigidBody:
     """The body with its accelerometers on (what the supports carry and hold level); refused when they
     would outweigh it."""
     masses, _ = housings
     if masses.sum() >= nominal.mass:
+        given = mass.describe() if isinstance(mass, HousingMasses) else f"{mass:g} kg each"
         raise MasslineError(
-            f"--sensor-mass {mass:g}: {len(masses)} accelerometers of {mass:g} kg would weigh "
-            f"{masses.sum():.3g} kg, as much as the body ({nominal.mass:.3g} kg): give each housing's mass in kg, "
-            f"below {nominal.mass / len(masses):.3g}"
+            f"--sensor-mass ({given}): {len(masses)} accelerometers would weigh {masses.sum():.3g} kg, as much "
+            f"as the body ({nominal.mass:.3g} kg): give each housing's mass in kg, below "
+            f"{nominal.mass / len(masses):.3g}"
         )
     return SuspendedBody(nominal, None, Suspension(), *housings).loaded
 
@@ -156,7 +158,7 @@ def set_up_test(
     body: BodyMesh,
     *,
     suspension: str | None = None,
-    sensor_mass: float = 0.0,
+    sensor_mass: float | HousingMasses = 0.0,
     rigid: bool = False,
     n_modes: int = MODES,
     fe_size: float | None = None,
@@ -175,8 +177,8 @@ def set_up_test(
         The plan's body (:func:`massline.virtual.planned_test.plan_mesh`).
     suspension : str, optional
         A support (:meth:`Suspension.parse`'s spec) instead of the plan's.
-    sensor_mass : float
-        Mass of each accelerometer, kg (a triaxial counts once).
+    sensor_mass : float or HousingMasses
+        Mass of each accelerometer, kg, or per point label (the plan's numbering; a triaxial counts once).
     rigid : bool
         No elastic modes.
     n_modes : int

@@ -13,6 +13,10 @@ are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀ
 
 * every housing alike (what every test has: each accelerometer's own mass), φ = Σ_k φ(p_k);
 * one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k;
+* each housing its own mass m_k ≥ 0 (triaxials and uniaxials of different makes): non-negative weighted least
+  squares over every housing, Δθ = Σ_k m_k φ(p_k); when what it leaves is within chance (no fallback to a
+  tenth of χ²₀) and the housings it loads lie SIGMAS from zero, it is named where the one-mass hypotheses
+  explain nothing, or leave more than chance and EVIDENCE more than it;
 * the excitation side: a force gauge of one mass at every drive point, riding only while its exciter drives
   (:mod:`massline.identify.exciter_mass`), φ = ψ the change of identify's θ̂ per kg of gauge it left out
   (given by the caller, from identify's estimator: ψ = (θ̂ − θ̂_δ)/δ, θ̂_δ fitted with δ kg at every drive point).
@@ -27,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import nnls
 from scipy.stats import chi2 as chi2_distribution
 
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
@@ -52,19 +57,20 @@ class MassLoading:
     Attributes
     ----------
     housings : Housings
-        The loading masses: each of ``housings.points`` weighs ``housings.mass`` kg.
+        The loading masses (kg) at their points.
     every : bool
         Every housing alike (True) or one housing (False).
     planar : bool
         Weighed in the plate's six parameters.
     channels : tuple of int
         The loaded accelerometer's channels (one housing), empty for every housing.
-    std : float
-        1-σ of the mass of each, kg.
+    std : float or (k,) array
+        1-σ of the mass of each, kg (each its own, when each housing's mass was fitted).
     chi2_before, chi2_after : float
         χ² of the identified body against the mesh's, without and with the masses.
     side : str
-        "sensor" (the housings) or "excitation" (a gauge at every drive point; ``housings.mass`` its mass).
+        "sensor" (the housings, one mass), "each" (each housing its own mass) or "excitation" (a gauge at every
+        drive point; ``housings`` its mass at each).
     """
 
     housings: Housings
@@ -83,10 +89,21 @@ class MassLoading:
     def finding(self) -> Finding:
         evidence = {"chi2_before": self.chi2_before, "chi2_after": self.chi2_after, "dof": 6 if self.planar else 10}
         if self.side == "excitation":
-            parameters = {"mass_kg": self.housings.mass, "mass_std_kg": self.std, "drive_points": self.housings.count}
-            return Finding(ExcitationMassLoading.name, (), None, parameters | {"against_mesh": True}, evidence)
+            mass, count = self.housings.alike_mass, self.housings.count
+            parameters = {"mass_kg": mass, "mass_std_kg": self.std, "drive_points": count, "against_mesh": True}
+            return Finding(ExcitationMassLoading.name, (), None, parameters, evidence)
+        if self.housings.alike_mass is None or self.side == "each":
+            parameters = {
+                "masses_kg": self.housings.masses.tolist(),
+                "masses_std_kg": np.atleast_1d(self.std).tolist(),
+                "housings": self.housings.count,
+                "every_housing": False,
+                "each_housing": True,
+                "points_m": self.housings.points.tolist(),
+            }
+            return Finding(SensorMassLoading.name, self.channels, None, parameters, evidence)
         parameters = {
-            "mass_kg": self.housings.mass,
+            "mass_kg": self.housings.alike_mass,
             "mass_std_kg": self.std,
             "housings": self.housings.count,
             "every_housing": self.every,
@@ -150,6 +167,35 @@ def mass_loading(
     chi2_after, every, channels, points, mass, std, side = fits[0]
     explains = chi2_after < max(chi2_distribution.isf(CHANCE, p - 1), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
+    each = each_housing(delta, information, planar, sensors, nominal, chi2_before) if side == "sensor" else None
     if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
+        return each
+    within_chance = chi2_after < chi2_distribution.isf(CHANCE, p - 1)
+    if each is not None and not within_chance and chi2_after - each.chi2_after > EVIDENCE:
+        return each  # one mass for the housings leaves more than chance; their own masses do not
+    return MassLoading(Housings.alike(mass, points), every, planar, channels, std, chi2_before, chi2_after, side)
+
+
+def each_housing(
+    delta: np.ndarray, information: np.ndarray, planar: bool, sensors: Lines, nominal: RigidBody, chi2_before: float
+) -> MassLoading | None:
+    """Each housing its own mass m_k ≥ 0 fitted to Δθ (weighted NNLS, the weight's square root from the
+    information's eigenpairs), when what it leaves is within chance and the loaded housings are SIGMAS from 0."""
+    points = housing_points(sensors, SHARED)
+    phi = np.column_stack([point_mass_theta(1.0, r, planar) for r in points])
+    w, V = np.linalg.eigh(information)
+    root = (V * np.sqrt(np.clip(w, 0.0, None))).T
+    masses = nnls(root @ phi, root @ delta)[0]
+    loaded = masses > 0
+    rest = delta - phi @ masses
+    chi2_after = float(rest @ information @ rest)
+    if not loaded.any() or chi2_after > chi2_distribution.isf(CHANCE, max(len(delta) - loaded.sum(), 1)):
         return None
-    return MassLoading(Housings(mass, points), every, planar, channels, std, chi2_before, chi2_after, side)
+    std = np.sqrt(np.diag(np.linalg.pinv(phi[:, loaded].T @ information @ phi[:, loaded])))
+    if np.any(masses[loaded] < SIGMAS * std) or masses.sum() > 0.5 * nominal.mass:
+        return None
+    channels = tuple(
+        int(i) for i in np.flatnonzero(np.min(np.linalg.norm(sensors.points[:, None] - points[loaded], axis=2), 1) <= SHARED)
+    )
+    housings = Housings(masses[loaded], points[loaded], np.flatnonzero(loaded) + 1)
+    return MassLoading(housings, False, planar, channels, std, chi2_before, chi2_after, "each")

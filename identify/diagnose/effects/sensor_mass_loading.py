@@ -32,6 +32,13 @@ class SensorMassLoading(Effect):
     @classmethod
     def sentence(cls, finding, who, hit):
         p = finding.parameters
+        if p.get("each_housing"):
+            grams = ", ".join(pm(1e3 * m, 1e3 * s) for m, s in zip(p["masses_kg"], p["masses_std_kg"]))
+            return (
+                f"the body is {formatted(1e3 * sum(p['masses_kg']), '.0f')} g heavier than the mesh, as housings of "
+                f"their own masses at {who} make it ({grams} g); taken off (identify --sensor-mass KG NODE=KG does "
+                "the same)"
+            )
         if p.get("every_housing"):
             return (
                 f"every accelerometer housing ({p['housings']}) weighs "

@@ -1,0 +1,90 @@
+"""The accelerometers' housing masses a test engineer gives: one default, and per point where they differ.
+
+``--sensor-mass 0.004 1=0.025 2=0.025``: every housing weighs 4 g but those at points 1 and 2 (triaxials) 25 g;
+the points are labelled as the recording labels them (its node labels; :mod:`.numbering` for the plan's test).
+A housing is one accelerometer: a triaxial's three channels, or the channels sharing its point, count once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from massline.core.errors import MasslineError, param
+
+
+@dataclass(frozen=True)
+class HousingMasses:
+    """Housing masses, kg: ``default`` for every housing, ``by_label`` {point label: kg} where they differ."""
+
+    default: float = 0.0
+    by_label: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        for label, mass in [("", self.default), *self.by_label.items()]:
+            if not (np.isfinite(mass) and mass >= 0):
+                where = f"{label}={mass:g}" if label != "" else f"{mass:g}"
+                raise MasslineError(
+                    f"{param('sensor_mass', where)}: a housing's mass is a number of kg, 0 ≤ KG < inf"
+                )
+
+    @classmethod
+    def parse(cls, tokens) -> HousingMasses:
+        """``KG [LABEL=KG ...]`` (a float alone is the default for every housing)."""
+        if isinstance(tokens, (int, float)):
+            return cls(float(tokens))
+        tokens = [tokens] if isinstance(tokens, str) else list(tokens)
+        default, by_label = 0.0, {}
+        for k, token in enumerate(tokens):
+            label, has_label, value = str(token).partition("=")
+            try:
+                mass = float(value if has_label else label)
+                key = int(label) if has_label else None
+            except ValueError:
+                raise MasslineError(
+                    f"{param('sensor_mass', repr(str(token)))}: write KG for every housing, then LABEL=KG for a "
+                    "point whose housing differs (e.g. 0.004 1=0.025)"
+                ) from None
+            if key is None and k:
+                raise MasslineError(f"{param('sensor_mass', repr(str(token)))}: the default KG comes first, once")
+            if key is None:
+                default = mass
+            else:
+                by_label[key] = mass
+        return cls(default, by_label)
+
+    @property
+    def any(self) -> bool:
+        """Is any housing given a mass?"""
+        return self.default > 0 or any(m > 0 for m in self.by_label.values())
+
+    def check_labels(self, labels) -> None:
+        """Refuse a label that names no point of the test (``labels``: the accelerometers' point labels)."""
+        unknown = sorted(set(self.by_label) - {int(x) for x in labels})
+        if unknown:
+            known = ", ".join(str(x) for x in sorted({int(x) for x in labels}))
+            raise MasslineError(
+                f"{param('sensor_mass', f'{unknown[0]}=…')}: no accelerometer is at point {unknown[0]} "
+                f"(the test's points are {known})"
+            )
+
+    def of(self, labels) -> np.ndarray:
+        """The housing mass (kg) at each of ``labels`` (n,)."""
+        return np.array([self.by_label.get(int(x), self.default) for x in labels], dtype=float)
+
+    def describe(self) -> str:
+        """'4 g each, 25 g at points 1, 2'."""
+        text = f"{1e3 * self.default:g} g each"
+        groups: dict[float, list] = {}
+        for label, mass in sorted(self.by_label.items()):
+            groups.setdefault(mass, []).append(str(label))
+        for mass, labels in groups.items():
+            text += f", {1e3 * mass:g} g at point{'s' if len(labels) > 1 else ''} {', '.join(labels)}"
+        return text
+
+
+def sensor_mass_token(text: str) -> str:
+    """One ``--sensor-mass`` token, checked on its own (``KG`` or ``LABEL=KG``); the whole list by ``parse``."""
+    HousingMasses.parse(["0", text] if "=" in text else [text])
+    return text
