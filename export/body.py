@@ -65,7 +65,7 @@ class Body:
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
     @classmethod
-    def of(cls, body: RigidBody, **given) -> "Body":
+    def of(cls, body: RigidBody, **given) -> Body:
         """The measured body of a kernel ``RigidBody`` (its mass, CoG and J_G); ``given``: the other fields."""
         return cls(mass=body.mass, cog=body.cog, inertia=body.inertia_cog, **given)
 

@@ -11,8 +11,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from massline.core.errors import MasslineError, param
 from massline.core.files import atomic_file, claim_output
 from massline.export import abaqus, adams, csv_row, mjcf, nastran, sdf, urdf

@@ -41,7 +41,9 @@ def measured_lines(body, units: Units) -> list[str]:
     cog_sd = np.asarray(std.get("cog", np.full(3, np.nan)), dtype=float)
     J_sd = np.asarray(std.get("inertia_cog", np.full((3, 3), np.nan)), dtype=float)
     cog, J = units.lengths(body.cog), units.inertias(body.inertia)
-    lines = [f"mass = {measured(units.masses(body.mass), None if mass_sd is None else units.masses(mass_sd), units.mass)}"]
+    lines = [
+        f"mass = {measured(units.masses(body.mass), None if mass_sd is None else units.masses(mass_sd), units.mass)}"
+    ]
     lines += [f"CoG {a} = {measured(cog[k], units.lengths(cog_sd[k]), units.length)}" for k, a in enumerate(AXES)]
     lines += [
         f"J_{AXES[i]}{AXES[j]} = {measured(J[i, j], units.inertias(J_sd[i, j]), units.inertia)}"

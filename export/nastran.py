@@ -63,6 +63,8 @@ def bulk_data(body, units: Units, reference: np.ndarray | None = None) -> str:
     conm2 = [str(ELEMENT_ID), str(GRID_ID), "0", large_real(units.masses(body.mass))]
     conm2 += [*map(large_real, cog - grid), ""]
     conm2 += [large_real(v) for v in conm2_inertia(units.inertias(body.inertia))]
-    return commented(header_lines(body, units, CONVENTION), "$ ") + large_card("GRID", grid_fields) + large_card(
-        "CONM2", conm2
+    return (
+        commented(header_lines(body, units, CONVENTION), "$ ")
+        + large_card("GRID", grid_fields)
+        + large_card("CONM2", conm2)
     )

@@ -52,5 +52,7 @@ def unit_system(name: str | Units) -> Units:
     if isinstance(name, Units):
         return name
     if name not in UNITS:
-        raise MasslineError(f"{param('units', repr(name), cli=str(name))}: not a unit system; give one of {', '.join(UNITS)}")
+        raise MasslineError(
+            f"{param('units', repr(name), cli=str(name))}: not a unit system; give one of {', '.join(UNITS)}"
+        )
     return UNITS[name]

@@ -24,7 +24,9 @@ def robot(body, units: Units) -> str:
     J = units.inertias(body.inertia)
     inertia = " ".join(
         f'{name}="{real(J[i, j])}"'
-        for name, (i, j) in zip(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)))
+        for name, (i, j) in zip(
+            ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+        )
     )
     return (
         '<?xml version="1.0"?>\n'

@@ -11,6 +11,7 @@ import numpy as np
 from conftest import bundled
 from scipy.spatial.transform import Rotation
 
+from massline.core.lines import Lines
 from massline.core.rigid_body import RigidBody
 from massline.export import Body
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
@@ -23,10 +24,13 @@ CARRY = np.array([1.2, -2.5, 0.9])  # m
 RELATIVE_SIGMA = 1e-3  # the 1-σ given to each property of a body built here, relative to its scale
 
 
+MOVES = {"bracket": (np.eye(3), np.zeros(3)), "far": (TURN, CARRY)}  # x' = R x + t of each body from the bundled
+
+
 def rigid_bodies() -> dict[str, RigidBody]:
     """The bracket as bundled and turned and carried far from the origin."""
     bracket = bundled("bracket").nominal
-    return {"bracket": bracket, "far": bracket.transformed(TURN, CARRY)}
+    return {name: bracket.transformed(R, t) for name, (R, t) in MOVES.items()}
 
 
 def measured(body: RigidBody) -> Body:
@@ -41,10 +45,16 @@ def measured(body: RigidBody) -> Body:
     return Body.of(body, std=std, note="a body built by the tests")
 
 
-def record(body: RigidBody, path) -> None:
-    """A noiseless free test of ``body`` (the structure's hand layout, 0–100 Hz) written to ``path`` (UFF)."""
-    recording, _ = run(body, structure_sensors(), structure_exciters(), setup=Acquisition(100.0, 200, Noise(0, 0)))
-    write_uff(path, recording)
+def record(name: str, path) -> None:
+    """A noiseless free test of body ``name`` written to ``path`` (UFF, 0–100 Hz): the structure's hand layout
+    moved with the body, as a test of the far bracket has its sensors on it (directions off the axes: the file
+    gives each node its coordinate system)."""
+    R, t = MOVES[name]
+    sensors, exciters = (
+        Lines(x.points @ R.T + t, x.directions @ R.T, x.triaxial) for x in (structure_sensors(), structure_exciters())
+    )
+    recording, _ = run(rigid_bodies()[name], sensors, exciters, setup=Acquisition(100.0, 200, Noise(0, 0)))
+    write_uff(path, recording, nodes_dataset=2411)  # 2411 and 2420 keep 16 digits: 15 and 18 keep 6
 
 
 def assert_same_body(mass: float, cog, inertia, body: RigidBody, rtol: float) -> None:
@@ -54,3 +64,8 @@ def assert_same_body(mass: float, cog, inertia, body: RigidBody, rtol: float) ->
     length = np.linalg.norm(body.cog) + body.radius_of_gyration
     np.testing.assert_allclose(cog, body.cog, rtol=0, atol=rtol * length)
     np.testing.assert_allclose(inertia, body.inertia_cog, rtol=0, atol=rtol * body.principal_moments[2])
+
+
+def comment_text(text: str, marker: str) -> str:
+    """The comment lines of an exported file (those starting with ``marker``) as one unwrapped text."""
+    return " ".join(line[len(marker) :].strip() for line in text.splitlines() if line.startswith(marker))

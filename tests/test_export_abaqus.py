@@ -29,7 +29,9 @@ def keyword_blocks(text: str) -> list[tuple[str, dict, list[list[str]]]]:
 def read_by_the_manual(text: str, units) -> tuple[float, np.ndarray, np.ndarray]:
     """The mass and rotary inertia of the MASS and ROTARYI elements on one node, and that node's position, in SI."""
     blocks = keyword_blocks(text)
-    nodes = {int(row[0]): np.array([float(v) for v in row[1:4]]) for k, _, rows in blocks if k == "NODE" for row in rows}
+    nodes = {
+        int(row[0]): np.array([float(v) for v in row[1:4]]) for k, _, rows in blocks if k == "NODE" for row in rows
+    }
     element_node = {
         p["ELSET"]: int(rows[0][1]) for k, p, rows in blocks if k == "ELEMENT" and p["TYPE"] in ("MASS", "ROTARYI")
     }

@@ -13,7 +13,9 @@ from massline.export.units import UNITS
 
 def read_row(text: str) -> dict[str, str]:
     """The one data row by its header (comment lines, '#', set aside)."""
-    rows = list(csv.DictReader(io.StringIO("".join(line for line in text.splitlines(True) if not line.startswith("#")))))
+    rows = list(
+        csv.DictReader(io.StringIO("".join(line for line in text.splitlines(True) if not line.startswith("#"))))
+    )
     assert len(rows) == 1
     return rows[0]
 

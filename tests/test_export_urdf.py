@@ -29,7 +29,9 @@ def test_mujoco_imports_the_urdf_as_the_same_body():
     """MuJoCo's own URDF parser: the link becomes a body whose mass, CoG and inertia are massline's (without
     the extension MuJoCo fuses the jointless link into the world)."""
     body = rigid_bodies()["far"]
-    text = export_text(measured(body), "far.urdf").replace('<robot name="massline_body">', f"<robot name=\"massline_body\">{KEEP_STATIC}")
+    text = export_text(measured(body), "far.urdf").replace(
+        '<robot name="massline_body">', f'<robot name="massline_body">{KEEP_STATIC}'
+    )
     assert_same_body(*loaded(text), body, rtol=1e-9)
 
 

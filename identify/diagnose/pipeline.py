@@ -176,7 +176,8 @@ class DiagnosisRun:
         """The body after the diagnosis as measured, with its 1-σ and what was measured (``source``: the
         recording's name): less the accelerometers' loading masses when found, or with ``as_tested`` with them."""
         if self.after is None:
-            raise MasslineError(f"{source or 'the recording'}: the diagnosis leaves no body to export ({self.warnings})")
+            why = "; ".join(self.notes) or "identify refuses the recording"
+            raise MasslineError(f"{source or 'the recording'}: the diagnosis leaves no body to export ({why})")
         body = self.after.body if as_tested or self.loading is None else self.after_body
         values = reported_values(body, self.planar)
         undone = [f.effect for f in self.findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
