@@ -14,7 +14,6 @@ import sys
 
 from massline.core.files import STDOUT, to_json, write_atomic
 from massline.export import PLATE_UNOBSERVED, check_observed, format_of
-from massline.identify.pipeline import is_planar
 from massline.reports.html import Report
 from massline.reports.placement_assembly import build_placement_report
 from massline.virtual.planned_test import FEModel
@@ -67,6 +66,8 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
 def check_exportable(paths: list[str], recording) -> None:
     """Before the identification: refuse ``--export`` files that cannot hold what ``recording`` can show (a
     plate's test leaves z_G and J's z row and column unobserved: only CSV holds that)."""
+    from massline.identify.pipeline import is_planar  # identify's stack: loaded by the commands that identify
+
     planar = is_planar(recording.sensors, recording.exciters)
     for path in paths:
         check_observed(path, PLATE_UNOBSERVED if planar else ())

@@ -8,7 +8,7 @@ observe (a plate's z_G and the z row and column of J, §2.3) are NaN.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +49,7 @@ class Body:
     inertia: np.ndarray
     std: dict | None = None
     note: str = ""
-    warnings: tuple = field(default=())
+    warnings: tuple = ()
 
     def __post_init__(self):
         mass = float(self.mass)
