@@ -6,28 +6,9 @@ effect: its simulation, model, correction and sentence) (:mod:`.effect_model`) f
 (:mod:`.effect_fit`), effects added while the evidence says so (:mod:`.diagnosis`), mass loading
 against the mesh (:mod:`.mass_loading`); each accepted effect is a :class:`~.finding.Finding`,
 written as an engineer would (:mod:`.notes`).
-
-The names below load their modules when first asked for (PEP 562): importing the registry
-(:mod:`.effects`) loads no pipeline.
 """
 
-from __future__ import annotations
+from massline.identify.diagnose.finding import Finding
+from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 
-from importlib import import_module
-
-PUBLIC = {
-    "DiagnosisRun": "massline.identify.diagnose.pipeline",
-    "Finding": "massline.identify.diagnose.finding",
-    "diagnose_recording": "massline.identify.diagnose.pipeline",
-}
-
-__all__ = sorted(PUBLIC)
-
-
-def __getattr__(name: str):
-    """The public name ``name``, imported from its module on first use and kept."""
-    if name not in PUBLIC:
-        raise AttributeError(f"module 'massline.identify.diagnose' has no attribute {name!r}")
-    value = getattr(import_module(PUBLIC[name]), name)
-    globals()[name] = value
-    return value
+__all__ = ["DiagnosisRun", "Finding", "diagnose_recording"]
