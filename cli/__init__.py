@@ -12,6 +12,8 @@ The package is the test's data flow, one sub-package per stage; each imports onl
   instrumentation, measurement, simulation).
 - :mod:`massline.uff`: Universal Files read and written, and the ``Recording`` type.
 - :mod:`massline.placement`: the pre-test planner.
+- :mod:`massline.export`: the measured body (``Body``) in the formats of the tools that use it (Nastran,
+  Abaqus, Adams, URDF, SDF, MuJoCo, CSV).
 - :mod:`massline.core`: the kernel — lines, rigid-body algebra, the paper's methods, properties, errors;
   it imports nothing else of the project.
 - :mod:`massline.meshes`: the bundled bodies and the mesh loader.
@@ -30,6 +32,7 @@ PUBLIC = {  # name: the module defining it
     "Lines": "massline.core",
     "MasslineError": "massline.core",
     "RigidBody": "massline.core",
+    "Body": "massline.export",
     "BUNDLED": "massline.meshes",
     "load_body": "massline.meshes.loader",
     "Recording": "massline.uff.recording",

@@ -13,9 +13,9 @@ from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
-from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, check_band
-from massline.output import write_json, write_report
-from massline.core.files import claim_outputs, write_atomic
+from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, add_export_arguments, check_band, claim_exports
+from massline.output import check_exportable, write_exports, write_json, write_report
+from massline.core.files import write_atomic
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY
 from massline.uff.grid import to_recording
@@ -43,7 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON; - for stdout")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
     parser.add_argument("--report", metavar="OUT.html", help="write the diagnosis report (one HTML page)")
-    parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG and OUT.html")
+    add_export_arguments(parser)
+    parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG, OUT.html and the --export files")
 
 
 def properties_table(found: DiagnosisRun, nominal, planar: bool = False) -> Table:
@@ -76,10 +77,11 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
 
 def run(args: argparse.Namespace, console: Console) -> None:
     check_band(args.band)
-    claim_outputs({"--json": args.json, "--plot": args.plot, "--report": args.report}, args.force)
+    claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report})
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
     recording = to_recording(read_uff(args.uff))
+    check_exportable(args.export, recording)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         found = diagnose_recording(recording, args.band, nominal, args.transverse)
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
@@ -118,3 +120,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
         from massline.reports.diagnosis_report import diagnose_report
 
         write_report(console, args.report, lambda: diagnose_report(found, args.uff, mesh), args.force)
+    write_exports(console, found, args)

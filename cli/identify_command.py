@@ -14,9 +14,17 @@ from massline.identify.exciter_mass import parse_exciter_mass
 from massline.core.housing_masses import HousingMasses, sensor_mass_token
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
-from massline.options import BAND_EDGE, MAX_DRAWS, TRANSVERSE_PRIOR, check_band, checked, count
-from massline.output import write_json, write_report
-from massline.core.files import claim_outputs
+from massline.options import (
+    BAND_EDGE,
+    MAX_DRAWS,
+    TRANSVERSE_PRIOR,
+    add_export_arguments,
+    check_band,
+    checked,
+    claim_exports,
+    count,
+)
+from massline.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody
@@ -83,7 +91,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="write the properties as JSON (mass, cog, inertia_cog, principal axes, std, …); - for stdout",
     )
     parser.add_argument("--report", metavar="OUT.html", help="write the identification report (one HTML page)")
-    parser.add_argument("--force", action="store_true", help="overwrite OUT and OUT.html")
+    add_export_arguments(parser)
+    parser.add_argument("--force", action="store_true", help="overwrite OUT, OUT.html and the --export files")
 
 
 def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal: RigidBody | None = None) -> Table:
@@ -101,11 +110,12 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
-    claim_outputs({"--json": args.json, "--report": args.report}, args.force)
+    claim_exports(args, {"--json": args.json, "--report": args.report})
     check_band(args.band)
     sensor_mass, weighed = HousingMasses.parse(args.sensor_mass), args.weighed_mass
     mesh = nominal_mesh(args)
     recording = to_recording(read_uff(args.uff))
+    check_exportable(args.export, recording)
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
         exciter_mass=args.exciter_mass, weighed=weighed,
@@ -137,6 +147,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         from massline.reports.identification_report import identify_report
 
         write_report(console, args.report, lambda: identify_report(found, args.uff, mesh), args.force)
+    write_exports(console, found, args)
 
 
 def mass_lines(found: Identification) -> list[str]:

@@ -14,6 +14,8 @@ import re
 from collections.abc import Callable
 
 from massline.core.errors import MasslineError
+from massline.core.files import claim_outputs
+from massline.export import FORMATS, UNITS, check_export, format_of
 from massline.meshes.loader import MAX_MASS_KG, PLAUSIBLE_DENSITY
 
 SEED_MAX = 2**32 - 1  # numpy's seeds
@@ -162,3 +164,47 @@ def check_band(band: list[float] | None) -> None:
     """``--band LO HI``: LO below HI (each already a positive frequency in Hz)."""
     if band is not None and not band[0] < band[1]:
         raise MasslineError(f"--band {band[0]:g} {band[1]:g}: give LO < HI, both in Hz (e.g. --band 5 40)")
+
+
+EXPORT_FLAGS = {"units": "--export-units", "path": "--export"}  # the export library's parameters, as flags here
+
+
+def export_path(text: str) -> str:
+    """``--export FILE``: a file whose suffix names an export format (the path itself is checked in ``run``)."""
+    format_of(text)
+    return text
+
+
+def add_export_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--export FILE`` (repeatable), ``--export-units`` and ``--export-as-tested``: identify's and diagnose's."""
+    parser.add_argument(
+        "--export",
+        action="append",
+        default=[],
+        type=checked(export_path),
+        metavar="FILE",
+        help=f"write the body for the tool that uses it, the format from the suffix ({', '.join(FORMATS)}: Nastran, "
+        "Nastran, Abaqus, Adams, URDF, SDFormat, MuJoCo, CSV); repeatable",
+    )
+    parser.add_argument(
+        "--export-units",
+        choices=list(UNITS),
+        default="m-kg",
+        help="lengths and masses of --export files (default m-kg; URDF, SDF and MuJoCo take m-kg only)",
+    )
+    parser.add_argument(
+        "--export-as-tested",
+        action="store_true",
+        help="export the body as tested, with the accelerometer (or loading) masses on, not the bare body",
+    )
+
+
+def claim_exports(args: argparse.Namespace, others: dict) -> None:
+    """Before any work: every ``--export`` file's format takes ``--export-units`` and may be written, and no two
+    outputs (``others``: {option: path} of the command's other files) name one file."""
+    try:
+        for path in args.export:
+            check_export(path, args.export_units, args.force)
+    except MasslineError as error:
+        raise MasslineError(error.spelled(FLAGS | EXPORT_FLAGS)) from None
+    claim_outputs([*others.items(), *(("--export", path) for path in args.export)], args.force)

@@ -13,6 +13,7 @@ from rich.status import Status
 import sys
 
 from massline.core.files import STDOUT, to_json, write_atomic
+from massline.export import PLATE_UNOBSERVED, check_observed, format_of
 from massline.reports.html import Report
 from massline.reports.placement_assembly import build_placement_report
 from massline.virtual.planned_test import FEModel
@@ -60,6 +61,25 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
     write_atomic(path, report.html, force)
     console.print(f"wrote {path} ({len(report.html) / 1e3:.0f} kB)")
     return Path(path)
+
+
+def check_exportable(paths: list[str], recording) -> None:
+    """Before the identification: refuse ``--export`` files that cannot hold what ``recording`` can show (a
+    plate's test leaves z_G and J's z row and column unobserved: only CSV holds that)."""
+    from massline.identify.pipeline import is_planar  # identify's stack: loaded by the commands that identify
+
+    planar = is_planar(recording.sensors, recording.exciters)
+    for path in paths:
+        check_observed(path, PLATE_UNOBSERVED if planar else ())
+
+
+def write_exports(console, found, args) -> None:
+    """Write each ``--export`` file of ``found`` (an identification or a diagnosis), in ``--export-units``, the
+    bare body or with ``--export-as-tested`` the body as tested, and say so."""
+    for path in args.export:
+        found.export(path, args.export_units, as_tested=args.export_as_tested, force=args.force,
+                     source=Path(args.uff).name)  # fmt: skip
+        console.print(f"wrote {path} ({format_of(path).name}, {args.export_units})")
 
 
 @contextmanager

@@ -194,7 +194,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
     named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
-    outputs = list(claim_outputs(named | {"--plot": args.plot}, args.force).values())
+    outputs = claim_outputs(named | {"--plot": args.plot}, args.force)
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters))
     body = plan_mesh(doc, plan_path)

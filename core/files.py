@@ -67,17 +67,20 @@ def claim_output(path: str | Path, force: bool, option: str = "") -> Path:
     return path
 
 
-def claim_outputs(named: dict, force: bool) -> dict:
-    """``claim_output`` for each {option: path} given (None: not asked for); one file named by two options
-    is refused (the second write would meet the first). Return {option: Path} of those given."""
-    given = {option: Path(path) for option, path in named.items() if path}
+def claim_outputs(named, force: bool) -> list[Path]:
+    """``claim_output`` for each {option: path} given (None: not asked for), or each (option, path) pair (an
+    option given several times: ``[("--export", "a.bdf"), ("--export", "a.urdf")]``); one file named twice is
+    refused (the second write would meet the first). Return the paths given."""
+    pairs = named.items() if isinstance(named, dict) else named
+    given = [(option, Path(path)) for option, path in pairs if path]
     seen: dict[Path, str] = {}
-    for option, path in given.items():
-        twin = seen.setdefault(path if str(path) == STDOUT else path.resolve(), option)
-        if twin != option:
-            raise MasslineError(f"{twin} and {option} both name {path}: give each output its own file")
+    for option, path in given:
+        key = path if str(path) == STDOUT else path.resolve()
+        if key in seen:
+            raise MasslineError(f"{seen[key]} and {option} both name {path}: give each output its own file")
+        seen[key] = option
         claim_output(path, force, option)
-    return given
+    return [path for _, path in given]
 
 
 def claim_folder(folder: str | Path, names, force: bool, option: str = param("folder")) -> list[Path]:

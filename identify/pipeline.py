@@ -7,6 +7,7 @@ serialises itself as DESIGN.md's identify JSON (``payload``).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -33,13 +34,23 @@ from massline.core.housing_masses import HousingMasses
 from massline.core.masslines import Masslines
 from massline.core.methods import DYNAMICS, KINEMATICS, identify
 from massline.core.plate import plate_theta
+from massline.core.files import to_json
 from massline.core.properties import JSON_UNITS, reported_values
 from massline.core.rigid_body import RigidBody
+from massline.export.body import Body
+from massline.export.units import SI, Units
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
 from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
 PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF frames carry ~6 digits)
 BEST, PLATE_OR_BEST = param("method", "'best'", cli="best"), param("method", "'plate' or 'best'", cli="plate or best")
+
+
+def as_recording(recording: Recording | str | Path) -> Recording:
+    """``recording`` itself, or the recording in the Universal File at that path."""
+    return recording if isinstance(recording, Recording) else to_recording(read_uff(recording))
 
 
 def is_planar(sensors, exciters) -> bool:
@@ -154,9 +165,62 @@ class Identification:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
         return found
 
+    @property
+    def mass(self) -> float:
+        """The reported body's mass, kg."""
+        return self.body.mass
+
+    @property
+    def cog(self) -> np.ndarray:
+        """The reported body's CoG, m, frame of the recording (a plate's z_G: NaN, unobserved)."""
+        return np.asarray(reported_values(self.body, self.planar)["cog"], dtype=float)
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """The reported body's inertia tensor about the CoG, kg·m², tensor sign (J_xy = −∫xy dm), frame of the
+        recording (a plate's z row and column: NaN, unobserved)."""
+        return np.asarray(reported_values(self.body, self.planar)["inertia_cog"], dtype=float)
+
+    def to_json(self) -> str:
+        """DESIGN.md's identify JSON (``payload``) as text, NaN as null."""
+        return to_json(self.payload)
+
+    def measured(self, as_tested: bool = False, source: str = "") -> Body:
+        """The body as measured, with its 1-σ and a note of what was measured (``source``: the recording's name):
+        the reported body, or with ``as_tested`` the body with the accelerometer housings on."""
+        body, std = (self.tested, self.tested_std) if as_tested else (self.body, self.std)
+        values = reported_values(body, self.planar)
+        note = identification_note(self, as_tested, source)
+        return Body(mass=body.mass, cog=values["cog"], inertia=values["inertia_cog"], std=std, note=note,
+                    warnings=self.warnings)  # fmt: skip
+
+    def export(self, path: str | Path, units: str | Units = SI, *, as_tested: bool = False, force: bool = False,
+               source: str = "") -> Path:  # fmt: skip
+        """Write the body (``measured``) to ``path`` in the format its suffix names (``massline.export.FORMATS``),
+        in ``units`` ('m-kg', 'mm-kg', 'mm-t'); an existing file only with ``force``."""
+        return self.measured(as_tested, source).export(path, units, force)
+
+
+def fit_note(found: Identification) -> str:
+    """'method best, band 5-40 Hz, 72 masslines, reduced chi2 1.02': how ``found`` was identified."""
+    fit = f"reduced chi2 {found.best.chi2:.3g}" if np.isfinite(found.best.chi2) else "no redundancy to check the fit"
+    band = f"band {found.band.low:.4g}-{found.band.high:.4g} Hz"
+    return f"method {found.method}, {band}, {found.data.values.size} masslines, {fit}"
+
+
+def identification_note(found: Identification, as_tested: bool, source: str) -> str:
+    """What an export of ``found`` holds: the recording, how it was identified, the body as tested or bare."""
+    housings = found.housings
+    grams = housings.describe()
+    if not housings.count:
+        which = "the body as tested (no sensor mass given)"
+    else:
+        which = f"the body as tested, {grams} on" if as_tested else f"the bare body, {grams} taken off"
+    return f"{source or 'a recording'}, massline identify ({fit_note(found)}); {which}"
+
 
 def identify_recording(
-    recording: Recording,
+    recording: Recording | str | Path,
     band=None,
     transverse: float = TRANSVERSE,
     *,
@@ -168,13 +232,14 @@ def identify_recording(
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
 
+    ``recording``: a ``Recording``, or the path of a Universal File (read as ``massline identify`` reads it);
     ``sensor_mass``: each accelerometer housing's mass (kg, or per point label: :class:`HousingMasses`), taken
     off the body as tested (:mod:`.sensor_mass`);
     ``exciter_mass``: each force gauge's structure-side mass (kg), riding at its drive point while it drives, so
     that each column is fitted on its own body and the one reported is without them (:mod:`.exciter_mass`);
     ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
     """
-    recording, notes = usable_lines(recording)
+    recording, notes = usable_lines(as_recording(recording))
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)
     riding = riding_masses(recording.exciters, exciter_mass, planar)

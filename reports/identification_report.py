@@ -244,8 +244,7 @@ def masses_note(found: Identification) -> str:
     housings = found.housings
     if housings.count:
         text += (
-            f" The {housings.count} accelerometer housings ({num(1e3 * housings.mass, 'g')} g each, "
-            f"{num(1e3 * housings.total, 'g')} g) are subtracted: the properties are the bare body's; as tested it "
+            f" The {escape(housings.describe())} ({num(1e3 * housings.total, 'g')} g in all) are subtracted: the properties are the bare body's; as tested it "
             f"weighed {with_sigma(found.tested.mass, found.tested_std['mass'], 1.0)} kg."
         )
     if found.weighed is not None:

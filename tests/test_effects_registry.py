@@ -174,7 +174,7 @@ def mass_finding(cls, body, sensors) -> tuple[Finding, object]:
     rec, _ = recorded(body, sensors, cls)
     theta = RigidModel(body, False).theta + point_mass_theta(SAMPLE["kg"], sensors.points[2])
     loading = mass_loading(theta, np.diag((1e-6 * np.abs(theta) + 1e-9) ** 2), False, sensors, body)
-    assert loading is not None and loading.housings.mass == pytest.approx(SAMPLE["kg"])
+    assert loading is not None and loading.housings.alike_mass == pytest.approx(SAMPLE["kg"])
     return loading.finding(), rec
 
 

@@ -18,7 +18,7 @@ COMMANDS = {
     "diagnose_command",
     "demo",
 }
-STAGES = ("placement", "identify", "virtual", "uff", "reports", "meshes")
+STAGES = ("placement", "identify", "virtual", "uff", "reports", "meshes", "export")
 
 
 def imported_modules(path: Path) -> set[str]:

@@ -13,6 +13,7 @@ it ran on, and serialises itself as DESIGN.md's diagnose JSON (``document``).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -30,6 +31,8 @@ from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
     Identification,
     against_nominal,
+    as_recording,
+    fit_note,
     identify_recording,
     is_planar,
     properties_payload,
@@ -39,8 +42,11 @@ from massline.identify.tails import BandData
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
 from massline.core.errors import MasslineError
-from massline.core.properties import JSON_UNITS
+from massline.core.files import to_json
+from massline.core.properties import JSON_UNITS, reported_values
 from massline.core.rigid_body import RigidBody
+from massline.export.body import Body
+from massline.export.units import SI, Units
 from massline.uff.recording import Recording
 
 
@@ -131,9 +137,67 @@ class DiagnosisRun:
             },
             "band_hz": [self.band.low, self.band.high],
             "screens": self.screens,
-            "warnings": list(self.notes) + ([] if self.before is None else list(self.before.warnings)),
+            "warnings": list(self.warnings),
             "units": JSON_UNITS,
         }
+
+    @property
+    def warnings(self) -> tuple:
+        """What was set aside before the diagnosis and identify's warnings on the file as it came."""
+        return self.notes + (() if self.before is None else self.before.warnings)
+
+    @property
+    def mass(self) -> float | None:
+        """The body's mass after the diagnosis, kg (None: no body)."""
+        return None if self.after is None else self.after_body.mass
+
+    @property
+    def cog(self) -> np.ndarray | None:
+        """The body's CoG after the diagnosis, m, frame of the recording (a plate's z_G NaN; None: no body)."""
+        return None if self.after is None else np.asarray(reported_values(self.after_body, self.planar)["cog"])
+
+    @property
+    def inertia(self) -> np.ndarray | None:
+        """The body's inertia tensor about the CoG after the diagnosis, kg·m², tensor sign, frame of the recording
+        (a plate's z row and column NaN; None: no body)."""
+        if self.after is None:
+            return None
+        return np.asarray(reported_values(self.after_body, self.planar)["inertia_cog"])
+
+    @property
+    def std(self) -> dict | None:
+        """The 1-σ of the properties after, as identify gives them (None: no body)."""
+        return None if self.after is None else self.after.std
+
+    def to_json(self) -> str:
+        """DESIGN.md's diagnose JSON (``document``) as text, NaN as null."""
+        return to_json(self.document)
+
+    def measured(self, as_tested: bool = False, source: str = "") -> Body:
+        """The body after the diagnosis as measured, with its 1-σ and what was measured (``source``: the
+        recording's name): less the accelerometers' loading masses when found, or with ``as_tested`` with them."""
+        if self.after is None:
+            why = "; ".join(self.notes) or "identify refuses the recording"
+            raise MasslineError(f"{source or 'the recording'}: the diagnosis leaves no body to export ({why})")
+        body = self.after.body if as_tested or self.loading is None else self.after_body
+        values = reported_values(body, self.planar)
+        undone = [f.effect for f in self.findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
+        which = "the body as tested"
+        if self.loading is not None:
+            grams = f"{self.loading.housings.describe()} of loading"
+            which = f"the body as tested, {grams} on" if as_tested else f"the bare body, {grams} taken off"
+        note = (
+            f"{source or 'a recording'}, massline diagnose (faults undone: {', '.join(undone) or 'none'}; then "
+            f"identify: {fit_note(self.after)}); {which}"
+        )
+        return Body(mass=body.mass, cog=values["cog"], inertia=values["inertia_cog"], std=self.after.std, note=note,
+                    warnings=self.warnings)  # fmt: skip
+
+    def export(self, path: str | Path, units: str | Units = SI, *, as_tested: bool = False, force: bool = False,
+               source: str = "") -> Path:  # fmt: skip
+        """Write the body after the diagnosis (``measured``) to ``path`` in the format its suffix names, in
+        ``units``; an existing file only with ``force``."""
+        return self.measured(as_tested, source).export(path, units, force)
 
 
 def reported(body: RigidBody, found: Identification, planar: bool) -> dict:
@@ -199,16 +263,19 @@ def check_seen(layout: Layout) -> None:
         )
 
 
-def diagnose_recording(recording: Recording, band=None, nominal=None, transverse: float = TRANSVERSE) -> DiagnosisRun:
+def diagnose_recording(
+    recording: Recording | str | Path, band=None, nominal=None, transverse: float = TRANSVERSE
+) -> DiagnosisRun:
     """identify, then the diagnosis on ``band`` (lo, hi) Hz or identify's, then identify on the recording
     with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
 
     ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
     chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
 
-    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed).
+    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed);
+    ``recording`` may be the path of a Universal File.
     """
-    recording, notes = usable_lines(recording)
+    recording, notes = usable_lines(as_recording(recording))
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     check_seen(layout)
