@@ -24,7 +24,7 @@ class HousingMasses:
     def __post_init__(self):
         for label, mass in [("", self.default), *self.by_label.items()]:
             if not (np.isfinite(mass) and mass >= 0):
-                where = f"{label}={mass:g}" if label != "" else f"{mass:g}"
+                where = f"'{label}={mass:g}'" if label != "" else f"'{mass:g}'"
                 raise MasslineError(
                     f"{param('sensor_mass', where)}: a housing's mass is a number of kg, 0 ≤ KG < inf"
                 )

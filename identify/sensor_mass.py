@@ -30,6 +30,11 @@ from massline.core.rigid_body import RigidBody, six_from_tensor, steiner
 SHARED_HOUSING = 1e-3  # m: channels whose points lie closer share one housing (no two housings fit within 1 mm)
 
 
+def weight(mass: float) -> str:
+    """A housing's mass as an engineer writes it: '25 g', '1.2 kg'."""
+    return f"{1e3 * mass:.4g} g" if mass < 1 else f"{mass:.4g} kg"
+
+
 def file_labels(recording) -> np.ndarray | None:
     """The point label (the file's node) of each sensor line of ``recording``, None when it carries none."""
     labels = recording.sensor_labels
@@ -119,9 +124,9 @@ class Housings:
         """'8 accelerometer housings × 25 g' or '3 accelerometer housings: 25, 25, 8 g (points 1, 2, 5)'."""
         alike = self.alike_mass
         if alike is not None:
-            return f"{self.count} accelerometer housing{'s' if self.count != 1 else ''} × {1e3 * alike:.4g} g"
-        grams = ", ".join(f"{1e3 * m:.4g}" for m in self.masses)
-        return f"{self.count} accelerometer housings: {grams} g (points {', '.join(str(x) for x in self.labels)})"
+            return f"{self.count} accelerometer housing{'s' if self.count != 1 else ''} × {weight(alike)}"
+        each = ", ".join(weight(m) for m in self.masses)
+        return f"{self.count} accelerometer housings: {each} (points {', '.join(str(x) for x in self.labels)})"
 
     def theta(self, planar: bool = False) -> np.ndarray:
         """Σ_k θ_k of the housings in the model's parameters (10, or the plate's 6), SI."""

@@ -118,7 +118,7 @@ def test_the_bare_body_keeps_the_covariance_of_theta(structure):
 def test_housings_heavier_than_the_body_are_refused(structure):
     data = synthesise(structure, with_triaxials(), structure_exciters(2))
     found = estimate(data, 0.01 * np.abs(data.values) + 1e-3 / structure.mass)
-    with pytest.raises(MasslineError, match="--sensor-mass: 8 housings of 1 kg leave no physical body"):
+    with pytest.raises(MasslineError, match="--sensor-mass: 8 accelerometer housings × 1 kg leave no physical body"):
         Housings.on(with_triaxials(), 1.0).removed(found)
 
 
@@ -327,7 +327,7 @@ def test_without_a_sensor_mass_the_json_is_unchanged(loaded_uff, tmp_path):
         ("--sensor-mass", "nan", "--sensor-mass 'nan'"),
         ("--sensor-mass", "inf", "--sensor-mass 'inf'"),
         ("--sensor-mass", "ten", "--sensor-mass 'ten'"),
-        ("--sensor-mass", "100", "--sensor-mass: 8 housings of 100 kg leave no physical body"),
+        ("--sensor-mass", "100", "--sensor-mass: 8 accelerometer housings × 100 kg leave no physical body"),
         ("--weighed-mass", "-4", "--weighed-mass '-4': .* KG > 0 kg"),
         ("--weighed-mass", "0", "--weighed-mass '0'"),
         ("--weighed-mass", "nan", "--weighed-mass 'nan'"),
@@ -354,5 +354,5 @@ def test_the_report_says_what_was_taken_off_and_weighed(structure):
     rec, _ = run(structure, with_triaxials(), structure_exciters(), setup=replace(EXACT, sensor_mass=0.025))
     reading = WeighedMass(4.0, 0.002)
     note = masses_note(identify_recording(rec, (5, 95), draws=0, sensor_mass=0.025, weighed=reading))
-    assert "8 accelerometer housings (25 g each, 200 g) are subtracted" in note and "4 ± 0.002 kg" in note
+    assert "8 accelerometer housings × 25 g (200 g in all) are subtracted" in note and "4 ± 0.002 kg" in note
     assert masses_note(identify_recording(rec, (5, 95), draws=0)) == ""
