@@ -13,7 +13,15 @@ from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
-from massline.options import BAND_EDGE, TRANSVERSE_PRIOR, add_export_arguments, check_band, claim_exports
+from massline.core.housing_masses import HousingMasses
+from massline.options import (
+    BAND_EDGE,
+    TRANSVERSE_PRIOR,
+    add_export_arguments,
+    add_instrumentation_arguments,
+    check_band,
+    claim_exports,
+)
 from massline.output import check_exportable, write_exports, write_json, write_report
 from massline.core.files import write_atomic
 from massline.core.numbers import number, value_with_sigma
@@ -32,6 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the band the diagnosis examines, Hz (the plan's; default identify's); the properties are identify's",
     )
     add_nominal_arguments(parser)
+    add_instrumentation_arguments(parser)
     parser.add_argument(
         "--transverse",
         type=TRANSVERSE_PRIOR,
@@ -83,7 +92,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     recording = to_recording(read_uff(args.uff))
     check_exportable(args.export, recording)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
-        found = diagnose_recording(recording, args.band, nominal, args.transverse)
+        known = {"sensor_mass": HousingMasses.parse(args.sensor_mass or ["0"]), "exciter_mass": args.exciter_mass}
+        found = diagnose_recording(recording, args.band, nominal, args.transverse, **known)
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
     for note in found.notes:
         console.print(f"note: {note}")

@@ -10,8 +10,7 @@ from rich.table import Table
 
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import PAPER_METHODS, Identification, against_nominal, identify_recording
-from massline.identify.exciter_mass import parse_exciter_mass
-from massline.core.housing_masses import HousingMasses, sensor_mass_token
+from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.options import (
@@ -19,6 +18,7 @@ from massline.options import (
     MAX_DRAWS,
     TRANSVERSE_PRIOR,
     add_export_arguments,
+    add_instrumentation_arguments,
     check_band,
     checked,
     claim_exports,
@@ -58,25 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="bootstrap draws over the sensors (default 100; 0: none)",
     )
-    parser.add_argument(
-        "--sensor-mass",
-        nargs="+",
-        type=checked(sensor_mass_token),
-        default=[],
-        metavar="KG [NODE=KG ...]",
-        help="mass of each accelerometer housing, kg (a triaxial counts once), then NODE=KG for a point whose "
-        "housing differs (node labels as in the file, e.g. 0.004 1=0.025): the FRFs weigh the body with them on; "
-        "the properties reported are the bare body's (default 0)",
-    )
-    parser.add_argument(
-        "--exciter-mass",
-        type=checked(parse_exciter_mass),
-        default=0.0,
-        metavar="KG",
-        help="structure-side mass of the force gauge at each drive point (a shaker test; 0 for a hammer), kg: "
-        "each column is fitted on the body plus it at its drive point, the properties reported are without "
-        "(default 0)",
-    )
+    add_instrumentation_arguments(parser)
     parser.add_argument(
         "--weighed-mass",
         type=checked(WeighedMass.parse),

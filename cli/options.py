@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs
+from massline.core.housing_masses import parse_exciter_mass, sensor_mass_token
 from massline.export import FORMATS, UNITS, check_export, format_of
 from massline.meshes.loader import MAX_MASS_KG, PLAUSIBLE_DENSITY
 
@@ -208,3 +209,26 @@ def claim_exports(args: argparse.Namespace, others: dict) -> None:
     except MasslineError as error:
         raise MasslineError(error.spelled(FLAGS | EXPORT_FLAGS)) from None
     claim_outputs([*others.items(), *(("--export", path) for path in args.export)], args.force)
+
+
+def add_instrumentation_arguments(parser: argparse.ArgumentParser) -> None:
+    """What the instrumentation put on the body: the accelerometers' housings and the force gauges' mass."""
+    parser.add_argument(
+        "--sensor-mass",
+        nargs="+",
+        type=checked(sensor_mass_token),
+        default=[],
+        metavar="KG [NODE=KG ...]",
+        help="mass of each accelerometer housing, kg (a triaxial counts once), then NODE=KG for a point whose "
+        "housing differs (node labels as in the file, e.g. 0.004 1=0.025): the FRFs weigh the body with them on; "
+        "the properties reported are the bare body's (default 0)",
+    )
+    parser.add_argument(
+        "--exciter-mass",
+        type=checked(parse_exciter_mass),
+        default=0.0,
+        metavar="KG",
+        help="structure-side mass of the force gauge at each drive point (a shaker test; 0 for a hammer), kg: "
+        "each column is fitted on the body plus it at its drive point, the properties reported are without "
+        "(default 0)",
+    )

@@ -1,4 +1,5 @@
-"""The accelerometers' housing masses a test engineer gives: one default, and per point where they differ.
+"""The masses the instrumentation puts on the body, as a test engineer gives them: the accelerometers' housings
+(one default, and per point where they differ) and a force gauge's structure side (one per drive point).
 
 ``--sensor-mass 0.004 1=0.025 2=0.025``: every housing weighs 4 g but those at points 1 and 2 (triaxials) 25 g;
 the points are labelled as the recording labels them (its node labels; :mod:`.numbering` for the plan's test).
@@ -88,3 +89,20 @@ def sensor_mass_token(text: str) -> str:
     """One ``--sensor-mass`` token, checked on its own (``KG`` or ``LABEL=KG``); the whole list by ``parse``."""
     HousingMasses.parse(["0", text] if "=" in text else [text])
     return text
+
+
+def check_exciter_mass(mass: float, given: str | None = None) -> float:
+    """The gauge's structure-side mass (kg), refused unless finite and ≥ 0 (``given``: as the user wrote it)."""
+    if not (np.isfinite(mass) and mass >= 0):
+        name = param("exciter_mass", given or f"{mass:g}")
+        raise MasslineError(f"{name}: give the force gauge's structure-side mass in kg, 0 ≤ KG < inf (0: a hammer)")
+    return float(mass)
+
+
+def parse_exciter_mass(text: str) -> float:
+    """``--exciter-mass KG``: a force gauge's structure-side mass, kg (finite, ≥ 0)."""
+    try:
+        mass = float(text)
+    except ValueError:
+        mass = np.nan
+    return check_exciter_mass(mass, f"'{text}'")

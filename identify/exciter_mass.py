@@ -15,26 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from massline.core.errors import MasslineError, param
+from massline.core.housing_masses import check_exciter_mass
 from massline.core.lines import Lines
 from massline.identify.sensor_mass import point_mass_theta
-
-
-def check_exciter_mass(mass: float, given: str | None = None) -> float:
-    """The gauge's structure-side mass (kg), refused unless finite and ≥ 0 (``given``: as the user wrote it)."""
-    if not (np.isfinite(mass) and mass >= 0):
-        name = param("exciter_mass", given or f"{mass:g}")
-        raise MasslineError(f"{name}: give the force gauge's structure-side mass in kg, 0 ≤ KG < inf (0: a hammer)")
-    return float(mass)
-
-
-def parse_exciter_mass(text: str) -> float:
-    """``--exciter-mass KG``: a force gauge's structure-side mass, kg (finite, ≥ 0)."""
-    try:
-        mass = float(text)
-    except ValueError:
-        mass = np.nan
-    return check_exciter_mass(mass, f"'{text}'")
 
 
 def riding_masses(exciters: Lines, mass: float, planar: bool = False) -> np.ndarray | None:

@@ -259,7 +259,7 @@ def identify_recording(
     shift = truncation_std(data, fit.truncation, sigma, best, prior)
     draws_found = bootstrap(data, sigma, best, draws) if draws else []
     tested_std = with_truncation(combined_std(best, draws_found, draws), shift, planar)
-    statistical = combined_std(bare, [housings.removed_from(b, planar) for b in draws_found], draws)
+    statistical = combined_std(bare, housings.removed_from_each(draws_found, planar), draws)
     std = with_truncation(statistical, shift, planar)
     tested = best.body if method == "best" else paper_body(data, method, best)
     in_band = (f >= used.low) & (f <= used.high)

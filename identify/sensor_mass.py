@@ -141,6 +141,17 @@ class Housings:
         model = RigidModel(body, planar)
         return model.body(model.theta - self.theta(planar))
 
+    def removed_from_each(self, bodies: list, planar: bool = False) -> list:
+        """Each of ``bodies`` (a bootstrap's draws) bare, but for those the housings leave no physical body of (a
+        draw that picked a faulty sensor twice can leave the body altogether: dropped, as the draws that fail)."""
+        bare = []
+        for body in bodies:
+            try:
+                bare.append(self.removed_from(body, planar))
+            except MasslineError:
+                continue
+        return bare
+
     def removed(self, found: Estimate) -> Estimate:
         """The estimate of the bare body: its body and model, and θ's covariance carried over unchanged.
 

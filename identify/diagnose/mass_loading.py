@@ -15,7 +15,7 @@ are weighed, each one unknown mass fitted by weighted least squares, m̂ = φᵀ
 * one housing heavier than it should be (a heavy sensor, a cable clamp), φ = φ(p_k) for each k;
 * each housing its own mass m_k ≥ 0 (triaxials and uniaxials of different makes): non-negative weighted least
   squares over every housing, Δθ = Σ_k m_k φ(p_k); when what it leaves is within chance (no fallback to a
-  tenth of χ²₀) and the housings it loads lie SIGMAS from zero, it is named where the one-mass hypotheses
+  tenth of χ²₀) and the total it loads lies SIGMAS from zero, it is named where the one-mass hypotheses
   explain nothing, or leave more than chance and EVIDENCE more than it;
 * the excitation side: a force gauge of one mass at every drive point, riding only while its exciter drives
   (:mod:`massline.identify.exciter_mass`), φ = ψ the change of identify's θ̂ per kg of gauge it left out
@@ -180,7 +180,9 @@ def each_housing(
     delta: np.ndarray, information: np.ndarray, planar: bool, sensors: Lines, nominal: RigidBody, chi2_before: float
 ) -> MassLoading | None:
     """Each housing its own mass m_k ≥ 0 fitted to Δθ (weighted NNLS, the weight's square root from the
-    information's eigenpairs), when what it leaves is within chance and the loaded housings are SIGMAS from 0."""
+    information's eigenpairs), when what it leaves is within chance and their total is SIGMAS from 0 (each
+    housing's own mass may be far less certain: housings whose φ nearly align share their mass between them);
+    named at the housings SIGMAS from 0, or at every loaded one when none is."""
     points = housing_points(sensors, SHARED)
     phi = np.column_stack([point_mass_theta(1.0, r, planar) for r in points])
     w, V = np.linalg.eigh(information)
@@ -191,11 +193,13 @@ def each_housing(
     chi2_after = float(rest @ information @ rest)
     if not loaded.any() or chi2_after > chi2_distribution.isf(CHANCE, max(len(delta) - loaded.sum(), 1)):
         return None
-    std = np.sqrt(np.diag(np.linalg.pinv(phi[:, loaded].T @ information @ phi[:, loaded])))
-    if np.any(masses[loaded] < SIGMAS * std) or masses.sum() > 0.5 * nominal.mass:
+    covariance = np.linalg.pinv(phi[:, loaded].T @ information @ phi[:, loaded])
+    std, total_std = np.sqrt(np.diag(covariance)), float(np.sqrt(covariance.sum()))
+    if masses.sum() < SIGMAS * total_std or masses.sum() > 0.5 * nominal.mass:
         return None
-    channels = tuple(
-        int(i) for i in np.flatnonzero(np.min(np.linalg.norm(sensors.points[:, None] - points[loaded], axis=2), 1) <= SHARED)
-    )
+    named = points[loaded][masses[loaded] >= SIGMAS * std]  # the housings it can tell apart; all loaded else
+    named = named if len(named) else points[loaded]
+    near = np.min(np.linalg.norm(sensors.points[:, None] - named, axis=2), axis=1) <= SHARED
+    channels = tuple(int(i) for i in np.flatnonzero(near))
     housings = Housings(masses[loaded], points[loaded], np.flatnonzero(loaded) + 1)
     return MassLoading(housings, False, planar, channels, std, chi2_before, chi2_after, "each")

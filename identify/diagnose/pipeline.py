@@ -42,6 +42,7 @@ from massline.identify.tails import BandData
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
 from massline.core.errors import MasslineError
+from massline.core.housing_masses import HousingMasses
 from massline.core.files import to_json
 from massline.core.properties import JSON_UNITS, reported_values
 from massline.core.rigid_body import RigidBody
@@ -214,23 +215,24 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
     }
 
 
-def identified_after(recording, findings: list, band, transverse: float, before: Identification):
+def identified_after(recording, findings: list, band, transverse: float, before: Identification, known: dict):
     """identify (on ``band``: None, its own) on the recording with every fault undone, and each fault's finding with how far undoing it
     moved the properties (identify with all faults undone against with all but that one; no bootstrap).
 
     When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved them).
+    ``known``: identify's options for the masses the engineer gave (``sensor_mass``, ``exciter_mass``).
     """
     faults = [f for f in findings if f.kind == "fault" and named(f.effect).undone_on in ("recording", "identify")]
     if not faults:
         return before, findings
-    after = attempt(corrected(recording, faults), band, transverse, 100, **identify_options(faults))
+    after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
     if after is None:
         return before, findings
     marked = []
     for finding in findings:
         if finding in faults and before is not None:
             rest = [f for f in faults if f is not finding]
-            without = attempt(corrected(recording, rest), band, transverse, 0, **identify_options(rest))
+            without = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
             if without is not None:
                 finding = replace(finding, evidence={**finding.evidence, "moved": moved(without.body, after.body)})
         marked.append(finding)
@@ -264,10 +266,18 @@ def check_seen(layout: Layout) -> None:
 
 
 def diagnose_recording(
-    recording: Recording | str | Path, band=None, nominal=None, transverse: float = TRANSVERSE
+    recording: Recording | str | Path,
+    band=None,
+    nominal=None,
+    transverse: float = TRANSVERSE,
+    *,
+    sensor_mass: float | HousingMasses = 0.0,
+    exciter_mass: float = 0.0,
 ) -> DiagnosisRun:
     """identify, then the diagnosis on ``band`` (lo, hi) Hz or identify's, then identify on the recording
     with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
+    ``sensor_mass`` and ``exciter_mass``: the instrumentation's masses the engineer knows, as identify takes
+    them (every identify run of the diagnosis is given them; a gauge given is not searched for).
 
     ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
     chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
@@ -279,7 +289,8 @@ def diagnose_recording(
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     check_seen(layout)
-    before, refused = identified(recording, band, transverse)
+    known = {"sensor_mass": sensor_mass, "exciter_mass": exciter_mass}
+    before, refused = identified(recording, band, transverse, known)
     if before is not None:
         before = against_nominal(before, nominal)  # the mesh's mass checked as identify --mesh checks it
     identify_band = band if before is not None and before.band.rule == "given" else None
@@ -289,7 +300,9 @@ def diagnose_recording(
     else:
         used = before.band if before else choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
     estimation = used if before is None else before.band
-    gauge = None if before is None else gauge_mass(before.data, before.sigma, planar, transverse, before.best)
+    gauge = None
+    if before is not None and not exciter_mass:
+        gauge = gauge_mass(before.data, before.sigma, planar, transverse, before.best)
     searched = recording if gauge is None else shifted(recording, gauge)  # the other effects, on the bare body
     data = BandData.from_recording(f, searched.frf, used.low, used.high)
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
@@ -297,10 +310,11 @@ def diagnose_recording(
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
     found = ([] if gauge is None else [gauge.finding()]) + result.findings
-    after, findings = identified_after(recording, found, identify_band, transverse, before)
+    after, findings = identified_after(recording, found, identify_band, transverse, before, known)
     loading = None if nominal is None or after is None else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
-        after, findings = identified_after(recording, found + [loading.finding()], identify_band, transverse, before)
+        loaded = found + [loading.finding()]
+        after, findings = identified_after(recording, loaded, identify_band, transverse, before, known)
         findings, loading = faults_first(findings), None
     elif loading is not None:
         findings = faults_first(findings + [loading.finding()])
@@ -328,9 +342,11 @@ def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody
     """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points."""
     excitation = None
     if not after.exciter_mass and len(after.recording.exciters) > 1:
-        pattern = left_out(after.data, after.sigma, after.planar, transverse, after.best)
+        pattern = left_out(after.data, after.sigma, after.planar, transverse, after.best)  # a difference
         excitation = (after.recording.exciters.points, pattern)
-    return mass_loading(*weighed(after.best, result.after), after.recording.sensors, nominal, excitation)
+    theta, covariance, planar = weighed(after.best, result.after)
+    bare = theta - after.housings.theta(planar)  # the housings the engineer gave are no loading
+    return mass_loading(bare, covariance, planar, after.recording.sensors, nominal, excitation)
 
 
 def shifted(recording: Recording, gauge: GaugeMass) -> Recording:
@@ -339,16 +355,16 @@ def shifted(recording: Recording, gauge: GaugeMass) -> Recording:
     return replace(recording, frf=recording.frf + shift[:, :, None])
 
 
-def identified(recording, band, transverse: float) -> tuple[Identification | None, tuple]:
+def identified(recording, band, transverse: float, known: dict) -> tuple[Identification | None, tuple]:
     """identify's result on the file as it came (its own band; the diagnosis band ``band`` only when identify
     finds none), or None and a note saying why identify refuses it (a gross fault can leave the masslines
     fitting no body: the diagnosis is what finds it)."""
     try:
-        return identify_recording(recording, None, transverse), ()
+        return identify_recording(recording, None, transverse, **known), ()
     except MasslineError as reason:
         if band:
             try:
-                return identify_recording(recording, band, transverse), (
+                return identify_recording(recording, band, transverse, **known), (
                     f"identify finds no band ({reason}): the properties are on the given band",
                 )
             except MasslineError as again:
