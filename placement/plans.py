@@ -21,6 +21,7 @@ from massline.core.masslines import synthesise
 from massline.core.methods import identify
 from massline.core.model import RigidModel
 from massline.placement.sliding import Slide
+from massline.placement.work import Reached
 
 
 @dataclass(frozen=True)
@@ -87,6 +88,7 @@ class Plan:
     sliding: Slide | None = None
     clearances: tuple = (0.0, 0.0)
     candidate_log_det: float = np.nan  # log det F of the layout chosen among the candidates, before sliding
+    search: Reached | None = None  # what the diagnosable search spent and reached (None: the budget was given)
 
     @property
     def diagnosability(self) -> Diagnosability:

@@ -243,30 +243,31 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
     return chosen
 
 
-def descend(problem: BlockProblem, chosen: list, violation, valid, tries: int = 100, max_passes: int = 30) -> list:
-    """Single exchanges that lower ``violation(chosen)`` (≥ 0; 0 when the selection is admissible) among
-    ``valid`` selections, the most informative of equal violation first, until it is 0 or no exchange
-    among each chosen block's ``tries`` best lowers it."""
-    chosen, now = list(chosen), violation(chosen)
+def descend(problem: BlockProblem, chosen: list, violations, valid, tries: int = 50, max_passes: int = 30) -> list:
+    """Single exchanges that lower the violation (≥ 0; 0 when the selection is admissible) among ``valid``
+    selections, the most informative of equal violation first, until it is 0 or no exchange among each chosen
+    block's ``tries`` best lowers it. ``violations(selections)`` evaluates a pass's trials together (an array)."""
+    chosen, now = list(chosen), float(violations([chosen])[0])
     eps = problem.regulariser()
     for _ in range(max_passes):
         if now <= 0:
             break
         M = problem.information(chosen) + eps
-        trials = []
+        trials, information = [], []
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
             open_ = problem.group == problem.group[out]
             open_[chosen] = False
             base = log_det(reduced)
             for candidate, gain in zip(*best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries)):
-                trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]
-                trials.append((violation(trial), -(base + gain), trial))
-        better = (t for t in sorted(trials, key=lambda t: t[:2]) if t[0] < now and valid(t[2]))
-        step = next(better, None)
+                trials.append(chosen[:position] + [int(candidate)] + chosen[position + 1 :])
+                information.append(base + gain)
+        values = violations(trials)
+        order = np.lexsort((-np.asarray(information), values))
+        step = next((k for k in order if values[k] < now and valid(trials[k])), None)
         if step is None:
             break
-        now, chosen = step[0], step[2]
+        now, chosen = float(values[step]), trials[step]
     return chosen
 
 
