@@ -18,7 +18,7 @@ from massline.core.information import NoiseModel, weighted_sensitivities
 from massline.placement.plans import Budget
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
-from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle, swap
+from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
 from massline.placement.work import Work
 
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
@@ -191,21 +191,12 @@ class Planner:
         """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
         return float(self.violations([(sensors, exciters)])[0])
 
-    def one_per_point(self, sensors: list) -> bool:
-        """Does every chosen sensor candidate sit on a point of its own (one accelerometer per point)?"""
-        nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
-        return len(set(nodes.tolist())) == len(nodes)
-
-    def mountable(self, sensors: list, exciters: list) -> bool:
-        """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
-        (uniaxial or triaxial) per point?"""
-        return self.one_per_point(sensors) and self.regular(*self.layout(sensors, exciters))
-
     def admits(self, sensors: list, exciters: list) -> bool:
-        """Is the selection mountable (:meth:`mountable`) and, if asked, diagnosable? (The diagnosability,
-        a unit of work, before the regularity, an identification.)"""
+        """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
+        (uniaxial or triaxial) per point (and, if asked, a diagnosable one)?"""
+        nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
         return (
-            self.one_per_point(sensors)
+            len(set(nodes.tolist())) == len(nodes)
             and self.violation(sensors, exciters) == 0
             and self.regular(*self.layout(sensors, exciters))
         )
@@ -231,18 +222,17 @@ class Planner:
         return chosen
 
     def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
-        """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)). When diagnosability is asked,
-        settled among mountable layouts, walked towards diagnosable by ``descend`` (its trials evaluated
-        together), then climbed by exchanges among diagnosable ones; a walk that falls short is returned as it
-        is, which the planner does not admit (a repair's single exchanges only bring back a rigid motion)."""
+        """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
+        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again, the
+        trials of a walk's pass and of a repair evaluated together."""
         admissible = lambda c: self.admits(*side(c))  # noqa: E731
-        if not self.diagnosable:
-            return settle(problem, start, admissible, cover)
-        mountable = lambda c: self.mountable(*side(c))  # noqa: E731
-        chosen = settle(problem, start, mountable, cover)
-        if not admissible(chosen):
-            chosen = descend(problem, chosen, lambda cs: self.violations([side(c) for c in cs]), mountable)
-        return swap(problem, chosen, admissible) if admissible(chosen) else chosen
+        violations = lambda cs: self.violations([side(c) for c in cs])  # noqa: E731
+        screen = (lambda cs: violations(cs) == 0) if self.diagnosable else None
+        chosen = settle(problem, start, admissible, cover, screen)
+        if admissible(chosen) or not self.diagnosable:
+            return chosen
+        walked = descend(problem, chosen, violations, lambda c: self.regular(*self.layout(*side(c))))
+        return settle(problem, walked, admissible, cover, screen)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""

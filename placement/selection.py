@@ -182,9 +182,10 @@ def swap(
     return chosen
 
 
-def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, tries: int = 200) -> list:
+def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, tries: int = 200, screen=None) -> list:
     """The best single exchange that brings in a candidate from ``cover`` and makes the
-    selection admissible (``chosen`` unchanged when none does)."""
+    selection admissible (``chosen`` unchanged when none does). ``screen(trials)``, when given, tells the
+    trials that may be admissible (a boolean array), all evaluated together; only those are checked."""
     M = problem.information(chosen) + problem.regulariser()
     options = []
     for position, out in enumerate(chosen):
@@ -193,11 +194,9 @@ def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, t
         allowed[chosen] = False
         index, gain = best_gains(problem.blocks, np.linalg.inv(reduced), allowed, tries)
         options += [(log_det(reduced) + g, position, int(i)) for i, g in zip(index, gain)]
-    for _, position, candidate in sorted(options, reverse=True):
-        trial = chosen[:position] + [candidate] + chosen[position + 1 :]
-        if admissible(trial):
-            return trial
-    return list(chosen)
+    trials = [chosen[:position] + [candidate] + chosen[position + 1 :] for _, position, candidate in sorted(options, reverse=True)]
+    passing = np.ones(len(trials), bool) if screen is None else screen(trials)
+    return next((trial for trial, ok in zip(trials, passing) if ok and admissible(trial)), list(chosen))
 
 
 def effective_independence(problem: BlockProblem) -> list:
@@ -229,9 +228,9 @@ def effective_independence(problem: BlockProblem) -> list:
         keep = [c for position, c in enumerate(keep) if position not in drop]
 
 
-def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
+def settle(problem: BlockProblem, chosen: list, admissible, cover_for, screen=None) -> list:
     """Exchanges to a local optimum among admissible selections; an inadmissible
-    start is first repaired from the cover set of the motion it leaves unseen."""
+    start is first repaired from the cover set of the motion it leaves unseen (``screen``: :func:`repair`'s)."""
     chosen = swap(problem, chosen, admissible)
     for _ in range(3):
         if admissible(chosen):
@@ -239,7 +238,7 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
         cover = cover_for(chosen)
         if cover is None:
             break
-        chosen = swap(problem, repair(problem, chosen, admissible, cover), admissible)
+        chosen = swap(problem, repair(problem, chosen, admissible, cover, screen=screen), admissible)
     return chosen
 
 
