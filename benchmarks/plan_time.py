@@ -57,10 +57,9 @@ def cylinder(folder: Path) -> Path:
 
 def bodies(folder: Path) -> dict:
     """Name → the body's arguments to `massline plan`."""
-    found = {name: [name] for name in BUNDLED}
-    found |= {Path(f).stem: [str(FIXTURES / f), "--units", u, "--density", "2700"] for f, u in CAD.items()}
-    found["cylinder"] = [str(cylinder(folder)), "--units", "mm", "--density", "2700"]
-    return found
+    found = {"cylinder": [str(cylinder(folder)), "--units", "mm", "--density", "2700"]}  # the issue's case first
+    found |= {name: [name] for name in BUNDLED}
+    return found | {Path(f).stem: [str(FIXTURES / f), "--units", u, "--density", "2700"] for f, u in CAD.items()}
 
 
 def timed_plan(body: list, options: list, out: Path) -> dict:

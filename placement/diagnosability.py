@@ -131,7 +131,8 @@ def hat_matrix(S: np.ndarray, motions: int) -> np.ndarray:
 
 
 def confusion(P: np.ndarray) -> np.ndarray:
-    """Each channel's largest |(I − P)_ik| / √((1 − h_ii)(1 − h_kk)) over k ≠ i (1 at leverage 1), P (..., n, n)."""
+    """Each channel's largest |(I − P)_ik| / √((1 − h_ii)(1 − h_kk)) over k ≠ i (1 at leverage 1), of hat
+    matrices P (..., n, n)."""
     n = P.shape[-1]
     R = np.eye(n) - P
     d = np.sqrt(np.clip(np.diagonal(R, axis1=-2, axis2=-1), 0, None))

@@ -27,7 +27,7 @@ from massline.placement.planner import Budget, Plan
 from massline.placement.work import Reached, Work, WorkSpent
 
 MOST_EXTRA = 8  # lines and hits beyond the cheapest diagnosable budget tried before giving up
-EVALUATIONS = 300_000  # diagnosability evaluations the search may spend (≈ 30 s of evaluation on 2 cores)
+EVALUATIONS = 200_000  # diagnosability evaluations the search may spend (the bracket spends 185 000 on its 10 × 4)
 UNIT = "diagnosability evaluations"
 
 
@@ -101,5 +101,9 @@ def _reached(work: Work, stopped: bool, what: str) -> Reached:
 
 def _stopped_phrase(tried: list, searching: Budget) -> str:
     """What a stopped search reached: the budgets it closed without a diagnosable layout, the one it was in."""
-    closed = f"{len(tried)} budgets ({_size(tried[0])} to {_size(tried[-1])}) without a diagnosable layout" if tried else "no budget closed"
+    closed = (
+        f"{len(tried)} budgets ({_size(tried[0])} to {_size(tried[-1])}) without a diagnosable layout"
+        if tried
+        else "no budget closed"
+    )
     return f"{closed}, stopped within {_size(searching)}; planned the minimal layout, not diagnosable"

@@ -174,7 +174,7 @@ def plan_on_candidates(
     planner = replace(settings, criterion=D).planner(sensor_side, exciter_side)
     planner.check_directions()
     layout = searched(settings, planner, starts, seed, progress)
-    planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its time, not the search's
+    planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its seconds instead
     progress("certifying", 0.85)
     sensors, exciters, bounds, d_bounds = certified(settings, planner, layout, relaxation, certify_seconds)
     S_all, E_all = planner.layout(sensors, exciters)

@@ -194,7 +194,8 @@ def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, t
         allowed[chosen] = False
         index, gain = best_gains(problem.blocks, np.linalg.inv(reduced), allowed, tries)
         options += [(log_det(reduced) + g, position, int(i)) for i, g in zip(index, gain)]
-    trials = [chosen[:position] + [candidate] + chosen[position + 1 :] for _, position, candidate in sorted(options, reverse=True)]
+    ranked = sorted(options, reverse=True)
+    trials = [chosen[:position] + [candidate] + chosen[position + 1 :] for _, position, candidate in ranked]
     passing = np.ones(len(trials), bool) if screen is None else screen(trials)
     return next((trial for trial, ok in zip(trials, passing) if ok and admissible(trial)), list(chosen))
 
