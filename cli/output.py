@@ -11,6 +11,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.status import Status
 
 import sys
+import time
 
 from massline.core.files import STDOUT, to_json, write_atomic
 from massline.export import PLATE_UNOBSERVED, check_observed, format_of
@@ -63,6 +64,7 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
     return Path(path)
 
 
+<<<<<<< HEAD
 def check_exportable(paths: list[str], recording) -> None:
     """Before the identification: refuse ``--export`` files that cannot hold what ``recording`` can show (a
     plate's test leaves z_G and J's z row and column unobserved: only CSV holds that)."""
@@ -80,6 +82,24 @@ def write_exports(console, found, args) -> None:
         found.export(path, args.export_units, as_tested=args.export_as_tested, force=args.force,
                      source=Path(args.uff).name)  # fmt: skip
         console.print(f"wrote {path} ({format_of(path).name}, {args.export_units})")
+=======
+def plain_progress(stream, steps: int = 4):
+    """``progress(stage, done, total)`` as plain lines on ``stream``, each with the seconds since the first: one
+    when the stage changes and, within a stage, one each time another ``1/steps`` of ``total`` is done — a few
+    lines a stage, not a flood, and no bar's control characters for a log file."""
+    start, last = time.perf_counter(), {"stage": None, "step": -1}
+
+    def progress(stage: str, done: float, total: float | None) -> None:
+        step = int(steps * done / total) if total else -1
+        if stage == last["stage"] and step <= last["step"]:
+            return
+        last.update(stage=stage, step=step)
+        share = f" ({100 * done / total:.0f} %)" if total else ""
+        stream.write(f"[{time.perf_counter() - start:6.1f} s] {stage}{share}\n")
+        stream.flush()
+
+    return progress
+>>>>>>> planbound
 
 
 @contextmanager
@@ -87,9 +107,10 @@ def progress_bar(console: Console):
     """Show a library pipeline's progress on ``console`` through the callback yielded, ``progress(stage, done,
     total)`` (the pipelines' None-able argument): a bar over the stages of a known count, a spinner for a stage of
     unknown length (``total`` None). Shown from the first call, transient, gone when the block ends; on a console
-    that is not a terminal nothing is shown (a file or a pipe gets results only, not a bar's blank line)."""
+    that is not a terminal, plain lines on stderr instead (:func:`plain_progress`: the console's file or pipe
+    gets results only, not a bar's blank line)."""
     if not console.is_terminal:
-        yield lambda stage, done, total: None
+        yield plain_progress(sys.stderr)
         return
     shown: dict = {}  # "live": the bar (Progress) or spinner (Status) on show; "task": the bar's task
 

@@ -14,7 +14,7 @@ from massline.meshargs import add_mesh_arguments, body_from_arguments
 from massline.options import SEED, count, finite, fraction, real
 from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
-from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
+from massline.placement.diagnosable_plan import EVALUATIONS, cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
 from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.information import NoiseModel
@@ -67,6 +67,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--minimal",
         action="store_true",
         help="the paper's minimal layout (6 lines × 3 hits, a plate's 3 × 3): identifies, cannot locate a fault",
+    )
+    parser.add_argument(
+        "--search-evaluations",
+        type=count(1, 10**9),
+        metavar="N",
+        help=f"diagnosability evaluations the search for the cheapest diagnosable layout may spend (default "
+        f"{EVALUATIONS}); a search that spends them stops and plans the minimal layout, saying what it reached",
     )
     parser.add_argument(
         "--candidates",
@@ -235,6 +242,11 @@ def chosen_budget(args: argparse.Namespace, planar: bool) -> Budget | None:
     given = [x for x in (args.sensors, args.exciters, args.triaxial) if x is not None]
     if args.minimal and given:
         raise MasslineError("--minimal is a budget of its own: drop --sensors, --exciters and --triaxial")
+    if (args.minimal or given) and args.search_evaluations is not None:
+        raise MasslineError(
+            "--search-evaluations bounds the search for the cheapest diagnosable layout, which a given budget "
+            "skips: drop it, or drop --minimal, --sensors, --exciters and --triaxial"
+        )
     if args.minimal:
         return minimal_budget(planar)
     if not given:
@@ -261,6 +273,9 @@ def diagnosability_note(console: Console, result) -> None:
             console.print(
                 f"channels {', '.join(str(k + 1) for k in weak)} could hide a gain, polarity or direction fault"
             )
+    if result.search is not None:
+        colour = "yellow" if result.search.stopped else "default"
+        console.print(f"[{colour}]diagnosable search: {result.search.sentence}[/]")
     if result.minimal is not None:
         m = result.minimal
         console.print(
@@ -325,8 +340,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
 
         if budget is None:
             result = cheapest_diagnosable(
-                body, options, noise, **fixed, relaxation=args.relaxation, progress=progress, criterion=args.criterion
-            )
+                body, options, noise, **fixed, relaxation=args.relaxation, progress=progress, criterion=args.criterion,
+                evaluations=args.search_evaluations or EVALUATIONS,
+            )  # fmt: skip
         else:
             result = plan(
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,

@@ -41,6 +41,7 @@ class NoiseModel:
         return np.sqrt((self.relative * H) ** 2 + (self.floor / mass) ** 2)
 
 
+<<<<<<< HEAD
 def driven_inverses(model: RigidModel, riding: np.ndarray) -> np.ndarray:
     """M_j⁻¹ (n_e, q, q) of the body each exciter drives, M_j = M(θ + θ_j): the model's body with the mass riding
     at exciter j's point (SI parameters ``riding`` (n_e, p), e.g. a force gauge's structure side; eq. 14)."""
@@ -57,6 +58,11 @@ def driven(model: RigidModel, exciter_coords: np.ndarray, riding: np.ndarray | N
 
 def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, riding=None):
     """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model.
+=======
+def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray):
+    """g_ij (..., n_sensors, n_exciters, p) and the masslines H_ij (..., n_sensors, n_exciters) at the model, for
+    line coordinates (..., n, q): one layout, or a stack of them.
+>>>>>>> planbound
 
     Summed as g_ij,k = −Σ_a u_ia Y(v_j)_ak by einsum: fast when the exciters are few (pass the many
     lines first, by the symmetry above), and single-threaded, which a tall product with a
@@ -73,16 +79,16 @@ def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: 
     Minv = model.mass_matrix_inverse
     U = sensor_coords @ Minv  # u_i (M symmetric)
     V = exciter_coords @ Minv  # v_j
-    Y = np.einsum("kab,jb->ajk", model.basis, V)  # Y(v_j) side by side: (q, n_e, p)
-    return -np.einsum("ia,ajk->ijk", U, Y), np.einsum("ia,ja->ij", U, exciter_coords)
+    Y = np.einsum("kab,...jb->...ajk", model.basis, V)  # Y(v_j) side by side: (..., q, n_e, p)
+    return -np.einsum("...ia,...ajk->...ijk", U, Y), np.einsum("...ia,...ja->...ij", U, exciter_coords)
 
 
 def weighted_sensitivities(
     model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, noise: NoiseModel
 ) -> np.ndarray:
-    """g_ij / σ_ij for every pair, shape (n_sensors, n_exciters, p)."""
+    """g_ij / σ_ij for every pair, shape (..., n_sensors, n_exciters, p)."""
     G, H = sensitivities(model, sensor_coords, exciter_coords)
-    return G / noise.sigma(H, model.nominal.mass)[:, :, None]
+    return G / noise.sigma(H, model.nominal.mass)[..., None]
 
 
 def fisher(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, noise: NoiseModel) -> np.ndarray:

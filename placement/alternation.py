@@ -12,15 +12,27 @@ import numpy as np
 from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import CandidateLines
 from massline.placement.criteria import Criterion, D
-from massline.placement.diagnosability import of_coordinates
+from massline.placement.diagnosability import excesses
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, weighted_sensitivities
 from massline.placement.plans import Budget
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.placement.selection import BlockProblem, best_gains, compress, descend, greedy, leverages, settle
+from massline.placement.work import Work
 
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
+EVALUATIONS = 1_000_000  # diagnosability evaluations a planner may spend when not given a budget of its own
+
+
+def _stacked(side: CandidateLines, coords: np.ndarray, fixed: np.ndarray, chosen: list) -> np.ndarray:
+    """Line coordinates (T, n, q) of T selections of one side, the fixed lines first; the selections hold
+    candidates of the same groups position by position (a triaxial where a triaxial is), as trial exchanges do."""
+    members = side.members[np.asarray(chosen, dtype=int)].reshape(len(chosen), -1)  # (T, lines), −1 pads
+    if not np.all((members >= 0) == (members[:1] >= 0)):
+        raise ValueError("selections of different groups position by position cannot be stacked")
+    rows = coords[members[:, members[0] >= 0]]
+    return np.concatenate([np.broadcast_to(fixed, (len(chosen),) + fixed.shape), rows], axis=1)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -35,6 +47,7 @@ class PlannerSettings:
     fixed_exciters: Lines | None = None
     criterion: Criterion = D
     diagnosable: bool = False
+    work: Work | None = None
 
     def planner(self, sensor_side: CandidateLines, exciter_side: CandidateLines) -> Planner:
         """The planner of these settings over the given candidate lines."""
@@ -48,6 +61,7 @@ class PlannerSettings:
             fixed_exciters=self.fixed_exciters,
             criterion=self.criterion,
             diagnosable=self.diagnosable,
+            work=self.work,
         )
 
 
@@ -66,9 +80,11 @@ class Planner:
         fixed_exciters: Lines | None = None,
         criterion: Criterion = D,
         diagnosable: bool = False,
+        work: Work | None = None,
     ):
         self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
         self.diagnosable = diagnosable
+        self.work = Work(EVALUATIONS, "diagnosability evaluations") if work is None else work
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
         self.e_coords = model.coordinates(exciter_side.lines)
@@ -161,13 +177,19 @@ class Planner:
     def regular(self, sensors: Lines, exciters: Lines) -> bool:
         return regular(self.model, sensors, exciters)
 
+    def violations(self, selections: list) -> np.ndarray:
+        """How far each selection ((sensors, exciters) candidate indices, of one size) is from diagnosable (0
+        when it is, or when that is not asked); evaluated together, each one unit of the planner's work."""
+        if not self.diagnosable or not selections:
+            return np.zeros(len(selections))
+        self.work.spend(len(selections))
+        S = _stacked(self.s, self.s_coords, self.fixed_s, [s for s, _ in selections])
+        W = _stacked(self.e, self.e_coords, self.fixed_e, [e for _, e in selections])
+        return excesses(self.model, S, W, self.noise)
+
     def violation(self, sensors: list, exciters: list) -> float:
         """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""
-        if not self.diagnosable:
-            return 0.0
-        S = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
-        W = np.vstack([self.fixed_e, self.exciter_rows(exciters)])
-        return of_coordinates(self.model, S, W, self.noise).excess
+        return float(self.violations([(sensors, exciters)])[0])
 
     def admits(self, sensors: list, exciters: list) -> bool:
         """Is the selection (candidate indices, fixed lines added) a regular layout with one accelerometer
@@ -201,15 +223,16 @@ class Planner:
 
     def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
         """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
-        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again."""
+        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again, the
+        trials of a walk's pass and of a repair evaluated together."""
         admissible = lambda c: self.admits(*side(c))  # noqa: E731
-        chosen = settle(problem, start, admissible, cover)
+        violations = lambda cs: self.violations([side(c) for c in cs])  # noqa: E731
+        screen = (lambda cs: violations(cs) == 0) if self.diagnosable else None
+        chosen = settle(problem, start, admissible, cover, screen)
         if admissible(chosen) or not self.diagnosable:
             return chosen
-        walked = descend(
-            problem, chosen, lambda c: self.violation(*side(c)), lambda c: self.regular(*self.layout(*side(c)))
-        )
-        return settle(problem, walked, admissible, cover)
+        walked = descend(problem, chosen, violations, lambda c: self.regular(*self.layout(*side(c))))
+        return settle(problem, walked, admissible, cover, screen)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""
@@ -220,8 +243,10 @@ class Planner:
         )
 
     def alternate(self, exciters: list, sensors: list | None = None, rounds: int = 12) -> tuple[list, list, float]:
-        """Sensors for the exciters, exciters for the sensors, … until both are stable."""
-        value, settled_for = -np.inf, None
+        """Sensors for the exciters, exciters for the sensors, … until both are stable, or, when diagnosability
+        is asked, until a round leaves the layout as far from diagnosable as the round before (a walk that
+        stalls: its exchanges climb back to where the next round's walk starts again)."""
+        value, settled_for, short = -np.inf, None, np.inf
         for _ in range(rounds):
             sp = self.sensor_problem(self.exciter_rows(exciters))
             sensors = self.settled(
@@ -239,6 +264,9 @@ class Planner:
             if new_value <= value + 1e-9:
                 break
             exciters, value, settled_for = new_exciters, new_value, sorted(sensors)
+            short, before = self.violation(sensors, exciters), short
+            if 0 < before <= short:
+                break
         return sensors, exciters, value
 
     def working_sets(self, seed: int, size: int = WORKING_SET) -> tuple[np.ndarray, np.ndarray]:

@@ -78,8 +78,7 @@ class Diagnosability:
     @property
     def excess(self) -> float:
         """How far from diagnosable: the leverages and confusions beyond their limits, summed (0: diagnosable)."""
-        over = [self.channel_leverage - H_MAX, self.channel_confusion - R_MAX, self.hit_leverage - H_MAX]
-        return float(sum(np.clip(x, 0, None).sum() for x in over))
+        return float(excess(self.channel_leverage, self.channel_confusion, self.hit_leverage))
 
     @property
     def failures(self) -> list[str]:
@@ -120,45 +119,71 @@ def _listed(indices: list[int]) -> str:
 
 
 def hat_matrix(S: np.ndarray, motions: int) -> np.ndarray:
-    """P = S S⁺ (n × n); the identity when S sees fewer than ``motions`` motions (nothing is predicted)."""
+    """P = S S⁺ (..., n, n) of sensor line coordinates S (..., n, q), one per layout of a stack; the identity
+    where S sees fewer than ``motions`` motions (nothing is predicted)."""
+    n = S.shape[-2]
     U, s, _ = np.linalg.svd(S, full_matrices=False)
-    if len(s) < motions or s[motions - 1] <= 1e-10 * s[0]:
-        return np.eye(len(S))
-    return U[:, :motions] @ U[:, :motions].T
+    if s.shape[-1] < motions:
+        return np.broadcast_to(np.eye(n), S.shape[:-2] + (n, n)).copy()
+    seen = s[..., motions - 1] > 1e-10 * s[..., 0]
+    Um = U[..., :motions]
+    return np.where(seen[..., None, None], Um @ np.swapaxes(Um, -1, -2), np.eye(n))
 
 
 def confusion(P: np.ndarray) -> np.ndarray:
-    """Each channel's largest |(I − P)_ik| / √((1 − h_ii)(1 − h_kk)) over k ≠ i (1 at leverage 1)."""
-    R = np.eye(len(P)) - P
-    d = np.sqrt(np.clip(np.diag(R), 0, None))
+    """Each channel's largest |(I − P)_ik| / √((1 − h_ii)(1 − h_kk)) over k ≠ i (1 at leverage 1), of hat
+    matrices P (..., n, n)."""
+    n = P.shape[-1]
+    R = np.eye(n) - P
+    d = np.sqrt(np.clip(np.diagonal(R, axis1=-2, axis2=-1), 0, None))
+    dd = d[..., :, None] * d[..., None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
-        C = np.abs(R) / np.outer(d, d)
-    C = np.where(np.outer(d, d) > 1e-9, C, 1.0)
-    np.fill_diagonal(C, 0.0)
-    return C.max(axis=1) if len(P) > 1 else np.ones(len(P))
+        C = np.where(dd > 1e-9, np.abs(R) / dd, 1.0)
+    C[..., np.arange(n), np.arange(n)] = 0.0
+    return C.max(axis=-1) if n > 1 else np.ones(P.shape[:-1])
 
 
 def hit_leverages(A: np.ndarray) -> np.ndarray:
-    """λ_max(A_j F⁻¹ A_jᵀ) per hit, A (n_s, n_e, p) the weighted sensitivities; 1 when F is singular."""
-    F = np.einsum("ijp,ijq->pq", A, A)
+    """λ_max(A_j F⁻¹ A_jᵀ) per hit, A (..., n_s, n_e, p) the weighted sensitivities; 1 where F is singular."""
+    n_s, n_e, p = A.shape[-3:]
+    flat = A.reshape(A.shape[:-3] + (n_s * n_e, p))
+    F = np.swapaxes(flat, -1, -2) @ flat
     w = np.linalg.eigvalsh(F)
-    if w[0] <= 1e-12 * w[-1]:
-        return np.ones(A.shape[1])
-    B = np.linalg.solve(np.linalg.cholesky(F), A.reshape(-1, A.shape[2]).T).reshape(A.shape[2], *A.shape[:2])
-    K = np.einsum("pij,pkj->jik", B, B)
-    return np.linalg.eigvalsh(K)[:, -1]
+    singular = w[..., 0] <= 1e-12 * w[..., -1]
+    L = np.linalg.cholesky(np.where(singular[..., None, None], np.eye(p), F))
+    B = np.linalg.solve(L, np.swapaxes(flat, -1, -2)).reshape(A.shape[:-3] + (p, n_s, n_e))
+    Bj = np.moveaxis(B, -1, -3)  # (..., n_e, p, n_s): hit j's block of L⁻¹ Aᵀ
+    K = np.swapaxes(Bj, -1, -2) @ Bj  # A_j F⁻¹ A_jᵀ (..., n_e, n_s, n_s)
+    return np.where(singular[..., None], 1.0, np.linalg.eigvalsh(K)[..., -1])
+
+
+def excess(channel_leverage: np.ndarray, channel_confusion: np.ndarray, hit_leverage: np.ndarray) -> np.ndarray:
+    """How far from diagnosable (0: diagnosable): the leverages and confusions beyond their limits summed over
+    the last axis (one value per layout of a stack)."""
+    over = [channel_leverage - H_MAX, channel_confusion - R_MAX, hit_leverage - H_MAX]
+    return sum(np.clip(x, 0, None).sum(axis=-1) for x in over)
+
+
+def _measures(model: RigidModel, S: np.ndarray, W: np.ndarray, noise: NoiseModel) -> tuple:
+    """Channel leverages, channel confusions and hit leverages of sensor and exciter line coordinates
+    S (..., n_s, q), W (..., n_e, q)."""
+    P = hat_matrix(S, S.shape[-1])
+    return (
+        np.clip(np.diagonal(P, axis1=-2, axis2=-1), 0.0, 1.0),
+        confusion(P),
+        np.clip(hit_leverages(weighted_sensitivities(model, S, W, noise)), 0.0, 1.0),
+    )
 
 
 def of_coordinates(model: RigidModel, S: np.ndarray, W: np.ndarray, noise: NoiseModel) -> Diagnosability:
     """The diagnosability of sensor and exciter line coordinates S (n_s, q), W (n_e, q) at the nominal body."""
-    q = S.shape[1]
-    P = hat_matrix(S, q)
-    return Diagnosability(
-        np.clip(np.diag(P), 0.0, 1.0),
-        confusion(P),
-        np.clip(hit_leverages(weighted_sensitivities(model, S, W, noise)), 0.0, 1.0),
-        q,
-    )
+    return Diagnosability(*_measures(model, S, W, noise), S.shape[1])
+
+
+def excesses(model: RigidModel, S: np.ndarray, W: np.ndarray, noise: NoiseModel) -> np.ndarray:
+    """The excess (:attr:`Diagnosability.excess`) of each layout of a stack, S (T, n_s, q), W (T, n_e, q): the
+    planner's trials evaluated together, each as :func:`of_coordinates` would."""
+    return excess(*_measures(model, S, W, noise))
 
 
 def diagnosability(

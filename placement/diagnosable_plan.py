@@ -6,6 +6,9 @@ the body but cannot check itself: a faulty channel or hit is seen at best, never
 (q + 2 lines and 4 hits) upwards, fewest lines and hits first and, at equal count, fewest
 accelerometers; the first budget whose optimal layout among the diagnosable ones exists is
 planned and certified. The minimal plan is kept beside it, to state what diagnosability costs.
+
+The search spends a budget of diagnosability evaluations (:mod:`.work`), shared by the budgets it tries: a
+search that spends it stops, and the plan is then the minimal layout, with what the search reached.
 """
 
 from __future__ import annotations
@@ -21,8 +24,11 @@ from massline.core.lines import Lines
 from massline.meshes.loader import BodyMesh
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.planner import Budget, Plan
+from massline.placement.work import Reached, Work, WorkSpent
 
 MOST_EXTRA = 8  # lines and hits beyond the cheapest diagnosable budget tried before giving up
+EVALUATIONS = 200_000  # diagnosability evaluations the search may spend (the bracket spends 185 000 on its 10 × 4)
+UNIT = "diagnosability evaluations"
 
 
 def minimal_budget(planar: bool) -> Budget:
@@ -49,28 +55,55 @@ def cheapest_diagnosable(
     certify_seconds: float = 20.0,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
+    evaluations: int = EVALUATIONS,
 ) -> Plan:
     """The diagnosable plan of fewest lines and hits by ``criterion``, certified, with the minimal plan as
-    ``minimal``."""
+    ``minimal`` and what the search spent as ``search``; the minimal plan, with what the search reached, when
+    the search spends its ``evaluations`` first."""
     planar = is_plate(body)
+    work = Work(evaluations, UNIT)
 
     def planned(budget: Budget, diagnosable: bool, seconds: float) -> Plan:
         return plan(
             body, budget, options, noise, fixed_sensors=fixed_sensors, fixed_exciters=fixed_exciters,
             relaxation=relaxation, planar=planar, certify_seconds=seconds, criterion=criterion,
-            diagnosable=diagnosable,
+            diagnosable=diagnosable, work=work,
         )  # fmt: skip
 
     progress("the minimal layout", 0.0)
     minimal = planned(minimal_budget(planar), False, 0.0)
+    tried = []
     for budget in budgets(planar):
-        progress(f"a diagnosable layout of {budget.sensors} lines × {budget.exciters} hits", 0.1)
+        progress(f"a diagnosable layout of {_size(budget)} ({work.spent} of {work.limit} {UNIT} spent)", work.fraction)
         try:
-            return replace(planned(budget, True, certify_seconds), minimal=minimal)
+            found = planned(budget, True, certify_seconds)
         except UndiagnosableError:
+            tried.append(budget)
             continue
+        except WorkSpent:
+            return replace(minimal, search=_reached(work, True, _stopped_phrase(tried, budget)))
+        what = f"a diagnosable layout of {_size(budget)}, after {len(tried)} smaller budgets with none"
+        return replace(found, minimal=minimal, search=_reached(work, False, what))
     raise MasslineError(
         f"no diagnosable layout of up to {budget.sensors + budget.exciters} lines and hits was found: "
         f"give the budget ({param('budget.sensors')}, {param('budget.exciters')}) or plan the minimal layout "
         f"({param('minimal_budget')})"
     )
+
+
+def _size(budget: Budget) -> str:
+    return f"{budget.sensors} lines × {budget.exciters} hits"
+
+
+def _reached(work: Work, stopped: bool, what: str) -> Reached:
+    return Reached(min(work.spent, work.limit), work.limit, work.unit, stopped, what)
+
+
+def _stopped_phrase(tried: list, searching: Budget) -> str:
+    """What a stopped search reached: the budgets it closed without a diagnosable layout, the one it was in."""
+    closed = (
+        f"{len(tried)} budgets ({_size(tried[0])} to {_size(tried[-1])}) without a diagnosable layout"
+        if tried
+        else "no budget closed"
+    )
+    return f"{closed}, stopped within {_size(searching)}; planned the minimal layout, not diagnosable"

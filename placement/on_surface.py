@@ -22,6 +22,7 @@ from massline.core.model import RigidModel
 from massline.placement.mountable import Surface, snap
 from massline.placement.planner import plan_on_candidates
 from massline.placement.sliding import slide
+from massline.placement.work import Work
 
 PLATE_THINNESS = 0.05  # thickness / size below which a body normal to z is planned as a plate
 
@@ -93,10 +94,12 @@ def plan(
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
     diagnosable: bool = False,
+    work: Work | None = None,
 ) -> Plan:
     """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified, slid off
     the candidate grid on the flat faces, with predicted 1-σ (``diagnosable``: the best of the layouts in which
-    one faulty channel or hit can be located). Fixed lines are snapped onto the surface."""
+    one faulty channel or hit can be located, the search spending ``work``, :mod:`.work`). Fixed lines are
+    snapped onto the surface."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
     progress("candidates", 0.0)
@@ -120,6 +123,7 @@ def plan(
         progress=progress,
         criterion=criterion,
         diagnosable=diagnosable,
+        work=work,
     )
     progress("sliding the points on their faces", 0.95)
     return slid(

@@ -13,7 +13,9 @@ the plan's: placement/certification.py; ``sliding``: ``candidate_log_det``, ``ga
 ``criterion_gain``, ``largest_move_m``), ``mounting`` (the clearance from edges, m, a sensor and a hit keep),
 ``noise``, ``predicted_std`` (identify's std keys), ``diagnosability`` (``diagnosable``, per-channel and
 per-hit leverage, ``hidden``: the faults each channel could hide, ``failures``; ``cost``: the minimal
-layout's lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared).
+layout's lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared;
+``search``: what the search for the cheapest diagnosable layout spent and reached — ``stopped`` when its budget
+ended it, ``spent`` of ``limit`` ``unit``, ``reached``, ``sentence`` —, null when the budget was given).
 NaN (unobservable) is written as null.
 
 The test the plan sets up (absent in plans written before it was kept; their readers fall back to a
@@ -111,7 +113,11 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
             "points": len(plan.candidates) if plan.candidates is not None else None,
             "lines": plan.n_candidate_lines,
         },
-        "diagnosability": {**plan.diagnosability.as_dict(), "cost": cost(plan)},
+        "diagnosability": {
+            **plan.diagnosability.as_dict(),
+            "cost": cost(plan),
+            "search": None if plan.search is None else plan.search.as_dict(),
+        },
     } | (test or {})
 
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Callable
 
-from massline.placement.alternation import WORKING_SET, Planner, PlannerSettings
+from massline.placement.alternation import EVALUATIONS, WORKING_SET, Planner, PlannerSettings
 from massline.placement.candidates import CandidateLines
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
@@ -35,6 +35,7 @@ from massline.core.information import NoiseModel
 from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
+from massline.placement.work import Work
 
 __all__ = [  # the planner's vocabulary, from here as from the modules that define it
     "WORKING_SET", "Budget", "CandidateLines", "Found", "Planner", "PlannerSettings",
@@ -146,6 +147,7 @@ def plan_on_candidates(
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
     diagnosable: bool = False,
+    work: Work | None = None,
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
@@ -154,7 +156,8 @@ def plan_on_candidates(
     (criteria.py): A and E alternate from the D layout by their own criterion. ``diagnosable``: only
     layouts in which one faulty channel or hit can be located are admitted (the certificate's bound covers
     all layouts). ``starts``: the alternation starts from the greedy exciters and ``starts`` − 1 random
-    sets (``seed``).
+    sets (``seed``). ``work``: the diagnosability evaluations the search may spend (:mod:`.work`; it raises
+    ``WorkSpent`` past them).
     """
     budget.check(model.planar)
     check_candidates(sensor_side, exciter_side, budget)
@@ -166,10 +169,12 @@ def plan_on_candidates(
         fixed_exciters=fixed_exciters,
         criterion=CRITERIA[criterion],
         diagnosable=diagnosable,
+        work=work,
     )
     planner = replace(settings, criterion=D).planner(sensor_side, exciter_side)
     planner.check_directions()
     layout = searched(settings, planner, starts, seed, progress)
+    planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its seconds instead
     progress("certifying", 0.85)
     sensors, exciters, bounds, d_bounds = certified(settings, planner, layout, relaxation, certify_seconds)
     S_all, E_all = planner.layout(sensors, exciters)

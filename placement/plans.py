@@ -22,6 +22,7 @@ from massline.core.masslines import synthesise
 from massline.core.methods import identify
 from massline.core.model import RigidModel
 from massline.placement.sliding import Slide
+from massline.placement.work import Reached
 
 
 @dataclass(frozen=True)
@@ -89,6 +90,7 @@ class Plan:
     clearances: tuple = (0.0, 0.0)
     candidate_log_det: float = np.nan  # log det F of the layout chosen among the candidates, before sliding
     candidate_value: float = np.nan  # its criterion value (NaN: not slid, ``value`` is the candidate layout's)
+    search: Reached | None = None  # what the diagnosable search spent and reached (None: the budget was given)
 
     @property
     def point_labels(self) -> tuple[np.ndarray, np.ndarray]:

@@ -182,9 +182,10 @@ def swap(
     return chosen
 
 
-def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, tries: int = 200) -> list:
+def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, tries: int = 200, screen=None) -> list:
     """The best single exchange that brings in a candidate from ``cover`` and makes the
-    selection admissible (``chosen`` unchanged when none does)."""
+    selection admissible (``chosen`` unchanged when none does). ``screen(trials)``, when given, tells the
+    trials that may be admissible (a boolean array), all evaluated together; only those are checked."""
     M = problem.information(chosen) + problem.regulariser()
     options = []
     for position, out in enumerate(chosen):
@@ -193,11 +194,10 @@ def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, t
         allowed[chosen] = False
         index, gain = best_gains(problem.blocks, np.linalg.inv(reduced), allowed, tries)
         options += [(log_det(reduced) + g, position, int(i)) for i, g in zip(index, gain)]
-    for _, position, candidate in sorted(options, reverse=True):
-        trial = chosen[:position] + [candidate] + chosen[position + 1 :]
-        if admissible(trial):
-            return trial
-    return list(chosen)
+    ranked = sorted(options, reverse=True)
+    trials = [chosen[:position] + [candidate] + chosen[position + 1 :] for _, position, candidate in ranked]
+    passing = np.ones(len(trials), bool) if screen is None else screen(trials)
+    return next((trial for trial, ok in zip(trials, passing) if ok and admissible(trial)), list(chosen))
 
 
 def effective_independence(problem: BlockProblem) -> list:
@@ -229,9 +229,9 @@ def effective_independence(problem: BlockProblem) -> list:
         keep = [c for position, c in enumerate(keep) if position not in drop]
 
 
-def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
+def settle(problem: BlockProblem, chosen: list, admissible, cover_for, screen=None) -> list:
     """Exchanges to a local optimum among admissible selections; an inadmissible
-    start is first repaired from the cover set of the motion it leaves unseen."""
+    start is first repaired from the cover set of the motion it leaves unseen (``screen``: :func:`repair`'s)."""
     chosen = swap(problem, chosen, admissible)
     for _ in range(3):
         if admissible(chosen):
@@ -239,34 +239,35 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for) -> list:
         cover = cover_for(chosen)
         if cover is None:
             break
-        chosen = swap(problem, repair(problem, chosen, admissible, cover), admissible)
+        chosen = swap(problem, repair(problem, chosen, admissible, cover, screen=screen), admissible)
     return chosen
 
 
-def descend(problem: BlockProblem, chosen: list, violation, valid, tries: int = 100, max_passes: int = 30) -> list:
-    """Single exchanges that lower ``violation(chosen)`` (≥ 0; 0 when the selection is admissible) among
-    ``valid`` selections, the most informative of equal violation first, until it is 0 or no exchange
-    among each chosen block's ``tries`` best lowers it."""
-    chosen, now = list(chosen), violation(chosen)
+def descend(problem: BlockProblem, chosen: list, violations, valid, tries: int = 50, max_passes: int = 30) -> list:
+    """Single exchanges that lower the violation (≥ 0; 0 when the selection is admissible) among ``valid``
+    selections, the most informative of equal violation first, until it is 0 or no exchange among each chosen
+    block's ``tries`` best lowers it. ``violations(selections)`` evaluates a pass's trials together (an array)."""
+    chosen, now = list(chosen), float(violations([chosen])[0])
     eps = problem.regulariser()
     for _ in range(max_passes):
         if now <= 0:
             break
         M = problem.information(chosen) + eps
-        trials = []
+        trials, information = [], []
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
             open_ = problem.group == problem.group[out]
             open_[chosen] = False
             base = log_det(reduced)
             for candidate, gain in zip(*best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries)):
-                trial = chosen[:position] + [int(candidate)] + chosen[position + 1 :]
-                trials.append((violation(trial), -(base + gain), trial))
-        better = (t for t in sorted(trials, key=lambda t: t[:2]) if t[0] < now and valid(t[2]))
-        step = next(better, None)
+                trials.append(chosen[:position] + [int(candidate)] + chosen[position + 1 :])
+                information.append(base + gain)
+        values = violations(trials)
+        order = np.lexsort((-np.asarray(information), values))
+        step = next((k for k in order if values[k] < now and valid(trials[k])), None)
         if step is None:
             break
-        now, chosen = step[0], step[2]
+        now, chosen = float(values[step]), trials[step]
     return chosen
 
 

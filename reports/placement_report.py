@@ -166,6 +166,8 @@ def diagnosability_html(doc: dict) -> str:
                 f"{num(100 * c['minimal_worst_relative_std'], '.2f')} %",
             ]
         )
+    if d.get("search"):
+        rows.append(["diagnosable search", escape(d["search"]["sentence"])])
     rows.append(["hit leverage", ", ".join(num(h, ".2f") for h in d["hit_leverage"])])
     channels = [
         [str(k + 1), num(h, ".2f"), num(r, ".3f"), escape(", ".join(hidden) or "none")]

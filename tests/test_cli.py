@@ -133,6 +133,26 @@ def test_plan_minimal_is_the_papers_layout_and_says_it_cannot_locate_a_fault(tmp
     assert both.returncode == 2 and "--minimal" in both.stderr
 
 
+PROGRESS = re.compile(r"^\[ *\d+\.\d s\] \S")  # a plain progress line: seconds since the first, the stage
+
+
+def test_plan_off_a_terminal_shows_progress_on_stderr_and_says_where_its_search_stopped(tmp_path):
+    """Off a terminal the progress is plain lines on stderr, nothing else there, and stdout holds results only;
+    a search out of evaluations plans the minimal layout and says so in the console, plan.json and the report."""
+    run = massline("plan", "plate", "--search-evaluations", "50", "--out", tmp_path)
+    assert run.returncode == 0, run.stderr
+    lines = run.stderr.splitlines()
+    assert len(lines) >= 3 and all(PROGRESS.match(line) for line in lines), run.stderr
+    assert "the minimal layout" in run.stderr and not any(PROGRESS.match(line) for line in run.stdout.splitlines())
+    assert "diagnosable search: stopped after 50 of 50 diagnosability evaluations; reached" in run.stdout
+    doc = json.loads((tmp_path / "plan.json").read_text())
+    search = doc["diagnosability"]["search"]
+    assert search["stopped"] and search["spent"] == search["limit"] == 50 and len(doc["sensors"]) == 3
+    assert "stopped after 50 of 50" in (tmp_path / "report.html").read_text()
+    given = massline("plan", "plate", "--minimal", "--search-evaluations", "50", "--out", tmp_path / "x")
+    assert given.returncode == 2 and "--search-evaluations" in given.stderr
+
+
 def test_plan_reads_back(tmp_path):
     from massline.placement.plan_file import read_plan
 

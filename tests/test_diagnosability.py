@@ -24,8 +24,9 @@ from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
-from massline.placement.diagnosability import diagnosability
+from massline.placement.diagnosability import diagnosability, excesses, of_coordinates
 from massline.placement.diagnosable_plan import budgets, cheapest_diagnosable
+from massline.core.information import NoiseModel
 from massline.core.lines import Lines
 from massline.meshes.loader import load_body
 from massline.core.model import RigidModel
@@ -33,6 +34,7 @@ from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
+from massline.placement.work import Work, WorkSpent
 from massline.virtual.scenarios import Bench, Conditions, scenario, write_case
 
 CHANNEL_FAULTS = ("sensor_polarity", "sensor_gain", "sensor_direction")
@@ -169,3 +171,31 @@ if __name__ == "__main__":
                     f"{name:>10} {label:>8} {shape:>10} {q.worst_relative_std:8.2%} {fault:>17} {at}, {named} / {n}",
                     flush=True,
                 )
+
+
+def test_a_stack_of_layouts_is_judged_as_each_one_alone():
+    """The planner's trials evaluated together (``excesses``) give each layout's excess, singular ones too."""
+    model, rng = RigidModel(BODY), np.random.default_rng(11)
+    S, W = rng.normal(size=(40, 9, 6)), rng.normal(size=(40, 5, 6))
+    S[3, :, 5] = 0.0  # no line sees rotation about z: the identity hat matrix, every leverage 1
+    W[7] = W[7, :1]  # every hit on one line: F singular
+    alone = [of_coordinates(model, s, w, NoiseModel()).excess for s, w in zip(S, W)]
+    np.testing.assert_allclose(excesses(model, S, W, NoiseModel()), alone, rtol=1e-9, atol=1e-12)
+    assert alone[3] >= 6 * (1 - 0.9) and alone[7] >= 5 * (1 - 0.9)
+
+
+def test_a_search_out_of_evaluations_plans_the_minimal_layout_and_says_what_it_reached():
+    mesh = load_body(BUNDLED["plate"].path, "m", BUNDLED["plate"].density)
+    p = cheapest_diagnosable(mesh, certify_seconds=0.0, evaluations=50)
+    assert p.search.stopped and (p.search.spent, p.search.limit) == (50, 50)
+    assert (len(p.sensors), len(p.exciters)) == (3, 3) and not p.diagnosability.diagnosable
+    assert p.search.sentence.startswith("stopped after 50 of 50 diagnosability evaluations; reached no budget")
+    assert "within 5 lines × 4 hits" in p.search.sentence and "minimal layout" in p.search.sentence
+
+
+def test_work_past_its_limit_stops_and_keeps_its_count():
+    work = Work(10, "evaluations")
+    work.spend(10)
+    with pytest.raises(WorkSpent):
+        work.spend(1)
+    assert work.spent == 11 and work.fraction == 1.0

@@ -1,0 +1,67 @@
+"""Work budgets: a search that may run long counts its work in units of the same size on any machine (not in
+seconds, so that where it stops is reproducible) and stops at its limit, saying what it reached.
+
+The diagnosable search (:mod:`.diagnosable_plan`) counts diagnosability evaluations: one per layout whose
+leverages and confusions (:mod:`.diagnosability`) are computed, a stack of trials counting as many as it holds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+class WorkSpent(Exception):
+    """A search's work budget ran out (:class:`Work`); the search unwinds to where it can say what it reached."""
+
+
+@dataclass(eq=False)
+class Work:
+    """Units of work a search may spend (``limit``), those spent so far, and what one unit is (``unit``, plural).
+
+    Mutable on purpose: one budget is shared by every planner of a search and spent as they evaluate.
+    """
+
+    limit: int
+    unit: str
+    spent: int = 0
+
+    def spend(self, units: int) -> None:
+        """Count ``units``; past the limit, raise :class:`WorkSpent` (what was spent stays counted)."""
+        self.spent += units
+        if self.spent > self.limit:
+            raise WorkSpent(f"{self.spent} of {self.limit} {self.unit}")
+
+    @property
+    def fraction(self) -> float:
+        """The part of the budget spent, 0 to 1."""
+        return min(self.spent / self.limit, 1.0) if self.limit > 0 else 1.0
+
+
+@dataclass(frozen=True)
+class Reached:
+    """What a budgeted search spent and reached: ``spent`` of ``limit`` ``unit``, ``stopped`` when its budget ended
+    it, and ``what`` it reached (a phrase)."""
+
+    spent: int
+    limit: int
+    unit: str
+    stopped: bool
+    what: str
+
+    @property
+    def sentence(self) -> str:
+        """"stopped after N of M units; reached …" when stopped, else what it found and what that took."""
+        if self.stopped:
+            return f"stopped after {self.spent} of {self.limit} {self.unit}; reached {self.what}"
+        return f"{self.what} ({self.spent} of {self.limit} {self.unit})"
+
+    def as_dict(self) -> dict:
+        """JSON-ready, the sentence included."""
+        return {
+            "stopped": self.stopped,
+            "spent": self.spent,
+            "limit": self.limit,
+            "unit": self.unit,
+            "reached": self.what,
+            "sentence": self.sentence,
+        }
