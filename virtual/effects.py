@@ -16,6 +16,7 @@ import numpy as np
 from massline.core.effect_names import SimulatedEffect
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
+from massline.virtual.hum import Hum
 
 
 @dataclass(eq=False)
@@ -33,6 +34,8 @@ class Instrumentation:
         Point masses added to the body (kg, m).
     channel_order : (n_s,) int array
         Recorded channel c holds the signal of sensor ``channel_order[c]``.
+    hums : list of Hum
+        Mains hum on the response channels (:mod:`massline.virtual.hum`), added as the test is recorded.
     applied : list of dict
         Every effect as drawn: name, size, lines (1-based), and the perpendicular chosen.
     """
@@ -44,6 +47,7 @@ class Instrumentation:
     masses: np.ndarray
     mass_points: np.ndarray
     channel_order: np.ndarray
+    hums: list = field(default_factory=list)
     applied: list = field(default_factory=list)
 
     @classmethod
@@ -58,6 +62,11 @@ class Instrumentation:
             mass_points=np.zeros((0, 3)),
             channel_order=np.arange(len(sensors)),
         )
+
+    def add_hum(self, fundamental: float, level: float) -> None:
+        """Mains hum at ``fundamental`` Hz and its harmonics on every response channel, the fundamental's line at
+        ``level`` × each channel's massline level (:class:`massline.virtual.hum.Hum`)."""
+        self.hums.append(Hum(fundamental, level))
 
     def add_mass(self, mass: float, point: np.ndarray) -> None:
         """A point mass (kg) added to the body at ``point`` (m)."""
@@ -76,9 +85,10 @@ def check_targets(effects: list[SimulatedEffect], n_sensors: int, n_exciters: in
 
 
 def targets_of(effect: SimulatedEffect, lines: Lines, rng: np.random.Generator) -> list[int]:
-    """The lines an effect sits on: its ``where``, every line, or one drawn from ``rng``."""
+    """The lines an effect sits on: its ``where``, every line (also when ``where`` is a frequency, not lines),
+    or one drawn from ``rng``."""
     n = len(lines)
-    if effect.where == "all":
+    if effect.where == "all" or effect.place != "lines":
         return list(range(n))
     return [int(rng.integers(n))] if effect.where is None else list(effect.where)
 

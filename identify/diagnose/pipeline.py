@@ -22,7 +22,7 @@ from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import named
-from massline.identify.diagnose.finding import faults_first, finding_payload
+from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.estimator import TRANSVERSE
@@ -33,6 +33,7 @@ from massline.identify.pipeline import (
     is_planar,
     properties_payload,
     usable_lines,
+    without_mains,
 )
 from massline.identify.tails import BandData
 from massline.core.band import Band
@@ -73,7 +74,7 @@ class DiagnosisRun:
         identify.
     loading : MassLoading or None
     notes : tuple of str
-        What was set aside before the diagnosis (an exporter's 0 Hz line).
+        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference).
     """
 
     recording: Recording
@@ -199,9 +200,12 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
     chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
 
-    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed).
+    Lines at or below 0 Hz and the lines of any mains interference are set aside, as identify does (``recording``
+    of the run is the one diagnosed); the mains interference is a test-physics finding.
     """
     recording, notes = usable_lines(recording)
+    recording, mains, aside = without_mains(recording)
+    notes += aside
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     check_seen(layout)
@@ -227,6 +231,8 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
         loading = mass_loading(*weighed(after.best, result.after), recording.sensors, nominal)
     if loading is not None:
         findings = faults_first(findings + [loading.finding()])
+    if mains is not None:
+        findings = findings + [mains_finding(mains)]
     return DiagnosisRun(
         recording=recording,
         band=used,
