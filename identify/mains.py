@@ -7,7 +7,7 @@ noise estimate and every χ² after it, while the masslines themselves barely mo
 
 Each FRF's departure at a line from a smooth local fit, d = H(f) − H̃(f), H̃ the median of the WINDOW lines
 on each side (real and imaginary parts apart: robust to the line's neighbour being part of the same spike),
-is scaled by the FRF's local scatter, z = |d| / median |d| over SCATTER lines on each side. Noise alone makes
+is scaled by the FRF's local scatter, z = |d| / median |d| over the run of 2 SCATTER + 1 lines it falls in. Noise alone makes
 |d| Rayleigh-distributed, so z > 3 on one FRF has probability exp(−(3·1.177)²/2) ≈ 2·10⁻³, and on most of
 them at once none to speak of. A line *stands out* where the median of z over the FRFs exceeds SPIKE and
 the departures do not share one phase: κ = |Σ d²| / Σ |d|² is 1 when every d_ij has one phase modulo π, as a
@@ -87,6 +87,17 @@ class Departures:
         return np.abs(self.frequencies - tone) < self.spacing * (1 - 1e-9)
 
 
+def block_medians(values: np.ndarray, block: int) -> np.ndarray:
+    """Each line's local scatter: the median of ``values`` (…, n) over the run of ``block`` lines it falls in
+    (runs from the first line; the last one shorter), repeated over the run."""
+    n = values.shape[-1]
+    runs = -(-n // block)
+    padded = np.full(values.shape[:-1] + (runs * block,), np.nan)
+    padded[..., :n] = values
+    medians = np.nanmedian(padded.reshape(values.shape[:-1] + (runs, block)), axis=-1)
+    return np.repeat(medians, block, axis=-1)[..., :n]
+
+
 def departures(frequencies: np.ndarray, frf: np.ndarray) -> Departures:
     """Each FRF's departure from the median of its WINDOW neighbours on each side, and the lines' scores."""
     footprint = np.ones((1, 1, 2 * WINDOW + 1), dtype=bool)
@@ -95,7 +106,7 @@ def departures(frequencies: np.ndarray, frf: np.ndarray) -> Departures:
     smooth = smooth + 1j * median_filter(frf.imag, footprint=footprint, mode="nearest")
     d = frf - smooth
     size = np.abs(d)
-    scatter = median_filter(size, size=(1, 1, 2 * SCATTER + 1), mode="nearest")
+    scatter = block_medians(size, 2 * SCATTER + 1)
     z = size / np.maximum(scatter, 1e-300)
     score = np.median(z.reshape(-1, z.shape[2]), axis=0)
     squares = d.reshape(-1, d.shape[2])
@@ -110,9 +121,9 @@ def departures(frequencies: np.ndarray, frf: np.ndarray) -> Departures:
 
 def harmonics_found(found: Departures, fundamental: float) -> np.ndarray:
     """The orders k whose line(s) within a spacing of k f₀ stand out (faintly: a fundamental is given)."""
-    faint = found.outstanding(FAINT)
-    orders = np.arange(1, int(found.frequencies[-1] / fundamental) + 1)
-    return np.array([k for k in orders if faint[found.near(k * fundamental)].any()], dtype=int)
+    f = found.frequencies[found.outstanding(FAINT)]
+    k = np.rint(f / fundamental)
+    return np.unique(k[(k >= 1) & (np.abs(f - k * fundamental) < found.spacing * (1 - 1e-9))]).astype(int)
 
 
 def refined(found: Departures, fundamental: float) -> float:

@@ -16,7 +16,7 @@ import numpy as np
 from massline.core.effect_names import SimulatedEffect
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
-from massline.virtual.hum import Hum
+from massline.virtual.hum import Hum, check_fundamental
 
 
 @dataclass(eq=False)
@@ -74,9 +74,14 @@ class Instrumentation:
         self.mass_points = np.vstack([self.mass_points, point])
 
 
-def check_targets(effects: list[SimulatedEffect], n_sensors: int, n_exciters: int) -> None:
-    """Raise a MasslineError for an effect placed on a sensor or exciter the plan does not have."""
+def check_targets(
+    effects: list[SimulatedEffect], n_sensors: int, n_exciters: int, fmax: float | None = None, lines: int | None = None
+) -> None:
+    """Raise a MasslineError for an effect placed on a sensor or exciter the plan does not have, or at a frequency
+    outside the recorded band Δf–``fmax`` (Hz, Δf = fmax/``lines``; unchecked while ``fmax`` is not known)."""
     for effect in effects:
+        if effect.place == "frequency" and fmax is not None:
+            check_fundamental(float(effect.where), fmax / lines if lines else 0.0, fmax)
         n = n_exciters if effect.perturbs == "exciter" else n_sensors
         if isinstance(effect.where, tuple) and any(not 0 <= t < n for t in effect.where):
             raise MasslineError(

@@ -55,15 +55,20 @@ def harmonic_levels(k: np.ndarray) -> np.ndarray:
     return np.where(k % 2 == 1, 1.0, EVEN) / k
 
 
+def check_fundamental(fundamental: float, low: float, high: float) -> None:
+    """Refuse a mains fundamental (Hz) outside the recorded band ``low``–``high`` (Hz: Δf to fmax)."""
+    if not low <= fundamental <= high:
+        raise MasslineError(
+            f"effect mains_interference: its fundamental {fundamental:g} Hz lies outside the recorded band "
+            f"({low:g}–{high:g} Hz): give a mains frequency inside it (50 or 60 Hz) or change --fmax/--lines"
+        )
+
+
 def check_hum(hums, frequencies: np.ndarray) -> None:
-    """Refuse a hum whose fundamental lies outside the recorded lines' span (Hz)."""
-    low, high = float(frequencies[frequencies > 0][0]), float(frequencies[-1])
+    """Refuse a hum whose fundamental lies outside the recorded lines above 0 Hz (``frequencies``, Hz)."""
+    above = frequencies[frequencies > 0]
     for hum in hums:
-        if not low <= hum.fundamental <= high:
-            raise MasslineError(
-                f"effect mains_interference: its fundamental {hum.fundamental:g} Hz lies outside the recorded band "
-                f"({low:g}–{high:g} Hz): give a mains frequency inside it (50 or 60 Hz) or change --fmax/--lines"
-            )
+        check_fundamental(hum.fundamental, float(above[0]), float(above[-1]))
 
 
 def line_shares(frequencies: np.ndarray, tone: float) -> np.ndarray:
