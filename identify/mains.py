@@ -9,17 +9,21 @@ Each FRF's departure at a line from a smooth local fit, d = H(f) − H̃(f), H̃
 on each side (real and imaginary parts apart: robust to the line's neighbour being part of the same spike),
 is scaled by the FRF's local scatter, z = |d| / median |d| over the run of 2 SCATTER + 1 lines it falls in. Noise alone makes
 |d| Rayleigh-distributed, so z > 3 on one FRF has probability exp(−(3·1.177)²/2) ≈ 2·10⁻³, and on most of
-them at once none to speak of. A line *stands out* where the median of z over the FRFs exceeds SPIKE and
-the departures do not share one phase: κ = |Σ d²| / Σ |d|² is 1 when every d_ij has one phase modulo π, as a
-mode narrower than a line gives (its residues φ_i φ_j times one complex factor), and small for a hum, each
-channel with its own phase and each hit at its own mains phase.
+them at once none to speak of. A line *stands out* where the median of z over the FRFs exceeds SPIKE, where the FRFs are smooth (their
+level varies by less than ROUGH across the fit's lines: no resonance) and the departures do not share one
+phase: κ = |Σ d²| / Σ |d|² is 1 when every d_ij has one phase modulo π, as a mode narrower than a line gives
+(its residues φ_i φ_j times one complex factor), and small for a hum, each channel with its own phase and each
+hit at its own mains phase.
 
-A fundamental f₀ is found when at least MIN_HARMONICS of its multiples k f₀ stand out (on the one or two
-lines within a line spacing of k f₀). Candidates are the mains frequencies and every standing-out line's
-frequency divided by 1, 2 and 3, refined by least squares over the harmonics found (f_k = k f₀); the
-candidate explaining the most harmonics wins, the highest among equals (f₀/2 explains the same lines).
-Set aside are the lines within a line spacing of each harmonic found and the lines beside them that stand
-out as well; a harmonic too weak to stand out is left in (it adds less than the noise to any line).
+A fundamental f₀ explains the harmonics k f₀ whose lines (the one or two within a line spacing) stand out at
+least faintly (FAINT: a few given lines are tested, not every line), one of them fully; it is found when it
+explains at least MIN_HARMONICS, no sparser than one in DENSITY orders (a small f₀ has a harmonic near any
+line), or when it is a mains frequency (50, 60 Hz) whose own line stands out. Candidates are the mains
+frequencies and every standing-out line's frequency divided by 1, 2 and 3 (at least MIN_SPACINGS lines),
+refined by least squares over the harmonics found (f_k = k f₀); the candidate explaining the most harmonics
+wins, the highest among equals (f₀/2 explains the same lines). Set aside are the lines within a line spacing
+of each harmonic found and the lines beside them that stand out as well (an exponential window's spread); a
+harmonic too faint to stand out is left in (it adds less than the noise to its lines).
 """
 
 from __future__ import annotations

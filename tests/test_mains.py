@@ -2,9 +2,15 @@
 
 On the three bundled bodies' lab tests (tests/lab_matrix.py: their plans, FE modes, a soft cord, 1 % noise, 3 %
 transverse sensitivity, the exporter's recording), a ground loop's hum at 5, 10 and 20 % of the massline level
-leaves the properties within 0.3σ of the clean file's (same seed), the reported noise (the diagnosis's, over
-identify's band) and χ² within 20 % of the clean file's, and is named with its fundamental; left in, the same
-hum inflates the noise. A clean file names no hum. The simulator refuses bad values before any work.
+leaves the properties within 0.3σ of the clean file's (same seed) on the clean file's band, the reported noise
+(the diagnosis's, over identify's band) and χ² within 20 % of the clean file's, and is named with its
+fundamental; left in, the same hum inflates the noise. A clean file names no hum. The simulator refuses bad
+values before any work.
+
+The properties are compared on the clean file's band: the band identify chooses can differ once lines are set
+aside (the structure with 12 lines of 20 % hum at 60 Hz set aside chooses 38–156 Hz where the clean file
+chose 38–209 Hz, and so does the clean file with the same 12 lines taken out: the choice's truncation-bias
+term, D²/C, moves with any dozen lines), and on another band the properties differ by up to 1σ.
 """
 
 from __future__ import annotations
@@ -75,14 +81,15 @@ def test_hum_is_named_set_aside_and_leaves_properties_and_noise(clean, hum):
     assert any(note.startswith("mains interference") for note in found.notes)
     assert found.payload["mains"]["fundamental_hz"] == found.mains.fundamental
     assert not any("mains" in warning for warning in found.warnings)  # a note, not a warning
-    values, sigma = properties(found)
+    on_band = identify_recording(recording, band=(before.band.low, before.band.high), draws=0)
+    values, _ = properties(on_band)
     reference, reference_sigma = properties(before)
     assert np.all(np.abs(values - reference) <= 0.3 * reference_sigma), (values - reference) / reference_sigma
     clean_noise = noise(before.recording, before)
     assert noise(found.recording, found) == pytest.approx(clean_noise, rel=0.2)
     assert found.best.chi2 == pytest.approx(before.best.chi2, rel=0.2)
     if level >= 0.2:  # left in, the hum is read as noise
-        assert noise(recording.above_zero(), found) > 1.2 * clean_noise
+        assert noise(recording.above_zero(), before) > 1.2 * clean_noise
 
 
 @pytest.mark.slow
@@ -104,9 +111,10 @@ def test_an_impact_test_hum_is_found_and_set_aside():
     clean_recording, _ = recorded("bracket", "impact")
     before = identify_recording(clean_recording)
     assert before.mains is None
-    found = identify_recording(recorded("bracket", "impact", "mains_interference=0.1@50")[0])
+    recording, _ = recorded("bracket", "impact", "mains_interference=0.1@50")
+    found = identify_recording(recording)
     assert found.mains is not None and abs(found.mains.fundamental - 50.0) < 0.1 and 1 in found.mains.harmonics
-    values, sigma = properties(found)
+    values, _ = properties(identify_recording(recording, band=(before.band.low, before.band.high), draws=0))
     reference, reference_sigma = properties(before)
     assert np.all(np.abs(values - reference) <= 0.3 * reference_sigma), (values - reference) / reference_sigma
     assert noise(found.recording, found) == pytest.approx(noise(before.recording, before), rel=0.2)
