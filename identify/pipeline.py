@@ -150,7 +150,7 @@ class Identification:
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
         found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.mass}
-        found |= {"notes": list(self.notes), "mains": None if self.mains is None else self.mains.parameters}
+        found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)

@@ -200,11 +200,12 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
     chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
 
-    Lines at or below 0 Hz and the lines of any mains interference are set aside, as identify does (``recording``
-    of the run is the one diagnosed); the mains interference is a test-physics finding.
+    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed), and
+    the lines of any mains interference: identify sets them aside itself, the band data are taken without them,
+    and the mains interference is a test-physics finding.
     """
     recording, notes = usable_lines(recording)
-    recording, mains, aside = without_mains(recording)
+    cleaned, mains, aside = without_mains(recording)
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
@@ -213,16 +214,16 @@ def diagnose_recording(recording: Recording, band=None, nominal=None, transverse
     if before is not None:
         before = against_nominal(before, nominal)  # the mesh's mass checked as identify --mesh checks it
     identify_band = band if before is not None and before.band.rule == "given" else None
-    f = recording.frequencies
+    f = cleaned.frequencies
     if band:
         used = given_band(f, *band)
     else:
-        used = before.band if before else choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
+        used = before.band if before else choose_band(f, cleaned.frf, cleaned.sensors, cleaned.exciters, planar)
     estimation = used if before is None else before.band
-    data = BandData.from_recording(f, recording.frf, used.low, used.high)
-    wide = BandData.from_recording(f, recording.frf, estimation.low, estimation.high)
+    data = BandData.from_recording(f, cleaned.frf, used.low, used.high)
+    wide = BandData.from_recording(f, cleaned.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
-    record = BandData.from_recording(f, recording.frf, f[0], f[-1])
+    record = BandData.from_recording(f, cleaned.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
     after, findings = identified_after(recording, result.findings, identify_band, transverse, before)
     if nominal is None or after is None:
