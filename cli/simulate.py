@@ -196,7 +196,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
     outputs = claim_outputs(named | {"--plot": args.plot}, args.force)
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
-    check_targets(list(effects), len(sensors), len(exciters))
+    check_targets(list(effects), len(sensors), len(exciters), args.fmax, args.lines)
     body = plan_mesh(doc, plan_path)
     options = {"suspension": args.suspension, "sensor_mass": housing_masses(args), "rigid": args.rigid}
     options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}

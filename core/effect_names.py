@@ -34,16 +34,20 @@ class SimulatedEffect(Protocol):
         The effect's name (DESIGN.md's list).
     size : float
         Its size, in the effect's unit (degrees, fraction, m, kg; 0 for a discrete effect).
-    where : tuple of int, "all" or None
-        0-based lines it sits on, every line, or None for one drawn at random.
+    where : tuple of int, "all", float or None
+        0-based lines it sits on, every line, or None for one drawn at random; a frequency (Hz) when ``place``
+        is "frequency" (the effect is on every line).
     perturbs : str
         "sensor" or "exciter": which lines ``where`` counts.
+    place : str
+        What ``where`` is: "lines" or "frequency".
     """
 
     name: str
     size: float
-    where: tuple | str | None
+    where: tuple | str | float | None
     perturbs: str
+    place: str
 
     def simulate(self, state, lines, targets: list[int], rng: np.random.Generator) -> dict:
         """Change ``state`` (the instrumentation being built: points, vectors, masses, channel order) on the

@@ -15,6 +15,7 @@ from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
+from massline.identify.mains import MainsLines, find_mains
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings, file_labels
@@ -121,6 +122,15 @@ def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
     return kept, (f"{lines} set aside (an exporter's DC line holds no massline)",)
 
 
+def without_mains(recording: Recording) -> tuple[Recording, MainsLines | None, tuple[str, ...]]:
+    """The recording without the lines of any mains interference (:mod:`.mains`), what was found, and a note
+    saying which lines were set aside."""
+    mains = find_mains(recording.frequencies, recording.frf)
+    if mains is None:
+        return recording, None, ()
+    return recording.kept(~mains.aside), mains, (mains.note,)
+
+
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Identification:
     """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
@@ -129,9 +139,9 @@ class Identification:
     accelerometer ``housings`` taken off; ``best`` is the weighted estimate of the body as tested (what the
     masslines weigh) and ``tested`` / ``tested_std`` the reported body and 1-σ before the housings are taken off
     (the same as ``body`` / ``std`` without housings). ``weighed`` is the scale's reading of the bare body, when
-    given. ``recording`` is the one identified: the file's without its lines at or below 0 Hz; ``notes`` say
-    what was set aside. ``exciter_mass`` is the force gauges' structure-side mass (kg) each column was fitted
-    with (0: a hammer), never part of ``body``.
+    given. ``recording`` is the one identified: the file's without its lines at or below 0 Hz and the lines of
+    any mains interference (``mains``); ``notes`` say what was set aside. ``exciter_mass`` is the force gauges'
+    structure-side mass (kg) each column was fitted with (0: a hammer), never part of ``body``.
     """
 
     recording: Recording
@@ -151,6 +161,7 @@ class Identification:
     tested_std: dict | None = None
     weighed: WeighedMass | None = None
     exciter_mass: float = 0.0
+    mains: MainsLines | None = None
 
     @property
     def payload(self) -> dict:
@@ -160,6 +171,7 @@ class Identification:
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
         found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.payload()}
         found["exciter_mass"] = self.exciter_mass
+        found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
@@ -240,6 +252,7 @@ def identify_recording(
     ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
     """
     recording, notes = usable_lines(as_recording(recording))
+    recording, mains, aside = without_mains(recording)
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)
     riding = riding_masses(recording.exciters, exciter_mass, planar)
@@ -284,13 +297,14 @@ def identify_recording(
         std=std,
         body=housings.removed_from(tested, planar),
         method=method,
-        notes=notes,
+        notes=notes + aside,
         warnings=tuple(warnings),
         housings=housings,
         tested=tested,
         tested_std=tested_std,
         weighed=weighed,
         exciter_mass=exciter_mass,
+        mains=mains,
     )
 
 

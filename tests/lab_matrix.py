@@ -1,7 +1,8 @@
 """The lab-realism matrix: every bundled body, recorded the ways test software exports, on every support.
 
 {bracket, structure, plate} × {plain, exporter, local, impact} × {soft cord, stiff cord, foam} × seeds, with
-1 % noise, 3 % transverse sensitivity and the bodies' FE modes. Each case is simulated, written as a
+1 % noise, 3 % transverse sensitivity and the bodies' FE modes; the lab's files (exporter, local, impact) also
+carry a ground loop's mains hum, 50 Hz and its harmonics at 5 % of each channel's massline. Each case is simulated, written as a
 Universal File in its style, read back and identified with no option but the file. A case passes when
 every property is within its bound (``BOUNDS``), or when its error is within 2σ and a warning says why.
 
@@ -60,6 +61,12 @@ PLANS = {  # massline plan options per body: 3-D bodies with redundancy (the min
 }
 BOUNDS = {"mass": 0.3, "cog_mm": 1.0, "moments": 1.0, "tensor": 1.5}  # %, mm, %, % (Frobenius)
 TRANSVERSE = (parse_effect("transverse_sensitivity=0.03@all"),)
+MAINS = (parse_effect("mains_interference=0.05@50"),)  # a lab's ground loop
+
+
+def effects(style: str) -> tuple:
+    """The effects every case of ``style`` conceals: transverse sensitivity, and mains hum in a lab's files."""
+    return TRANSVERSE + (() if style == "plain" else MAINS)
 
 
 @lru_cache(maxsize=None)
@@ -173,7 +180,7 @@ def cell(body: str, style: str, kind: str, seed: int, folder: Path) -> Cell:
     mesh, sensors, exciters, modes = body_and_plan(body)
     try:
         suspension = support(kind, mesh, modes)
-        recording, _ = run(mesh.nominal, sensors, exciters, modes, suspension, TRANSVERSE, acquisition(style), seed)
+        recording, _ = run(mesh.nominal, sensors, exciters, modes, suspension, effects(style), acquisition(style), seed)
     except MasslineError as reason:
         return Cell(body, style, kind, seed, (np.nan, np.nan), {}, {}, (), f"not simulated: {reason}")
     path = folder / f"{body}-{style}-{kind}-{seed}.uff"

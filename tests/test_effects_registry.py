@@ -5,7 +5,7 @@ differs from the same test without it: an ``--effect`` on the lines, the support
 instead of none, the elastic modes (residual flexibility) with a mode instead of none; it is documented in
 ``massline simulate --help`` when it is an ``--effect``; it is diagnosable — its model in the diagnosis has
 parameters the data determine (a block's fit recovers exact masslines, a discrete fix is the screen's first
-proposal, a tail law is fitted, a mass loading is weighed), unless it is knowingly not diagnosed (``model``
+proposal, a tail law is fitted, a mass loading is weighed, lines set aside are found), unless it is knowingly not diagnosed (``model``
 None: transverse sensitivity, estimated under the datasheet's prior in every fit); and the finding it makes is
 described (its sentence renders) and round-trips through the diagnose JSON with its name and kind.
 """
@@ -26,11 +26,12 @@ from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import BY_NAME, EFFECTS, effect_help, parse_effect, simulated
 from massline.identify.diagnose.effects.base import Block, Scene
-from massline.identify.diagnose.finding import Finding, accepted_finding, finding_payload
+from massline.identify.diagnose.finding import Finding, accepted_finding, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import gauge_mass
 from massline.identify.diagnose.mass_loading import mass_loading
 from massline.identify.diagnose.notes import finding_note
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix
+from massline.identify.mains import find_mains
 from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import point_mass_theta
 from massline.identify.tails import TAIL_LAWS, BandData
@@ -44,6 +45,7 @@ from massline.virtual.suspension import Cord, Suspension
 
 SAMPLE = {"degrees": 10.0, "fraction": 0.2, "m": 0.01, "kg": 0.05}  # a clear size in each unit
 EXACT = Acquisition(100.0, 40, Noise(1e-8, 0.0), dc_line=False)  # 40 lines to 100 Hz, all but exact
+MAINS_HZ = 50.0  # a frequency effect's sample place
 
 
 @pytest.fixture(scope="module")
@@ -68,13 +70,16 @@ class OneMode:
 
 
 def argument(cls) -> str:
-    """A sample ``--effect`` argument: on line 3 (exciter 2), a swap of 3 and 8."""
+    """A sample ``--effect`` argument: on line 3 (exciter 2), a swap of 3 and 8, at 50 Hz (a frequency effect)."""
     where = "3,8" if cls.lines_needed == 2 else "2" if cls.perturbs == "exciter" else "3"
+    where = f"{MAINS_HZ:g}" if cls.place == "frequency" else where
     return f"{cls.name}@{where}" if cls.discrete else f"{cls.name}={SAMPLE[cls.unit]}@{where}"
 
 
 def place(cls) -> tuple[int, ...]:
-    """The 0-based lines of ``argument``."""
+    """The 0-based lines of ``argument`` (every sensor for a frequency effect)."""
+    if cls.place == "frequency":
+        return tuple(range(10))
     return (2, 7) if cls.lines_needed == 2 else (1,) if cls.perturbs == "exciter" else (2,)
 
 
@@ -92,8 +97,9 @@ def test_the_registry_is_well_formed():
         assert cls.__module__ == f"massline.identify.diagnose.effects.{cls.name}"  # one module per effect
         assert cls.discrete or cls.unit, cls.name  # a size has a unit
         assert cls.simulated == (cls.perturbs in ("sensor", "exciter"))  # else the support or the modes
-        assert cls.model in ("block", "discrete", "tail", "mass", "gauge", None)
+        assert cls.model in ("block", "discrete", "tail", "mass", "gauge", "lines", None)
         assert (cls.undone_on == "identify") == (cls.identify_option is not None)  # identify takes it as an option
+        assert cls.place in ("lines", "frequency")
 
 
 @pytest.mark.parametrize("cls", EFFECTS, ids=lambda c: c.name)
@@ -192,12 +198,25 @@ def gauge_finding(cls, body, sensors) -> tuple[Finding, object]:
     return gauge.finding(), rec
 
 
+def lines_finding(cls, body, sensors) -> tuple[Finding, object]:
+    """Its lines found in a noisy record (1 %): the fundamental at the place given, set aside."""
+    setup = Acquisition(400.0, 800, Noise(0.01, 0.0), dc_line=False)
+    rec, _ = run(body, sensors, structure_exciters(), effects=(parse_effect(argument(cls)),), setup=setup, seed=1)
+    found = find_mains(rec.frequencies, rec.frf)
+    assert found is not None and abs(found.fundamental - MAINS_HZ) < 0.5 and 1 in found.harmonics
+    assert found.amplitudes[0] == pytest.approx(SAMPLE[cls.unit], rel=0.2)
+    kept = rec.kept(~found.aside)
+    assert find_mains(kept.frequencies, kept.frf) is None  # nothing stands out once its lines are set aside
+    return mains_finding(found), rec
+
+
 FINDINGS = {
     "block": block_finding,
     "discrete": discrete_finding,
     "tail": tail_finding,
     "mass": mass_finding,
     "gauge": gauge_finding,
+    "lines": lines_finding,
 }
 
 

@@ -102,7 +102,10 @@ class Recording:
     def above_zero(self) -> "Recording":
         """The recording without its lines at or below 0 Hz: exporters start the axis at 0 Hz, where an FRF
         holds noise or window residue and no massline (a massline is ω²-weighted receptance: nothing at DC)."""
-        keep = self.frequencies > 0
+        return self.kept(self.frequencies > 0)
+
+    def kept(self, keep: np.ndarray) -> "Recording":
+        """The recording on the lines ``keep`` (n_f,) bool marks (itself when it marks every line)."""
         if keep.all():
             return self
         return replace(

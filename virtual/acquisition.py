@@ -15,12 +15,14 @@ import numpy as np
 from massline.core.effect_names import SimulatedEffect
 from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
+from massline.core.masslines import synthesise
 from massline.core.numbering import point_groups
 from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.virtual.analyser import impact_setup
 from massline.virtual.band_prediction import predict_band
 from massline.virtual.effects import Instrumentation, instrument
+from massline.virtual.hum import channel_levels, check_hum, with_hum
 from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
@@ -128,7 +130,9 @@ def run(
         analyser = impact_setup(band, model.suspension_frequencies, impact.window_end, *given)
         setup = replace(setup, fmax=analyser.fmax, lines=analyser.lines, impact=replace(impact, pulse=analyser.pulse))
     setup = replace(setup, fmax=setup.fmax or auto_fmax(model), lines=setup.lines or LINES)
-    frequencies, frf, coherence = measure(model, inst, setup, body.mass, rng)
+    check_hum(inst.hums, setup.fmax / setup.lines * np.arange(1, setup.lines + 1))
+    masslines = synthesise(model.loaded, sensors, exciters).values
+    frequencies, frf, coherence = measure(model, inst, setup, (body.mass, masslines), rng)
     recording = Recording(frequencies, frf, sensors, exciters, coherence, "massline virtual test")
     truth = {
         "seed": seed,
@@ -166,9 +170,16 @@ def driven_bodies(model: SuspendedBody, inst: Instrumentation) -> list[Suspended
     return [model.carrying(m, p) for m, p in zip(inst.exciter_masses, inst.exciter_points)]
 
 
-def measure(model: SuspendedBody, inst: Instrumentation, setup: Acquisition, mass: float, rng: np.random.Generator):
+def measure(
+    model: SuspendedBody, inst: Instrumentation, setup: Acquisition, scale: tuple, rng: np.random.Generator
+):
     """Frequencies (Hz), FRFs ((m/s²)/N) and coherence as the test system stores them, by either route; column j
-    measured on the body exciter j drives (:func:`driven_bodies`)."""
+    measured on the body exciter j drives (:func:`driven_bodies`).
+
+    ``scale``: the body's mass (kg), the noise floor's scale (1/mass), and the loaded rigid body's masslines
+    (n_s, n_e) (m/s²)/N, the mains hum's (each channel's level). The hum is drawn from a generator spawned from
+    ``rng``: the noise is the same with or without it.
+    """
     bodies = driven_bodies(model, inst)
 
     def accelerance(f):
@@ -182,10 +193,14 @@ def measure(model: SuspendedBody, inst: Instrumentation, setup: Acquisition, mas
         return np.concatenate(columns, axis=1)[inst.channel_order]
 
     n_s, n_e = len(inst.sensor_vectors), len(inst.exciter_vectors)
+    mass, masslines = scale
+    levels = channel_levels(masslines)
     if setup.impact is not None:
-        return impact_test(accelerance, n_s, n_e, setup.fmax, setup.lines, setup.impact, rng, dc=setup.dc_line)
+        given = (setup.fmax, setup.lines, setup.impact, rng)
+        return impact_test(accelerance, n_s, n_e, *given, dc=setup.dc_line, hums=tuple(inst.hums), levels=levels)
     frequencies = setup.fmax / setup.lines * np.arange(1, setup.lines + 1)
     frf, coherence = noisy_frfs(accelerance(frequencies), setup.noise, mass, rng)
+    frf, coherence = with_hum(frequencies, frf, coherence, inst.hums, masslines, rng.spawn(1)[0])
     if setup.dc_line:
         return with_dc_line(frequencies, frf, coherence, rng)
     return frequencies, frf, coherence

@@ -16,6 +16,7 @@ import numpy as np
 from massline.core.effect_names import SimulatedEffect
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
+from massline.virtual.hum import Hum, check_fundamental
 
 
 @dataclass(eq=False)
@@ -36,6 +37,8 @@ class Instrumentation:
         force gauge's structure side (a shaker moved between runs; each column of the FRF matrix its own body).
     channel_order : (n_s,) int array
         Recorded channel c holds the signal of sensor ``channel_order[c]``.
+    hums : list of Hum
+        Mains hum on the response channels (:mod:`massline.virtual.hum`), added as the test is recorded.
     applied : list of dict
         Every effect as drawn: name, size, lines (1-based), and the perpendicular chosen.
     """
@@ -48,6 +51,7 @@ class Instrumentation:
     mass_points: np.ndarray
     exciter_masses: np.ndarray
     channel_order: np.ndarray
+    hums: list = field(default_factory=list)
     applied: list = field(default_factory=list)
 
     @classmethod
@@ -64,15 +68,25 @@ class Instrumentation:
             channel_order=np.arange(len(sensors)),
         )
 
+    def add_hum(self, fundamental: float, level: float) -> None:
+        """Mains hum at ``fundamental`` Hz and its harmonics on every response channel, the fundamental's line at
+        ``level`` × each channel's massline level (:class:`massline.virtual.hum.Hum`)."""
+        self.hums.append(Hum(fundamental, level))
+
     def add_mass(self, mass: float, point: np.ndarray) -> None:
         """A point mass (kg) added to the body at ``point`` (m)."""
         self.masses = np.append(self.masses, mass)
         self.mass_points = np.vstack([self.mass_points, point])
 
 
-def check_targets(effects: list[SimulatedEffect], n_sensors: int, n_exciters: int) -> None:
-    """Raise a MasslineError for an effect placed on a sensor or exciter the plan does not have."""
+def check_targets(
+    effects: list[SimulatedEffect], n_sensors: int, n_exciters: int, fmax: float | None = None, lines: int | None = None
+) -> None:
+    """Raise a MasslineError for an effect placed on a sensor or exciter the plan does not have, or at a frequency
+    outside the recorded band Δf–``fmax`` (Hz, Δf = fmax/``lines``; unchecked while ``fmax`` is not known)."""
     for effect in effects:
+        if effect.place == "frequency" and fmax is not None:
+            check_fundamental(float(effect.where), fmax / lines if lines else 0.0, fmax)
         n = n_exciters if effect.perturbs == "exciter" else n_sensors
         if isinstance(effect.where, tuple) and any(not 0 <= t < n for t in effect.where):
             raise MasslineError(
@@ -81,9 +95,10 @@ def check_targets(effects: list[SimulatedEffect], n_sensors: int, n_exciters: in
 
 
 def targets_of(effect: SimulatedEffect, lines: Lines, rng: np.random.Generator) -> list[int]:
-    """The lines an effect sits on: its ``where``, every line, or one drawn from ``rng``."""
+    """The lines an effect sits on: its ``where``, every line (also when ``where`` is a frequency, not lines),
+    or one drawn from ``rng``."""
     n = len(lines)
-    if effect.where == "all":
+    if effect.where == "all" or effect.place != "lines":
         return list(range(n))
     return [int(rng.integers(n))] if effect.where is None else list(effect.where)
 

@@ -20,6 +20,8 @@ from typing import Callable
 
 import numpy as np
 
+from massline.virtual.hum import impact_tones
+
 
 @dataclass(frozen=True)
 class Noise:
@@ -160,6 +162,8 @@ def impact_test(
     rng: np.random.Generator,
     padding: int = 8,
     dc: bool = True,
+    hums: tuple = (),
+    levels: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """H1 FRFs and coherence from simulated hits.
 
@@ -175,6 +179,10 @@ def impact_test(
     dc : bool
         Keep the 0 Hz line, as exporters store lines + DC: H1 there is the ratio of the windowed
         signals' DC, real-valued residue.
+    hums, levels : tuple of Hum, (n_s,) array
+        Mains hum added to every hit's response records (:mod:`massline.virtual.hum`), each channel's at
+        ``levels`` × its size ((m/s²)/N, the channels' massline levels); drawn from a generator spawned from
+        ``rng``, so the rest of the test draws the same noise with or without it.
 
     Returns
     -------
@@ -192,6 +200,10 @@ def impact_test(
     keep = (np.arange(n) / fs) <= start + max(4 * test.pulse, test.force_window * n / fs)
     kept = slice(0 if dc else 1, lines + 1)
     f = np.fft.rfftfreq(n, 1 / fs)[kept]
+    mains = rng.spawn(1)[0]
+    force_lines = np.abs(np.fft.rfft(force * keep * w))
+    tones = impact_tones(hums, levels, lambda tone: force_lines[int(round(tone / df))], w.sum(), fmax, mains)
+    t = np.arange(n) / fs
     H1 = np.empty((n_sensors, n_exciters, len(f)), dtype=complex)
     coherence = np.empty(H1.shape)
     for j in range(n_exciters):
@@ -203,6 +215,8 @@ def impact_test(
             f_meas = force + test.force_noise * np.sqrt(np.mean(force**2)) * rng.normal(size=n)
             noise = test.response_noise * rms * rng.normal(size=response.shape)
             x_meas = response + noise + offset * rng.normal(size=offset.shape)
+            if hums:
+                x_meas = x_meas + tones.record(t, mains.uniform(0, 2 * np.pi))
             F = np.fft.rfft(f_meas * keep * w)[kept]
             X = np.fft.rfft(x_meas * w, axis=-1)[:, kept]
             Sxf, Sxx, Sff = Sxf + X * F.conj(), Sxx + np.abs(X) ** 2, Sff + np.abs(F) ** 2

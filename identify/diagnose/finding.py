@@ -9,6 +9,7 @@ import numpy as np
 
 from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.diagnose.effects import named
+from massline.identify.mains import MainsLines
 from massline.identify.tails import BandData
 
 
@@ -59,6 +60,12 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonanc
     if effect.perturbs == "sensor":
         return Finding(what.effect, tuple(result.problem.layout.channels(what)), None, parameters, evidence)
     return Finding(what.effect, (), what.target, parameters, evidence)
+
+
+def mains_finding(mains: MainsLines) -> Finding:
+    """The mains interference identify set aside (:mod:`massline.identify.mains`), as a test-physics finding: its
+    fundamental (Hz), the harmonics found, their size relative to the FRFs' level and the lines set aside."""
+    return Finding("mains_interference", (), None, mains.parameters, mains.evidence)
 
 
 def finding_payload(finding: Finding, recording) -> dict:

@@ -23,7 +23,7 @@ from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import named
-from massline.identify.diagnose.finding import faults_first, finding_payload
+from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, left_out
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
@@ -37,6 +37,7 @@ from massline.identify.pipeline import (
     is_planar,
     properties_payload,
     usable_lines,
+    without_mains,
 )
 from massline.identify.tails import BandData
 from massline.core.band import Band
@@ -81,7 +82,7 @@ class DiagnosisRun:
         identify.
     loading : MassLoading or None
     notes : tuple of str
-        What was set aside before the diagnosis (an exporter's 0 Hz line).
+        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference).
     """
 
     recording: Recording
@@ -282,10 +283,13 @@ def diagnose_recording(
     ``band`` is the band the diagnosis examines (the plan's); the properties are identify's, on the band it
     chooses, as ``massline identify FILE`` gives them (on ``band`` only when identify finds none).
 
-    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed);
-    ``recording`` may be the path of a Universal File.
+    Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed), and
+    the lines of any mains interference: identify sets them aside itself, the band data are taken without them,
+    and the mains interference is a test-physics finding. ``recording`` may be the path of a Universal File.
     """
     recording, notes = usable_lines(as_recording(recording))
+    cleaned, mains, aside = without_mains(recording)
+    notes += aside
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
     check_seen(layout)
@@ -294,16 +298,16 @@ def diagnose_recording(
     if before is not None:
         before = against_nominal(before, nominal)  # the mesh's mass checked as identify --mesh checks it
     identify_band = band if before is not None and before.band.rule == "given" else None
-    f = recording.frequencies
+    f = cleaned.frequencies
     if band:
         used = given_band(f, *band)
     else:
-        used = before.band if before else choose_band(f, recording.frf, recording.sensors, recording.exciters, planar)
+        used = before.band if before else choose_band(f, cleaned.frf, cleaned.sensors, cleaned.exciters, planar)
     estimation = used if before is None else before.band
     gauge = None
     if before is not None and not exciter_mass:
         gauge = gauge_mass(before.data, before.sigma, planar, transverse, before.best)
-    searched = recording if gauge is None else shifted(recording, gauge)  # the other effects, on the bare body
+    searched = cleaned if gauge is None else shifted(cleaned, gauge)  # the other effects, on the bare body
     data = BandData.from_recording(f, searched.frf, used.low, used.high)
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
@@ -318,6 +322,8 @@ def diagnose_recording(
         findings, loading = faults_first(findings), None
     elif loading is not None:
         findings = faults_first(findings + [loading.finding()])
+    if mains is not None:
+        findings = findings + [mains_finding(mains)]
     return DiagnosisRun(
         recording=recording,
         band=used,

@@ -14,6 +14,7 @@ from massline.identify.diagnose.effects.channel_swap import ChannelSwap
 from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
 from massline.identify.diagnose.effects.excitation_location import ExcitationLocation
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
+from massline.identify.diagnose.effects.mains_interference import MainsInterference
 from massline.identify.diagnose.effects.residual_flexibility import ResidualFlexibility
 from massline.identify.diagnose.effects.sensor_direction import SensorDirection
 from massline.identify.diagnose.effects.sensor_gain import SensorGain
@@ -36,6 +37,7 @@ EFFECTS: tuple[type[Effect], ...] = (
     ExcitationMassLoading,
     Suspension,
     ResidualFlexibility,
+    MainsInterference,
 )
 """Every effect, in the order they are listed (``--help``, errors)."""
 
@@ -59,20 +61,17 @@ def modelled(model: str) -> tuple[type[Effect], ...]:
 
 def effect_help() -> str:
     """The ``--effect`` help: every simulated effect with its size's unit (a discrete one with its syntax)."""
-    listed = ", ".join(cls.syntax() if cls.discrete else f"{cls.name} ({cls.unit})" for cls in simulated())
+    listed = ", ".join(cls.described() for cls in simulated())
     return f"an instrumentation effect (repeatable; WHERE: 1-based lines, e.g. 3,5, or all): {listed}"
-
-
-def _indices(where: str) -> tuple[int, ...]:
-    """'3,5' → (2, 4): 1-based numbers on the command line, 0-based indices inside."""
-    return tuple(int(w) - 1 for w in where.split(","))
 
 
 def parse_effect(text: str) -> Effect:
     """``NAME[=SIZE][@WHERE]``, e.g. ``sensor_direction=3@4``, ``transverse_sensitivity=0.03@all``.
 
     WHERE is a 1-based sensor (or exciter) number, several numbers separated by commas, or ``all``; without it
-    one line is drawn at random. Sensor numbers count channels (a triaxial accelerometer has three).
+    one line is drawn at random. Sensor numbers count channels (a triaxial accelerometer has three). An effect
+    whose ``place`` is "frequency" reads WHERE as a frequency in Hz (``mains_interference=0.1@50``). SIZE must be
+    finite, and each effect checks its own size and place.
     """
     head, _, where = text.partition("@")
     name, has_size, size = head.partition("=")
@@ -85,9 +84,11 @@ def parse_effect(text: str) -> Effect:
         raise MasslineError(f"effect {name} needs a size: {cls.syntax()} (see 'massline simulate --help')")
     try:
         value = float(size) if has_size else 0.0
-        place = None if not where else "all" if where.strip() == "all" else _indices(where)
+        place = cls.parse_place(where)
     except ValueError:
-        raise MasslineError(f"cannot read effect '{text}': write NAME=SIZE@N or NAME=SIZE@all") from None
+        example = "NAME=SIZE@N or NAME=SIZE@all" if cls.place == "lines" else cls.syntax()
+        raise MasslineError(f"cannot read effect '{text}': write {example}") from None
+    cls.check_size(value)
     cls.check_place(place)
     return cls(value, place)
 

@@ -71,7 +71,7 @@ class Effect:
     "all", or None for one at random). Subclasses set the class attributes and override the hooks."""
 
     size: float = 0.0
-    where: tuple | str | None = None
+    where: tuple | str | float | None = None
 
     name: ClassVar[str] = ""
     kind: ClassVar[str] = "fault"
@@ -79,6 +79,7 @@ class Effect:
     perturbs: ClassVar[str] = "sensor"  # core.effect_names.PERTURBS
     summary: ClassVar[str] = ""  # what it does to the named line(s), for --help
     discrete: ClassVar[bool] = False  # no size: a sign flipped, two channels exchanged
+    place: ClassVar[str] = "lines"  # what @WHERE is: "lines" (1-based numbers or all) or "frequency" (Hz)
     simulated: ClassVar[bool] = True  # an --effect of the simulator (else simulated by the support / FE modes)
     model: ClassVar[str | None] = "block"  # how the diagnosis models it; None: knowingly not diagnosed
     widens_prior: ClassVar[bool] = False  # its block releases the channels' transverse prior (no values)
@@ -96,8 +97,26 @@ class Effect:
         return f"{cls.name}[@WHERE]" if cls.discrete else f"{cls.name}=SIZE[@WHERE]"
 
     @classmethod
+    def described(cls) -> str:
+        """The effect in the ``--effect`` help: its syntax when discrete, else its name and its size's unit."""
+        return cls.syntax() if cls.discrete else f"{cls.name} ({cls.unit})"
+
+    @classmethod
+    def parse_place(cls, where: str):
+        """``@WHERE`` as written: '3,5' → (2, 4) (1-based numbers on the command line, 0-based inside), 'all', or
+        None when not given (a ValueError when it is no list of numbers)."""
+        if not where:
+            return None
+        return "all" if where.strip() == "all" else tuple(int(w) - 1 for w in where.split(","))
+
+    @classmethod
     def check_place(cls, where) -> None:
         """Raise a MasslineError when ``where`` cannot hold this effect (parsing ``--effect``)."""
+
+    @classmethod
+    def check_size(cls, size: float) -> None:
+        """Raise a MasslineError when ``size`` cannot be this effect's (parsing ``--effect``): NaN or infinite."""
+        need(bool(np.isfinite(size)), f"effect {cls.name}: its size must be a finite number, not {size:g}")
 
     # ---- the simulator -------------------------------------------------------------------------------
     def simulate(self, state, lines: Lines, targets: list[int], rng: np.random.Generator) -> dict:
