@@ -35,6 +35,7 @@ from massline.identify.pipeline import (
     usable_lines,
 )
 from massline.identify.tails import BandData
+from massline.identify.warning_codes import CodedWarning
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
 from massline.core.errors import MasslineError
@@ -72,8 +73,8 @@ class DiagnosisRun:
         The diagnosis's findings and the mass loading, faults first, each fault's ``moved`` evidence from
         identify.
     loading : MassLoading or None
-    notes : tuple of str
-        What was set aside before the diagnosis (an exporter's 0 Hz line).
+    notes : tuple of CodedWarning
+        What was set aside before the diagnosis (an exporter's 0 Hz line), and why identify refused the file.
     """
 
     recording: Recording
@@ -130,7 +131,7 @@ class DiagnosisRun:
             },
             "band_hz": [self.band.low, self.band.high],
             "screens": self.screens,
-            "warnings": list(self.notes) + ([] if self.before is None else list(self.before.warnings)),
+            "warnings": [w.as_json() for w in self.notes + (() if self.before is None else self.before.warnings)],
             "units": JSON_UNITS,
         }
 
@@ -257,8 +258,8 @@ def identified(recording, band, transverse: float) -> tuple[Identification | Non
         if band:
             try:
                 return identify_recording(recording, band, transverse), (
-                    f"identify finds no band ({reason}): the properties are on the given band",
+                    CodedWarning("identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"),
                 )
             except MasslineError as again:
                 reason = again
-        return None, (f"identify refuses the file as it came ({reason})",)
+        return None, (CodedWarning("identify_refused", f"identify refuses the file as it came ({reason})"),)
