@@ -139,7 +139,11 @@ class Identification:
         band = (self.band.low, self.band.high)
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
-        found |= {"chi2_reduced": chi2, "warnings": [w.as_json() for w in self.warnings], "sensor_mass": self.housings.mass}
+        found |= {
+            "chi2_reduced": chi2,
+            "warnings": [w.as_json() for w in self.warnings],
+            "sensor_mass": self.housings.mass,
+        }
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)

@@ -93,7 +93,11 @@ def extent_warnings(mass: float, apparent: float) -> list[CodedWarning]:
     or outside LIGHT–HEAVY, where an ordinary structure 9.81× off would sit."""
     where = f"the identified body ({mass:.4g} kg) is {apparent:.3g} kg/m³ over the hull of its measured points"
     if apparent < LIGHTEST:
-        return [CodedWarning("lighter_than_air", f"{where}, lighter than air; coordinates in mm or inches labelled m? {LABELS}")]
+        return [
+            CodedWarning(
+                "lighter_than_air", f"{where}, lighter than air; coordinates in mm or inches labelled m? {LABELS}"
+            )
+        ]
     if apparent > HEAVY:
         return [
             CodedWarning(

@@ -53,7 +53,7 @@ def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
             CodedWarning(
                 "no_redundancy",
                 "no redundancy: the layout has no more masslines than the fit has unknowns, so no error in the "
-            "data can show; add sensors or hits to check the result",
+                "data can show; add sensors or hits to check the result",
             )
         ]
     if chi2 * dof > chi2_distribution.isf(CHANCE, max(dof, 1)) and chi2 > 2.0:
@@ -61,7 +61,7 @@ def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
             CodedWarning(
                 "model_misfit",
                 f"the rigid model leaves {np.sqrt(chi2):.1f}× the noise in the masslines (reduced χ² {chi2:.3g}): a "
-            "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose",
+                "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose",
             )
         ]
     return []
@@ -77,7 +77,7 @@ def weighing_warnings(z: float, weighed, housings: float) -> list[CodedWarning]:
         CodedWarning(
             "weighed_mass_disagrees",
             f"the weighed mass ({weighed.mass:.6g} ± {weighed.sd:.2g} kg{added}) and the masslines disagree by "
-        f"{abs(z):.1f}σ: check the scale, --sensor-mass, and that the body was weighed without its accelerometers",
+            f"{abs(z):.1f}σ: check the scale, --sensor-mass, and that the body was weighed without its accelerometers",
         )
     ]
 
@@ -89,23 +89,26 @@ def band_warnings(band: Band, lines: int) -> list[CodedWarning]:
         found.append(
             CodedWarning(
                 "band_near_support",
-                f"the band starts {band.low / band.suspension_top:.1f}× above {band.suspension_top:.3g} Hz, where the "
-            "support's resonances move the FRFs off their massline: its tail is a large part of the masslines there "
-            "and can bias the mass beyond its ±; a softer support (top mode below a tenth of the band) removes the doubt",
+                f"the band starts {band.low / band.suspension_top:.1f}× above {band.suspension_top:.3g} Hz, where "
+                "the support's resonances move the FRFs off their massline: its tail is a large part of the masslines "
+                "there and can bias the mass beyond its ±; a softer support (top mode below a tenth of the band) "
+                "removes the doubt",
             )
         )
     if band.rule != "given" and np.isfinite(band.first_elastic) and band.high > band.first_elastic / NEAR:
         found.append(
             CodedWarning(
                 "band_near_elastic",
-                f"the band ends {band.first_elastic / band.high:.1f}× below {band.first_elastic:.3g} Hz, where the elastic "
-            "modes move the FRFs off their massline: their tail is a large part of the masslines there and can bias "
-            "the inertia beyond its ±",
+                f"the band ends {band.first_elastic / band.high:.1f}× below {band.first_elastic:.3g} Hz, where the "
+                "elastic modes move the FRFs off their massline: their tail is a large part of the masslines there and "
+                "can bias the inertia beyond its ±",
             )
         )
     if lines < FEW_LINES:
         found.append(
-            CodedWarning("few_lines", f"the band holds only {lines} spectral lines: record a finer resolution (more lines)")
+            CodedWarning(
+                "few_lines", f"the band holds only {lines} spectral lines: record a finer resolution (more lines)"
+            )
         )
     return found
 
@@ -123,7 +126,7 @@ def coherence_warnings(coherence: np.ndarray | None, in_band: np.ndarray, channe
         CodedWarning(
             "poor_coherence",
             f"{len(poor)} FRF(s) have a median coherence below {POOR_COHERENCE} in the band ({named}): check the "
-        "hits (double hits, overloads) and the sensors' cables",
+            "hits (double hits, overloads) and the sensors' cables",
         )
     ]
 
@@ -150,8 +153,8 @@ def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[Code
         CodedWarning(
             "tail_truncation",
             f"the band is too close to the resonances for its tails: fitting their next term moves the {worst[1]} by "
-        f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
-        "stiffer fixture opens a band clear of both",
+            f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
+            "stiffer fixture opens a band clear of both",
         )
     ]
 
@@ -164,18 +167,20 @@ def given_band_warnings(band: Band, free: Band) -> list[CodedWarning]:
         found.append(
             CodedWarning(
                 "given_band_near_support",
-                f"the given band starts at {band.low:.3g} Hz, {band.low / free.suspension_top:.2g}× the {free.suspension_top:.3g} "
-            "Hz where the support's resonances stop moving the FRFs off their massline: their peaks or tails are "
-            f"fitted as massline; start it at {3 * free.suspension_top:.3g} Hz or more, or leave --band out",
+                f"the given band starts at {band.low:.3g} Hz, {band.low / free.suspension_top:.2g}× the "
+                f"{free.suspension_top:.3g} Hz where the support's resonances stop moving the FRFs off their massline: "
+                f"their peaks or tails are fitted as massline; start it at {3 * free.suspension_top:.3g} Hz or more, "
+                "or leave --band out",
             )
         )
     if np.isfinite(free.first_elastic) and band.high > free.first_elastic / NEAR:
         found.append(
             CodedWarning(
                 "given_band_near_elastic",
-                f"the given band ends at {band.high:.3g} Hz, {band.high / free.first_elastic:.2g}× the {free.first_elastic:.3g} "
-            "Hz where the elastic modes start moving the FRFs off their massline: their peaks or tails are fitted as "
-            f"massline; end it at {free.first_elastic / 3:.3g} Hz or less, or leave --band out",
+                f"the given band ends at {band.high:.3g} Hz, {band.high / free.first_elastic:.2g}× the "
+                f"{free.first_elastic:.3g} Hz where the elastic modes start moving the FRFs off their massline: their "
+                f"peaks or tails are fitted as massline; end it at {free.first_elastic / 3:.3g} Hz or less, or leave "
+                "--band out",
             )
         )
     return found
@@ -198,10 +203,10 @@ def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band) 
     return [
         CodedWarning(
             "short_record",
-            f"the lowest resonance, at {lowest:.3g} Hz, is {lines} line(s) up the axis (Δf {step:.3g} Hz, a {1 / step:.3g} s "
-        f"record): too short a record to resolve it, and an impact test's exponential window adds about "
-        f"{WINDOW_DECAY / (2 * np.pi * lines):.0%} of critical damping to it, so its tail reaches into the band; "
-        f"record at least {needed:.3g} s (more lines, or a lower fmax)",
+            f"the lowest resonance, at {lowest:.3g} Hz, is {lines} line(s) up the axis (Δf {step:.3g} Hz, a "
+            f"{1 / step:.3g} s record): too short a record to resolve it, and an impact test's exponential window "
+            f"adds about {WINDOW_DECAY / (2 * np.pi * lines):.0%} of critical damping to it, so its tail reaches into the band; "
+            f"record at least {needed:.3g} s (more lines, or a lower fmax)",
         )
     ]
 
@@ -229,9 +234,9 @@ def rolloff_warnings(frequencies: np.ndarray, coherence: np.ndarray | None, band
             return [
                 CodedWarning(
                     "force_roll_off",
-                    f"the coherence falls {place}: 1 − γ² is {seen:.2g}, {seen / max(reference, 1e-12):.3g}× the band's: "
-                "the force spectrum rolls off there (a soft hammer tip), and what looks like a resonance may be its "
-                "notch; hit with a harder tip (force spectrum within 10 dB up to fmax) and record again",
+                    f"the coherence falls {place}: 1 − γ² is {seen:.2g}, {seen / max(reference, 1e-12):.3g}× the "
+                    "band's: the force spectrum rolls off there (a soft hammer tip), and what looks like a resonance "
+                    "may be its notch; hit with a harder tip (force spectrum within 10 dB up to fmax) and record again",
                 )
             ]
     return []

@@ -1,9 +1,9 @@
 """No silent wrong answer: deliberately flawed recordings of the bracket, each identified from the file alone.
 
 For every case the result (mass, CoG, principal moments) is within 2σ of the truth or carries a warning whose
-code blames the flaw (never just any warning); where the flaw is gross, that warning is there. The recordings are exporter-style files (0 Hz line, g/N,
-mm, coherence) of the planned bracket test (12 + 2 triaxial accelerometers, 4 hits) on a cord, with 1 % noise
-and 3 % transverse sensitivity, fixed seeds.
+code blames the flaw (never just any warning); where the flaw is gross, that warning is there. The recordings
+are exporter-style files (0 Hz line, g/N, mm, coherence) of the planned bracket test (12 + 2 triaxial
+accelerometers, 4 hits) on a cord, with 1 % noise and 3 % transverse sensitivity, fixed seeds.
 """
 
 from dataclasses import replace
@@ -111,7 +111,9 @@ def test_coherence_falling_at_the_edge_or_the_band_top_is_a_force_roll_off():
     assert rolloff_warnings(f, flat, band) == []
     falling = 1 - 1e-4 * (1 + (f / 100.0) ** 6)  # G_ff ∝ 1/(1 + (f/100)⁶): 1 − γ² ∝ 1/G_ff
     [warning] = rolloff_warnings(f, np.broadcast_to(falling, flat.shape), band)
-    assert warning.code == "force_roll_off" and "the force spectrum rolls off" in warning.text and "600 Hz" in warning.text
+    assert (
+        warning.code == "force_roll_off" and "the force spectrum rolls off" in warning.text and "600 Hz" in warning.text
+    )
 
 
 def test_a_given_band_across_a_resonance_is_named():
@@ -208,7 +210,9 @@ def test_instrumentation_fault(bracket, tmp_path, effect):
     assert_never_silently_wrong(from_file(tmp_path, recording), body, ["model_misfit"])
 
 
-@pytest.mark.parametrize("scale, units, code", [(1e3, "SI", "lighter_than_air"), (1e-3, "MM", "denser_than_any_material")])
+@pytest.mark.parametrize(
+    "scale, units, code", [(1e3, "SI", "lighter_than_air"), (1e-3, "MM", "denser_than_any_material")]
+)
 def test_geometry_unit_label(bracket, cord_test, tmp_path, scale, units, code):
     """Coordinates in mm labelled m (1000× too large) and in m labelled mm (1000× too small)."""
     relabel = {
@@ -220,7 +224,9 @@ def test_geometry_unit_label(bracket, cord_test, tmp_path, scale, units, code):
     assert all("unit labels" in w.text for w in found.warnings if w.code == code)
 
 
-@pytest.mark.parametrize("factor, acceleration, code", [(G, "g", "light_for_extent"), (1 / G, "length", "heavy_for_extent")])
+@pytest.mark.parametrize(
+    "factor, acceleration, code", [(G, "g", "light_for_extent"), (1 / G, "length", "heavy_for_extent")]
+)
 def test_acceleration_unit_label(bracket, cord_test, tmp_path, factor, acceleration, code):
     """(m/s²)/N labelled g/N (9.81× light) and g/N labelled (m/s²)/N (9.81× heavy): χ² and the inertia cannot see
     it (J/m is unchanged), the mass over the measured points' hull does, from the file alone; --mesh's check too."""

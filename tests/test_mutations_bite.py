@@ -62,12 +62,13 @@ def mutate(root: Path, source: str, old: str, new: str) -> None:
 def run_tests(root: Path, selection: list[str], basetemp: Path) -> subprocess.CompletedProcess:
     """pytest on the repository's ``selection`` (files in tests/, then options) with the copy as ``massline``."""
     env = {**os.environ, "PYTHONPATH": str(root)}
-    check = subprocess.run(
-        [sys.executable, "-c", "import massline.core.plate as p, massline.identify.estimator as e; print(p.__file__, e.__file__)"],
-        env=env, capture_output=True, text=True, cwd=TESTS,
-    )  # fmt: skip
+    where = "import massline.core.plate as p, massline.identify.estimator as e; print(p.__file__, e.__file__)"
+    check = subprocess.run([sys.executable, "-c", where], env=env, capture_output=True, text=True, cwd=TESTS)
     assert all(Path(f).is_relative_to(root) for f in check.stdout.split()), check.stdout + check.stderr
-    files, options = [str(TESTS / s) for s in selection if s.endswith(".py")], [s for s in selection if not s.endswith(".py")]
+    files, options = (
+        [str(TESTS / s) for s in selection if s.endswith(".py")],
+        [s for s in selection if not s.endswith(".py")],
+    )
     command = [sys.executable, "-m", "pytest", *files, *options, "-n", "0", "-q", "-p", "no:cacheprovider"]
     return subprocess.run(command + [f"--basetemp={basetemp}"], env=env, capture_output=True, text=True, cwd=TESTS)
 

@@ -258,7 +258,9 @@ def identified(recording, band, transverse: float) -> tuple[Identification | Non
         if band:
             try:
                 return identify_recording(recording, band, transverse), (
-                    CodedWarning("identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"),
+                    CodedWarning(
+                        "identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"
+                    ),
                 )
             except MasslineError as again:
                 reason = again
