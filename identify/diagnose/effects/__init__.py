@@ -8,7 +8,9 @@ findings' kind, notes, the demo and the blind scenarios. ``tests/test_effects_re
 
 from __future__ import annotations
 
-from massline.core.errors import MasslineError
+import math
+
+from massline.core.errors import MasslineError, param
 from massline.identify.diagnose.effects.base import Block, Effect, Scene
 from massline.identify.diagnose.effects.channel_swap import ChannelSwap
 from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
@@ -86,6 +88,8 @@ def parse_effect(text: str) -> Effect:
         place = None if not where else "all" if where.strip() == "all" else _indices(where)
     except ValueError:
         raise MasslineError(f"cannot read effect '{text}': write NAME=SIZE@N or NAME=SIZE@all") from None
+    if not math.isfinite(value):
+        raise MasslineError(f"{param('effect', repr(text), cli=text)}: the size must be a finite number")
     cls.check_place(place)
     return cls(value, place)
 
