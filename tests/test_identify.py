@@ -192,7 +192,8 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_tes
 
 @pytest.mark.slow
 def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
-    """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 90 % of them."""
+    """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 94 % of them (the
+    README's claim; 95 % for a normal error)."""
     body, sensors, exciters = bracket_test[:3]
     inside = []
     for seed in range(50):
@@ -210,7 +211,7 @@ def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
         )
         inside.append(z < 2)
     share = np.mean(inside, axis=0)
-    assert share.min() >= 0.9, share
+    assert share.min() >= 0.94, share
 
 
 def test_an_exporters_zero_hz_line_is_set_aside(structure, tmp_path):
