@@ -110,7 +110,7 @@ def extent_warnings(mass: float, apparent: float) -> list[CodedWarning]:
         return [
             CodedWarning(
                 "light_for_extent",
-                f"{where}, lighter than a closed sheet-metal housing ({LIGHT:g}): unless it is a thin shell or a "
+                f"{where}, lighter than a closed sheet-metal housing ({LIGHT:g} kg/m³): unless it is a thin shell or a "
                 f"honeycomb panel, the accelerance is in (m/s²)/N labelled g/N, 9.81× light? {LABELS}",
             )
         ]

@@ -273,6 +273,8 @@ def test_minimal_layout_says_it_cannot_be_checked(structure):
     found = identify_recording(rec, None, draws=0)
     assert np.isnan(found.best.chi2) and found.payload["chi2_reduced"] is None
     assert codes_of(found.warnings) == {"no_redundancy"}
+    [warned] = json.loads(json.dumps(found.payload))["warnings"]  # DESIGN.md's sentence, beside its code
+    assert warned == {"code": "no_redundancy", "text": found.warnings[0].text} and "no redundancy" in warned["text"]
 
 
 SUPPORT_CODES = {"band_near_support", "tail_truncation", "model_misfit"}  # what a stiff support is blamed on
