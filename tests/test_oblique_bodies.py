@@ -132,16 +132,17 @@ def test_the_estimator_on_an_oblique_box(name):
 
 def test_a_fault_the_band_fits_cannot_see_is_covered_by_the_chi2_scaled_sigma():
     """The masslines scatter 10× the σ the band fits claimed (a fault that shows from channel to channel, not
-    within an FRF): reduced χ² ≈ 100, and only the ± scaled by it covers. Over 40 seeds of the steel box
-    (13 × 6 masslines, transverse readings fitted) every property's error is within 2σ of the scaled ± in
-    ≥ 90 % of them (95 % for a normal error); the unscaled ± (÷ √χ²) would cover about 16 % (P(|z| < 0.2)), and
-    under 40 % here."""
+    within an FRF): reduced χ² ≈ 100, and only the ± scaled by it covers. Over 100 seeds of the steel box
+    (13 × 6 masslines, transverse readings fitted) the error of the mass, each CoG coordinate and each principal
+    moment is within 2σ of the scaled ± in ≥ 85 % of them (95 % for a normal error, 90–96 % measured; the bound
+    leaves 2.5 binomial σ below 0.9); the unscaled ± (÷ √χ²) covers about 16 % (P(|z| < 0.2); 8–21 %
+    measured), under 30 % here."""
     body = OBLIQUE["steel box"]
     exact = synthesise(body, *layout())
     claimed = np.full(exact.values.shape, 2e-4 * np.abs(exact.values).max())
     truth = property_vector(body, False)
     scaled, unscaled, chi2 = [], [], []
-    for seed in range(40):
+    for seed in range(100):
         noise = 10 * claimed * np.random.default_rng(seed).standard_normal(claimed.shape)
         data = Masslines(exact.values + noise, exact.sensors, exact.exciters)
         found = estimate(data, claimed)
@@ -152,5 +153,5 @@ def test_a_fault_the_band_fits_cannot_see_is_covered_by_the_chi2_scaled_sigma():
         unscaled.append(error < 2 * sigma / np.sqrt(found.chi2))
         chi2.append(found.chi2)
     assert 70 < np.median(chi2) < 140
-    assert np.mean(scaled, axis=0).min() >= 0.9, np.mean(scaled, axis=0)
-    assert np.mean(unscaled, axis=0).max() < 0.4, np.mean(unscaled, axis=0)
+    assert np.mean(scaled, axis=0).min() >= 0.85, np.mean(scaled, axis=0)
+    assert np.mean(unscaled, axis=0).max() < 0.3, np.mean(unscaled, axis=0)
