@@ -15,6 +15,7 @@ from massline.identify.pipeline import identify_recording
 from massline.identify.uncertainty import property_std
 from massline.identify.warning_codes import codes_of
 from massline.core.errors import MasslineError
+from massline.core.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
 from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
@@ -273,7 +274,7 @@ def test_minimal_layout_says_it_cannot_be_checked(structure):
     found = identify_recording(rec, None, draws=0)
     assert np.isnan(found.best.chi2) and found.payload["chi2_reduced"] is None
     assert codes_of(found.warnings) == {"no_redundancy"}
-    [warned] = json.loads(json.dumps(found.payload))["warnings"]  # DESIGN.md's sentence, beside its code
+    [warned] = json.loads(to_json(found.payload))["warnings"]  # DESIGN.md's sentence, beside its code
     assert warned == {"code": "no_redundancy", "text": found.warnings[0].text} and "no redundancy" in warned["text"]
 
 
