@@ -29,6 +29,7 @@ FLAGS = {
     "budget.sensors": "--sensors",
     "budget.triaxial": "--triaxial",
     "density": "--density",
+    "effect": "--effect",
     "folder": "--out",
     "force": "--force",
     "mass": "--mass",

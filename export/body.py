@@ -41,7 +41,7 @@ class Body:
     note : str
         What was measured: the recording, the method and band, the bare body or as tested.
     warnings : tuple of str
-        What identify found suspect in the data, one sentence each.
+        What identify found suspect in the data, one sentence each (a coded warning is kept as its sentence).
     """
 
     mass: float
@@ -62,7 +62,7 @@ class Body:
         object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "cog", cog)
         object.__setattr__(self, "inertia", 0.5 * (J + J.T))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "warnings", tuple(str(w) for w in self.warnings))  # the sentences
 
     @classmethod
     def of(cls, body: RigidBody, **given) -> Body:

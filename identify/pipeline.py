@@ -28,6 +28,7 @@ from massline.identify.suspicions import (
     weighing_warnings,
 )
 from massline.identify.uncertainty import bootstrap, combined_std, truncation_std, with_truncation
+from massline.identify.warning_codes import CodedWarning
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
 from massline.core.errors import MasslineError, param
@@ -110,7 +111,7 @@ def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
     return gamma2 / (1 - gamma2)
 
 
-def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
+def usable_lines(recording: Recording) -> tuple[Recording, tuple[CodedWarning, ...]]:
     """The recording without its lines at or below 0 Hz, and a note saying so when there were any."""
     kept = recording.above_zero()
     dropped = len(recording.frequencies) - len(kept.frequencies)
@@ -119,16 +120,16 @@ def usable_lines(recording: Recording) -> tuple[Recording, tuple[str, ...]]:
     if not len(kept.frequencies):
         raise MasslineError("the recording has no line above 0 Hz: export the FRFs over a frequency range")
     lines = "the 0 Hz line" if dropped == 1 and recording.frequencies[0] == 0 else f"{dropped} lines at or below 0 Hz"
-    return kept, (f"{lines} set aside (an exporter's DC line holds no massline)",)
+    return kept, (CodedWarning("dc_line_set_aside", f"{lines} set aside (an exporter's DC line holds no massline)"),)
 
 
-def without_mains(recording: Recording) -> tuple[Recording, MainsLines | None, tuple[str, ...]]:
+def without_mains(recording: Recording) -> tuple[Recording, MainsLines | None, tuple[CodedWarning, ...]]:
     """The recording without the lines of any mains interference (:mod:`.mains`), what was found, and a note
     saying which lines were set aside."""
     mains = find_mains(recording.frequencies, recording.frf)
     if mains is None:
         return recording, None, ()
-    return recording.kept(~mains.aside), mains, (mains.note,)
+    return recording.kept(~mains.aside), mains, (CodedWarning("mains_set_aside", mains.note),)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -169,7 +170,11 @@ class Identification:
         band = (self.band.low, self.band.high)
         found = properties_payload(self.body, self.std, band, self.planar)
         chi2 = self.best.chi2 if np.isfinite(self.best.chi2) else None
-        found |= {"chi2_reduced": chi2, "warnings": list(self.warnings), "sensor_mass": self.housings.payload()}
+        found |= {
+            "chi2_reduced": chi2,
+            "warnings": [w.as_json() for w in self.warnings],
+            "sensor_mass": self.housings.payload(),
+        }
         found["exciter_mass"] = self.exciter_mass
         found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["units"] = JSON_UNITS

@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
+from massline.identify.warning_codes import CodedWarning
 from massline.identify.zones import RESONANT, imaginary_fraction, stretch
 from massline.core.band import Band
 
@@ -45,54 +46,74 @@ ROLL_OFF = 10.0  # incoherence this many times the band's marks a falling force 
 INCOHERENT = 0.01  # ... when it also exceeds this (1 − γ²)
 
 
-def fit_warnings(chi2: float, dof: float) -> list[str]:
+def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
     """The fit statistic: reduced χ² (over ``dof`` degrees of freedom) beyond chance, or no redundancy."""
     if not np.isfinite(chi2):
         return [
-            "no redundancy: the layout has no more masslines than the fit has unknowns, so no error in the "
-            "data can show; add sensors or hits to check the result"
+            CodedWarning(
+                "no_redundancy",
+                "no redundancy: the layout has no more masslines than the fit has unknowns, so no error in the "
+                "data can show; add sensors or hits to check the result",
+            )
         ]
     if chi2 * dof > chi2_distribution.isf(CHANCE, max(dof, 1)) and chi2 > 2.0:
         return [
-            f"the rigid model leaves {np.sqrt(chi2):.1f}× the noise in the masslines (reduced χ² {chi2:.3g}): a "
-            "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose"
+            CodedWarning(
+                "model_misfit",
+                f"the rigid model leaves {np.sqrt(chi2):.1f}× the noise in the masslines (reduced χ² {chi2:.3g}): a "
+                "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose",
+            )
         ]
     return []
 
 
-def weighing_warnings(z: float, weighed, housings: float) -> list[str]:
+def weighing_warnings(z: float, weighed, housings: float) -> list[CodedWarning]:
     """The scale's reading (``weighed``, bare body) against the masslines: its studentised residual ``z``
     beyond DISAGREE (``housings``: the accelerometers' mass added to the reading, kg)."""
     if weighed is None or not abs(z) > DISAGREE:
         return []
     added = f" plus {housings:.4g} kg of accelerometers" if housings else ""
     return [
-        f"the weighed mass ({weighed.mass:.6g} ± {weighed.sd:.2g} kg{added}) and the masslines disagree by "
-        f"{abs(z):.1f}σ: check the scale, --sensor-mass, and that the body was weighed without its accelerometers"
+        CodedWarning(
+            "weighed_mass_disagrees",
+            f"the weighed mass ({weighed.mass:.6g} ± {weighed.sd:.2g} kg{added}) and the masslines disagree by "
+            f"{abs(z):.1f}σ: check the scale, --sensor-mass, and that the body was weighed without its accelerometers",
+        )
     ]
 
 
-def band_warnings(band: Band, lines: int) -> list[str]:
+def band_warnings(band: Band, lines: int) -> list[CodedWarning]:
     """Band edges close to the resonances found in the recording, and a band with few lines."""
     found = []
     if band.rule != "given" and np.isfinite(band.suspension_top) and band.low < NEAR * band.suspension_top:
         found.append(
-            f"the band starts {band.low / band.suspension_top:.1f}× above {band.suspension_top:.3g} Hz, where the "
-            "support's resonances move the FRFs off their massline: its tail is a large part of the masslines there "
-            "and can bias the mass beyond its ±; a softer support (top mode below a tenth of the band) removes the doubt"
+            CodedWarning(
+                "band_near_support",
+                f"the band starts {band.low / band.suspension_top:.1f}× above {band.suspension_top:.3g} Hz, where "
+                "the support's resonances move the FRFs off their massline: its tail is a large part of the masslines "
+                "there and can bias the mass beyond its ±; a softer support (top mode below a tenth of the band) "
+                "removes the doubt",
+            )
         )
     if band.rule != "given" and np.isfinite(band.first_elastic) and band.high > band.first_elastic / NEAR:
         found.append(
-            f"the band ends {band.first_elastic / band.high:.1f}× below {band.first_elastic:.3g} Hz, where the elastic "
-            "modes move the FRFs off their massline: their tail is a large part of the masslines there and can bias "
-            "the inertia beyond its ±"
+            CodedWarning(
+                "band_near_elastic",
+                f"the band ends {band.first_elastic / band.high:.1f}× below {band.first_elastic:.3g} Hz, where the "
+                "elastic modes move the FRFs off their massline: their tail is a large part of the masslines there and "
+                "can bias the inertia beyond its ±",
+            )
         )
     if lines < FEW_LINES:
-        found.append(f"the band holds only {lines} spectral lines: record a finer resolution (more lines)")
+        found.append(
+            CodedWarning(
+                "few_lines", f"the band holds only {lines} spectral lines: record a finer resolution (more lines)"
+            )
+        )
     return found
 
 
-def coherence_warnings(coherence: np.ndarray | None, in_band: np.ndarray, channels: list[str]) -> list[str]:
+def coherence_warnings(coherence: np.ndarray | None, in_band: np.ndarray, channels: list[str]) -> list[CodedWarning]:
     """FRFs whose band lines have a median coherence below POOR_COHERENCE (``channels``: 'sensor / hit')."""
     if coherence is None:
         return []
@@ -102,15 +123,18 @@ def coherence_warnings(coherence: np.ndarray | None, in_band: np.ndarray, channe
         return []
     named = ", ".join(channels[k] for k in poor[:4]) + (" …" if len(poor) > 4 else "")
     return [
-        f"{len(poor)} FRF(s) have a median coherence below {POOR_COHERENCE} in the band ({named}): check the "
-        "hits (double hits, overloads) and the sensors' cables"
+        CodedWarning(
+            "poor_coherence",
+            f"{len(poor)} FRF(s) have a median coherence below {POOR_COHERENCE} in the band ({named}): check the "
+            "hits (double hits, overloads) and the sensors' cables",
+        )
     ]
 
 
 TRUNCATION = 2.0  # a truncation shift beyond this many statistical 1-σ is flagged
 
 
-def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[str]:
+def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[CodedWarning]:
     """The tails' truncation (``shift``: 25 property entries, uncertainty.truncation_std) against the
     statistical 1-σ: flagged where it exceeds TRUNCATION of them for the mass or a principal moment."""
     mass = (shift[0], statistical["mass"], body.mass)
@@ -126,27 +150,38 @@ def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[str]
     if worst[0] <= TRUNCATION:
         return []
     return [
-        f"the band is too close to the resonances for its tails: fitting their next term moves the {worst[1]} by "
-        f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
-        "stiffer fixture opens a band clear of both"
+        CodedWarning(
+            "tail_truncation",
+            f"the band is too close to the resonances for its tails: fitting their next term moves the {worst[1]} by "
+            f"{worst[2]:.1%}, {worst[0]:.0f}× its statistical ± (the ± shown includes it); a softer support or a "
+            "stiffer fixture opens a band clear of both",
+        )
     ]
 
 
-def given_band_warnings(band: Band, free: Band) -> list[str]:
+def given_band_warnings(band: Band, free: Band) -> list[CodedWarning]:
     """A band given by hand (``band``, Hz) reaching within NEAR of the resonances bounding the recording's
     resonance-free stretch (``free``, :func:`.band.stretch`), or across them."""
     found = []
     if np.isfinite(free.suspension_top) and band.low < NEAR * free.suspension_top:
         found.append(
-            f"the given band starts at {band.low:.3g} Hz, {band.low / free.suspension_top:.2g}× the {free.suspension_top:.3g} "
-            "Hz where the support's resonances stop moving the FRFs off their massline: their peaks or tails are "
-            f"fitted as massline; start it at {3 * free.suspension_top:.3g} Hz or more, or leave --band out"
+            CodedWarning(
+                "given_band_near_support",
+                f"the given band starts at {band.low:.3g} Hz, {band.low / free.suspension_top:.2g}× the "
+                f"{free.suspension_top:.3g} Hz where the support's resonances stop moving the FRFs off their massline: "
+                f"their peaks or tails are fitted as massline; start it at {3 * free.suspension_top:.3g} Hz or more, "
+                "or leave --band out",
+            )
         )
     if np.isfinite(free.first_elastic) and band.high > free.first_elastic / NEAR:
         found.append(
-            f"the given band ends at {band.high:.3g} Hz, {band.high / free.first_elastic:.2g}× the {free.first_elastic:.3g} "
-            "Hz where the elastic modes start moving the FRFs off their massline: their peaks or tails are fitted as "
-            f"massline; end it at {free.first_elastic / 3:.3g} Hz or less, or leave --band out"
+            CodedWarning(
+                "given_band_near_elastic",
+                f"the given band ends at {band.high:.3g} Hz, {band.high / free.first_elastic:.2g}× the "
+                f"{free.first_elastic:.3g} Hz where the elastic modes start moving the FRFs off their massline: their "
+                f"peaks or tails are fitted as massline; end it at {free.first_elastic / 3:.3g} Hz or less, or leave "
+                "--band out",
+            )
         )
     return found
 
@@ -157,7 +192,7 @@ def lowest_resonance(frequencies: np.ndarray, frf: np.ndarray, below: float) -> 
     return float(frequencies[inside[0]]) if len(inside) else np.nan
 
 
-def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> list[str]:
+def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> list[CodedWarning]:
     """The lowest resonance below the band fewer than RESOLVED lines up the axis (``frequencies`` Hz from Δf)."""
     step = frequencies[1] - frequencies[0]
     lowest = lowest_resonance(frequencies, frf, band.low)
@@ -166,10 +201,13 @@ def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band) 
         return []
     needed = WINDOW_DECAY / (WINDOW_DAMPING * 2 * np.pi * lowest)
     return [
-        f"the lowest resonance, at {lowest:.3g} Hz, is {lines} line(s) up the axis (Δf {step:.3g} Hz, a {1 / step:.3g} s "
-        f"record): too short a record to resolve it, and an impact test's exponential window adds about "
-        f"{WINDOW_DECAY / (2 * np.pi * lines):.0%} of critical damping to it, so its tail reaches into the band; "
-        f"record at least {needed:.3g} s (more lines, or a lower fmax)"
+        CodedWarning(
+            "short_record",
+            f"the lowest resonance, at {lowest:.3g} Hz, is {lines} line(s) up the axis (Δf {step:.3g} Hz, a "
+            f"{1 / step:.3g} s record): too short a record to resolve it, and an impact test's exponential window "
+            f"adds about {WINDOW_DECAY / (2 * np.pi * lines):.0%} of critical damping to it, so its tail reaches into the band; "
+            f"record at least {needed:.3g} s (more lines, or a lower fmax)",
+        )
     ]
 
 
@@ -178,7 +216,7 @@ def incoherence(coherence: np.ndarray, where: np.ndarray) -> float:
     return float(np.median(1 - coherence[:, :, where])) if where.any() else np.nan
 
 
-def rolloff_warnings(frequencies: np.ndarray, coherence: np.ndarray | None, band: Band) -> list[str]:
+def rolloff_warnings(frequencies: np.ndarray, coherence: np.ndarray | None, band: Band) -> list[CodedWarning]:
     """The incoherence where the FRFs leave their massline above the band (±10 % of ``band.first_elastic``), or
     over the band's top quarter (in log f), ROLL_OFF times the band's and above INCOHERENT."""
     if coherence is None:
@@ -194,14 +232,17 @@ def rolloff_warnings(frequencies: np.ndarray, coherence: np.ndarray | None, band
         seen = incoherence(coherence, where)
         if seen > INCOHERENT and seen > ROLL_OFF * reference:
             return [
-                f"the coherence falls {place}: 1 − γ² is {seen:.2g}, {seen / max(reference, 1e-12):.3g}× the band's: "
-                "the force spectrum rolls off there (a soft hammer tip), and what looks like a resonance may be its "
-                "notch; hit with a harder tip (force spectrum within 10 dB up to fmax) and record again"
+                CodedWarning(
+                    "force_roll_off",
+                    f"the coherence falls {place}: 1 − γ² is {seen:.2g}, {seen / max(reference, 1e-12):.3g}× the "
+                    "band's: the force spectrum rolls off there (a soft hammer tip), and what looks like a resonance "
+                    "may be its notch; hit with a harder tip (force spectrum within 10 dB up to fmax) and record again",
+                )
             ]
     return []
 
 
-def recording_warnings(frequencies: np.ndarray, frf: np.ndarray, coherence, band: Band) -> list[str]:
+def recording_warnings(frequencies: np.ndarray, frf: np.ndarray, coherence, band: Band) -> list[CodedWarning]:
     """What the recording itself says against its ``band``: a given band near resonances, a record too short for
     its lowest resonance, a force spectrum rolling off (``frequencies`` Hz above 0, ``frf`` (n_s, n_e, n_f))."""
     free = stretch(frequencies, frf) if band.rule == "given" else band

@@ -77,7 +77,8 @@ def before_after_table(run: DiagnosisRun, nominal: RigidBody | None) -> str:
 
 def caveats(run: DiagnosisRun) -> str:
     """What limits the diagnosis: no redundancy, identify's refusal or warnings (a warnings block, or '')."""
-    lines = list(run.notes) + ([] if run.before is None else [f"identify: {w}" for w in run.before.warnings])
+    warned = () if run.before is None else run.before.warnings
+    lines = [note.text for note in run.notes] + [f"identify: {w.text}" for w in warned]
     if not roomy(run.layout):
         lines.insert(
             0,

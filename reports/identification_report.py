@@ -162,7 +162,7 @@ def warnings_block(warnings) -> str:
     """The identification's warnings, first on the page (empty when nothing is suspect)."""
     if not warnings:
         return ""
-    items = "".join(f"<li>{escape(w)}</li>" for w in warnings)
+    items = "".join(f"<li>{escape(w.text)}</li>" for w in warnings)
     return f'<section class="warnings"><h2>Warnings</h2><ul>{items}</ul></section>'
 
 

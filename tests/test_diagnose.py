@@ -12,6 +12,7 @@ from massline.identify.diagnose.diagnosis import base_fit, diagnose
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout, line_coordinates
 from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.warning_codes import codes_of
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import point_mass_theta
@@ -138,8 +139,9 @@ def test_diagnose_checks_the_mesh_as_identify_does(structure):
     warnings and in the JSON, where before it said nothing (the bracket's 0.35 kg against the 4 kg structure)."""
     rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=2)
     found = diagnose_recording(rec, None, bundled("bracket").nominal)
-    assert any("mesh's nominal" in w for w in found.before.warnings)
-    assert any("mesh's nominal" in w for w in found.document["warnings"])
+    assert "nominal_mass_mismatch" in codes_of(found.before.warnings)
+    [warned] = [w for w in found.document["warnings"] if w["code"] == "nominal_mass_mismatch"]
+    assert "mesh's nominal" in warned["text"]
 
 
 def test_diagnose_command_finds_a_flipped_sensor_and_writes_the_json(structure, tmp_path):

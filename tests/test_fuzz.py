@@ -8,6 +8,7 @@ mutated files through the commands themselves.
 import random
 import warnings
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -37,14 +38,20 @@ def mesh_seeds(tmp_path_factory):
     return [(p.suffix, p.read_bytes(), units) for p, units in fixtures + own_meshes(folder)]
 
 
-def refused_quietly(call) -> None:
-    """``call()`` returns or raises MasslineError, and warns of nothing."""
+def outcome(call):
+    """``call()``'s result, or the MasslineError it raised (anything else, a warning included, fails the test)."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         try:
-            call()
-        except MasslineError:
-            pass
+            return call()
+        except MasslineError as refused:
+            return refused
+
+
+def assert_refused_in_one_line(refused: MasslineError) -> None:
+    """A refusal the command line prints as one line that says something."""
+    text = str(refused).strip()
+    assert text and "\n" not in text and "Traceback" not in text, text
 
 
 @FUZZ
@@ -54,7 +61,15 @@ def test_uff_reader_raises_only_massline_errors(uff_seeds, tmp_path, data, steps
     damaged, _ = mutate(seed, rng, steps)
     path = tmp_path / f"damaged{suffix}"
     path.write_bytes(damaged)
-    refused_quietly(lambda: to_recording(read_uff(path)))
+    found = outcome(lambda: to_recording(read_uff(path)))
+    if isinstance(found, MasslineError):
+        assert_refused_in_one_line(found)
+        return
+    f = found.frequencies
+    assert found.frf.shape == (len(found.sensors), len(found.exciters), len(f)) and len(f) >= 1
+    assert np.isfinite(f).all() and np.all(np.diff(f) > 0), f
+    assert np.isfinite(found.sensors.points).all() and np.isfinite(found.exciters.points).all()
+    assert np.allclose(np.linalg.norm(found.sensors.directions, axis=1), 1.0)
 
 
 @settings(FUZZ, max_examples=300)
@@ -64,7 +79,12 @@ def test_mesh_loader_raises_only_massline_errors(mesh_seeds, tmp_path, data, ste
     damaged, _ = mutate(seed, rng, steps)
     path = tmp_path / f"damaged{suffix}"
     path.write_bytes(damaged)
-    refused_quietly(lambda: load_body(path, units, 2700.0).nominal)
+    found = outcome(lambda: load_body(path, units, 2700.0).nominal)
+    if isinstance(found, MasslineError):
+        assert_refused_in_one_line(found)
+        return
+    assert found.mass > 0 and np.isfinite(found.cog).all() and np.isfinite(found.inertia_cog).all()
+    assert np.linalg.eigvalsh(found.inertia_cog).min() > 0, found.inertia_cog
 
 
 def test_the_seeds_are_read(uff_seeds, mesh_seeds):

@@ -167,3 +167,23 @@ def test_demo_tells_the_whole_story_under_two_minutes(tmp_path):
         assert (tmp_path / "demo" / name).stat().st_size > 50_000
     for name in ("plan.json", "test.uff", "truth.json"):
         assert (tmp_path / "demo" / name).exists()
+    assert_the_demo_is_accurate(result.stdout, json.loads((tmp_path / "demo" / "truth.json").read_text()))
+
+
+def signed_number(text: str) -> float:
+    return float(text.replace("−", "-"))
+
+
+def assert_the_demo_is_accurate(stdout: str, truth: dict) -> None:
+    """The concealed gain error found to 0.05 % of full scale, and the corrected body within 3σ of the mesh on every
+    row of the printed table (mass, CoG, principal moments), its mass error a tenth of identify's or less."""
+    [concealed] = [e for e in truth["effects"] if e["effect"] == "sensor_gain"]
+    found = re.search(r"diagnose 1\. .*? reads ([−+-]?[\d.]+) % of what it should \(gain", " ".join(stdout.split()))
+    assert found and abs(signed_number(found.group(1)) / 100 - concealed["size"]) < 5e-4, (found, concealed)
+    rows = [line.split("│")[1:-1] for line in stdout.splitlines() if line.startswith("│") and "±" in line]
+    assert len(rows) == 7, stdout
+    for quantity, _, before, after in rows:
+        error, sigma = (signed_number(v.strip(" %")) for v in after.split("±"))
+        assert abs(error) <= 3 * sigma, (quantity, after)
+    mass_before, mass_after = (signed_number(rows[0][k].split("±")[0]) for k in (2, 3))
+    assert abs(mass_after) <= 0.1 * abs(mass_before), rows[0]

@@ -13,7 +13,9 @@ from massline.identify.estimator import constrained_step, estimate, is_consisten
 from massline.identify.massline_fit import fit_band
 from massline.identify.pipeline import identify_recording
 from massline.identify.uncertainty import property_std
+from massline.identify.warning_codes import codes_of
 from massline.core.errors import MasslineError
+from massline.core.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters, structure_sensors
 from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
@@ -191,7 +193,8 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_tes
 
 @pytest.mark.slow
 def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
-    """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 90 % of them."""
+    """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 94 % of them (the
+    README's claim; 95 % for a normal error)."""
     body, sensors, exciters = bracket_test[:3]
     inside = []
     for seed in range(50):
@@ -209,7 +212,7 @@ def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
         )
         inside.append(z < 2)
     share = np.mean(inside, axis=0)
-    assert share.min() >= 0.9, share
+    assert share.min() >= 0.94, share
 
 
 def test_an_exporters_zero_hz_line_is_set_aside(structure, tmp_path):
@@ -260,7 +263,7 @@ def test_reduced_chi2_is_near_one_on_clean_data_and_a_fault_is_warned(bracket_pl
     rec, _ = run(body, sensors, exciters, None, cord, flipped, Acquisition(200.0, 2000), seed)
     faulty = identify_recording(rec, None, draws=0)
     assert faulty.best.chi2 > 100
-    assert any("reduced χ²" in w for w in faulty.warnings)
+    assert codes_of(faulty.warnings) == {"model_misfit"}
 
 
 def test_minimal_layout_says_it_cannot_be_checked(structure):
@@ -270,7 +273,12 @@ def test_minimal_layout_says_it_cannot_be_checked(structure):
     rec, _ = run(structure, structure_sensors(), structure_exciters(), None, cord, (), Acquisition(200.0, 2000))
     found = identify_recording(rec, None, draws=0)
     assert np.isnan(found.best.chi2) and found.payload["chi2_reduced"] is None
-    assert any("no redundancy" in w for w in found.warnings)
+    assert codes_of(found.warnings) == {"no_redundancy"}
+    [warned] = json.loads(to_json(found.payload))["warnings"]  # DESIGN.md's sentence, beside its code
+    assert warned == {"code": "no_redundancy", "text": found.warnings[0].text} and "no redundancy" in warned["text"]
+
+
+SUPPORT_CODES = {"band_near_support", "tail_truncation", "model_misfit"}  # what a stiff support is blamed on
 
 
 def test_a_stiff_support_is_never_silently_wrong(plate):
@@ -288,7 +296,7 @@ def test_a_stiff_support_is_never_silently_wrong(plate):
             continue
         assert found.band.low > max(truth["suspension"]["modes_hz"])
         error = abs(found.body.mass / plate.mass - 1)
-        assert error < 2 * found.std["mass"] / plate.mass or found.warnings
+        assert error < 2 * found.std["mass"] / plate.mass or codes_of(found.warnings) & SUPPORT_CODES, found.warnings
         assert {"chi2_reduced", "warnings", "sensor_mass"} <= set(found.payload)
 
 
@@ -302,4 +310,5 @@ def test_an_frf_with_no_coherence_in_the_band_is_named_not_a_traceback(structure
     coherence[2, 1] = 0.0
     found = identify_recording(type(rec)(rec.frequencies, rec.frf, rec.sensors, rec.exciters, coherence), None, draws=0)
     assert abs(found.body.mass / structure.mass - 1) < 0.01
-    assert any("coherence" in w and "sensor 3 / hit 2" in w for w in found.warnings), found.warnings
+    [poor] = [w for w in found.warnings if w.code == "poor_coherence"]
+    assert "sensor 3 / hit 2" in poor.text, found.warnings

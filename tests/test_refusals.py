@@ -34,6 +34,8 @@ NUMBERS = {
         "--noise-floor": ["-0.1", NAN, INF, "5"],
         "--seed": ["-1", NAN, INF, "1e30"],
         "--exclude-faces": ["-1", NAN],
+        "--sensor-base": ["-1", NAN, INF, "1e9"],
+        "--tip": ["-1", NAN, INF, "1e9"],
         "--density": ["-1", "0", NAN, INF],
         "--mass": ["-1", "0", NAN, INF],
     },
@@ -48,15 +50,25 @@ NUMBERS = {
         "--lines": ["0", "-1", NAN, INF, "1e9"],
         "--modes": ["0", "-1", NAN, INF, "1e9"],
         "--fe-size": ["0", "-1", NAN, INF, "1e3"],
+        "--material": ["0,0.3", "nan,0.3", "70e9,inf", "70e9,0.6", "1e300,0.3"],
+        "--effect": ["sensor_gain=nan@3", "sensor_gain=inf@3", "transverse_sensitivity=-inf@all"],
+        "--suspension": ["cord:k=-1", "cord:k=nan", "cord:L=inf", "cord:L=0", "cord:loss=-0.1", "cord:at=nan;0;0"],
     },
     "identify": {
         "--transverse": ["-1", NAN, INF, "5"],
         "--bootstrap": ["-3", NAN, INF, "1e9"],
         "--sensor-mass": ["-1", NAN, INF],
+        "--density": ["-1", "0", NAN, INF],
+        "--mass": ["-1", "0", NAN, INF],
         "--weighed-mass": ["-1", "0", NAN, INF, "4±-1", "4±nan"],
         "--band": ["-1 40", "0 40", "nan 40", "5 inf", "40 5", "5 1e12"],
     },
-    "diagnose": {"--transverse": ["-1", NAN, INF, "5"], "--band": ["-1 40", "nan 40", "40 5", "5 inf"]},
+    "diagnose": {
+        "--transverse": ["-1", NAN, INF, "5"],
+        "--band": ["-1 40", "nan 40", "40 5", "5 inf"],
+        "--density": ["-1", "0", NAN, INF],
+        "--mass": ["-1", "0", NAN, INF],
+    },
     "demo": {"--seed": ["-1", NAN, INF, "1e30"]},
 }
 # a whole option group given invalid: (command, option, values)
@@ -133,6 +145,8 @@ def test_an_invalid_number_is_refused_with_its_range(command, option, values, in
     argv = base(command, inputs, tmp_path)
     if command in ("identify", "diagnose") and option in ("--density", "--mass"):
         argv += ["--mesh", "structure"]
+    if option == "--material":
+        argv.remove("--rigid")  # a rigid body's test reads no material
     line = refused([*argv, option, *values], capsys, tmp_path, inputs["folder"])
     assert option in line and any(sign in line for sign in RANGE), line
 

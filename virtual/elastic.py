@@ -87,6 +87,11 @@ class Material:
             raise MasslineError(
                 f"{param('material', repr(text), cli=text)}: give {', '.join(MATERIALS)} or E,NU (e.g. 70e9,0.33)"
             ) from None
+        if not (0 < youngs < 1e13 and -1 < poisson < 0.5):
+            raise MasslineError(
+                f"{param('material', repr(text), cli=text)}: give a finite 0 < E < 1e13 Pa (diamond's is 1.2e12) "
+                "and −1 < NU < 0.5"
+            )
         return cls(youngs, poisson, density)
 
     @staticmethod

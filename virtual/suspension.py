@@ -114,6 +114,16 @@ class Foam:
             raise MasslineError("a foam support needs a positive stiffness and at least 3 contact points")
 
 
+def check_support(spec: str, numbers: list[float], loss: float, positive: bool) -> None:
+    """Refuse ``--suspension`` ``spec`` unless its ``numbers`` are finite, ``loss`` a finite η ≥ 0 and the
+    stiffness and length (or shear ratio) in range (``positive``)."""
+    if not (np.isfinite(numbers).all() and np.isfinite(loss) and loss >= 0 and positive):
+        raise MasslineError(
+            f"{param('suspension', repr(spec), cli=spec)}: give finite numbers, k > 0 N/m, L > 0 m (shear ≥ 0) "
+            "and loss ≥ 0"
+        )
+
+
 @dataclass(frozen=True)
 class Suspension:
     """Cords and/or a foam pad, their loss factor, and the direction of ``up``.
@@ -153,10 +163,12 @@ class Suspension:
                 default = Cord.soft(point, body.mass)
                 k = float(options.pop("k", default.stiffness))
                 length = float(options.pop("L", default.length))
+                check_support(spec, [k, length, *point], loss, k > 0 and length > 0)
                 suspension = cls(cords=(Cord(point, k, length),), loss_factor=loss)
             elif kind == "foam":
                 k = float(options.pop("k", body.mass * (2 * np.pi * FOAM_BOUNCE) ** 2))
                 shear = float(options.pop("shear", 0.5))
+                check_support(spec, [k, shear], loss, k > 0 and shear >= 0)
                 suspension = cls(foam=Foam(lowest_points(mesh, body.cog), k, shear), loss_factor=loss)
             else:
                 raise MasslineError(f"unknown suspension '{kind}': use cord, foam or none")

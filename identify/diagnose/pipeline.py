@@ -40,6 +40,7 @@ from massline.identify.pipeline import (
     without_mains,
 )
 from massline.identify.tails import BandData
+from massline.identify.warning_codes import CodedWarning
 from massline.core.band import Band
 from massline.core.degeneracy import unseen_motion
 from massline.core.errors import MasslineError
@@ -81,8 +82,9 @@ class DiagnosisRun:
         The diagnosis's findings and the mass loading, faults first, each fault's ``moved`` evidence from
         identify.
     loading : MassLoading or None
-    notes : tuple of str
-        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference).
+    notes : tuple of CodedWarning
+        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference), and why
+        identify refused the file.
     """
 
     recording: Recording
@@ -139,7 +141,7 @@ class DiagnosisRun:
             },
             "band_hz": [self.band.low, self.band.high],
             "screens": self.screens,
-            "warnings": list(self.warnings),
+            "warnings": [w.as_json() for w in self.warnings],
             "units": JSON_UNITS,
         }
 
@@ -371,8 +373,10 @@ def identified(recording, band, transverse: float, known: dict) -> tuple[Identif
         if band:
             try:
                 return identify_recording(recording, band, transverse, **known), (
-                    f"identify finds no band ({reason}): the properties are on the given band",
+                    CodedWarning(
+                        "identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"
+                    ),
                 )
             except MasslineError as again:
                 reason = again
-        return None, (f"identify refuses the file as it came ({reason})",)
+        return None, (CodedWarning("identify_refused", f"identify refuses the file as it came ({reason})"),)

@@ -8,7 +8,9 @@ findings' kind, notes, the demo and the blind scenarios. ``tests/test_effects_re
 
 from __future__ import annotations
 
-from massline.core.errors import MasslineError
+import math
+
+from massline.core.errors import MasslineError, param
 from massline.identify.diagnose.effects.base import Block, Effect, Scene
 from massline.identify.diagnose.effects.channel_swap import ChannelSwap
 from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
@@ -88,6 +90,8 @@ def parse_effect(text: str) -> Effect:
     except ValueError:
         example = "NAME=SIZE@N or NAME=SIZE@all" if cls.place == "lines" else cls.syntax()
         raise MasslineError(f"cannot read effect '{text}': write {example}") from None
+    if not math.isfinite(value):
+        raise MasslineError(f"{param('effect', repr(text), cli=text)}: the size must be a finite number")
     cls.check_size(value)
     cls.check_place(place)
     return cls(value, place)

@@ -1,0 +1,57 @@
+"""Warnings a machine can check: each a stable snake_case ``code`` beside the sentence for the engineer.
+
+identify's and diagnose's JSON carry every warning as ``{"code": CODE, "text": SENTENCE}``; the console and the
+reports print the sentence. A code never changes meaning; a new suspicion gets a new code, listed in ``CODES``
+with what it says (README, "Warnings").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+CODES = {
+    "no_redundancy": "as many unknowns as masslines: no error in the data can show",
+    "model_misfit": "the rigid model leaves more than the noise in the masslines (reduced χ² beyond chance)",
+    "weighed_mass_disagrees": "the scale's reading and the masslines disagree on the mass beyond 3σ",
+    "band_near_support": "the chosen band starts close above the support's resonances",
+    "band_near_elastic": "the chosen band ends close below the elastic modes",
+    "few_lines": "the band holds too few spectral lines for the tails",
+    "poor_coherence": "FRFs with a poor median coherence in the band",
+    "tail_truncation": "the tails' next term moves a property by more than twice its statistical ±",
+    "given_band_near_support": "a band given by hand starts at or below the support's resonances",
+    "given_band_near_elastic": "a band given by hand ends at or above the elastic modes",
+    "short_record": "the record is too short to resolve the lowest resonance",
+    "force_roll_off": "the coherence falls where the force spectrum rolls off (a soft hammer tip)",
+    "denser_than_any_material": "the mass and inertia need material denser than any element (a length label)",
+    "lighter_than_air": "the mass over the hull of the measured points is lighter than air (a length label)",
+    "heavy_for_extent": "the mass over the measured points' hull is above any structural metal's density",
+    "light_for_extent": "the mass over the measured points' hull is below a hollow body's floor",
+    "nominal_mass_mismatch": "the mass is far from the nominal mesh's (--mesh)",
+    "dc_line_set_aside": "the file's lines at or below 0 Hz were set aside",
+    "mains_set_aside": "the lines of mains interference (a fundamental and its harmonics) were set aside",
+    "identify_no_band": "identify found no band: the properties are on the given band",
+    "identify_refused": "identify refuses the file as it came",
+}
+
+
+@dataclass(frozen=True)
+class CodedWarning:
+    """One warning: ``code`` (a key of ``CODES``) and ``text`` (the sentence the console and reports show)."""
+
+    code: str
+    text: str
+
+    def __post_init__(self):
+        if self.code not in CODES:
+            raise ValueError(f"unregistered warning code {self.code!r}: add it to CODES")
+
+    def __str__(self) -> str:
+        return self.text
+
+    def as_json(self) -> dict:
+        return {"code": self.code, "text": self.text}
+
+
+def codes_of(warnings) -> set[str]:
+    """The codes of a sequence of ``CodedWarning``."""
+    return {w.code for w in warnings}

@@ -1,0 +1,86 @@
+"""The suite fails when the science is wrong: known mutations of the code, each caught by a test.
+
+Each mutation is applied to a copy of the package (laid out as pyproject.toml maps it into ``massline``) by an
+exact string replacement that must match once, so this check fails loudly when the code moves; the test files
+that should catch it then run against the copy, in a subprocess with the copy first on the path, and must fail.
+The unmutated copy must pass the same selection, so a failure is the mutation's.
+
+* eq. (13)'s J_xy coefficient with its sign flipped (the plate method): the Table 1 plate has J_xy = 0 and
+  cannot see it; the rotated plates of ``test_oblique_bodies`` do.
+* the covariance not scaled by the reduced χ²: no test with χ² ≈ 1 can see it; the concealed fault of
+  ``test_oblique_bodies`` (χ² ≈ 100) does.
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+TESTS = Path(__file__).resolve().parent
+
+MUTATIONS = {
+    "eq. 13's J_xy sign": (
+        "core/plate.py",
+        "np.column_stack([ax, 0 * ax, ay])",
+        "np.column_stack([ax, 0 * ax, -ay])",
+        ["test_oblique_bodies.py", "-k", "plate"],
+    ),
+    "covariance not scaled by χ²": (
+        "identify/estimator.py",
+        "covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)",
+        "covariance = np.linalg.inv(system.step()[2])",
+        ["test_oblique_bodies.py", "-k", "fault"],
+    ),
+}
+
+
+def package_copy(folder: Path) -> Path:
+    """The package tree as ``massline`` under ``folder`` (pyproject's package-dir), returned as the path root."""
+    mapping = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-dir"]
+    for package, source in sorted(mapping.items()):
+        target = folder.joinpath(*package.split("."))
+        shutil.copytree(ROOT / source, target, ignore=shutil.ignore_patterns("__pycache__"), dirs_exist_ok=True)
+    return folder
+
+
+def mutate(root: Path, source: str, old: str, new: str) -> None:
+    """Replace ``old`` by ``new`` in the copy's ``source`` (a repository path), where it occurs exactly once."""
+    package = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-dir"]
+    top, rest = source.split("/", 1)
+    [name] = [k for k, v in package.items() if v == top]
+    path = root.joinpath(*name.split("."), rest)
+    text = path.read_text()
+    assert text.count(old) == 1, f"the mutation's target moved: {old!r} occurs {text.count(old)}× in {source}"
+    path.write_text(text.replace(old, new))
+
+
+def run_tests(root: Path, selection: list[str], basetemp: Path) -> subprocess.CompletedProcess:
+    """pytest on the repository's ``selection`` (files in tests/, then options) with the copy as ``massline``."""
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    where = "import massline.core.plate as p, massline.identify.estimator as e; print(p.__file__, e.__file__)"
+    check = subprocess.run([sys.executable, "-c", where], env=env, capture_output=True, text=True, cwd=TESTS)
+    assert all(Path(f).is_relative_to(root) for f in check.stdout.split()), check.stdout + check.stderr
+    files, options = (
+        [str(TESTS / s) for s in selection if s.endswith(".py")],
+        [s for s in selection if not s.endswith(".py")],
+    )
+    command = [sys.executable, "-m", "pytest", *files, *options, "-n", "0", "-q", "-p", "no:cacheprovider"]
+    return subprocess.run(command + [f"--basetemp={basetemp}"], env=env, capture_output=True, text=True, cwd=TESTS)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MUTATIONS)
+def test_the_mutation_makes_a_test_fail(name, tmp_path):
+    source, old, new, selection = MUTATIONS[name]
+    clean = package_copy(tmp_path / "clean")
+    passed = run_tests(clean, selection, tmp_path / "run-clean")
+    assert passed.returncode == 0, passed.stdout[-3000:] + passed.stderr[-2000:]
+    mutated = package_copy(tmp_path / "mutated")
+    mutate(mutated, source, old, new)
+    failed = run_tests(mutated, selection, tmp_path / "run-mutated")
+    assert failed.returncode == 1 and " failed" in failed.stdout, failed.stdout[-3000:] + failed.stderr[-2000:]
