@@ -15,6 +15,9 @@ import numpy as np
 from massline.core.errors import MasslineError, param
 
 
+HEAVIEST = 10.0  # kg: no accelerometer housing weighs more (a mass beyond is a unit slip: grams given as kg)
+
+
 @dataclass(frozen=True)
 class HousingMasses:
     """Housing masses, kg: ``default`` for every housing, ``by_label`` {point label: kg} where they differ."""
@@ -24,10 +27,10 @@ class HousingMasses:
 
     def __post_init__(self):
         for label, mass in [("", self.default), *self.by_label.items()]:
-            if not (np.isfinite(mass) and mass >= 0):
+            if not (np.isfinite(mass) and 0 <= mass <= HEAVIEST):
                 where = f"'{label}={mass:g}'" if label != "" else f"'{mass:g}'"
                 raise MasslineError(
-                    f"{param('sensor_mass', where)}: a housing's mass is a number of kg, 0 ≤ KG < inf"
+                    f"{param('sensor_mass', where)}: a housing's mass is a number of kg, 0 ≤ KG ≤ {HEAVIEST:g}"
                 )
 
     @classmethod

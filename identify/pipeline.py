@@ -228,7 +228,7 @@ def fit_note(found: Identification) -> str:
 def identification_note(found: Identification, as_tested: bool, source: str) -> str:
     """What an export of ``found`` holds: the recording, how it was identified, the body as tested or bare."""
     housings = found.housings
-    grams = housings.describe()
+    grams = housings.describe().replace("×", "x")  # exports are ASCII
     if not housings.count:
         which = "the body as tested (no sensor mass given)"
     else:

@@ -82,6 +82,7 @@ def test_the_mesh_names_the_loaded_housings(mixed):
 def test_unknown_labels_are_refused_on_the_command_line(tmp_path, capsys):
     plan = tmp_path / "plan"
     assert run_cli(["plan", "plate", "--minimal", "--out", str(plan)]) == 0
+    capsys.readouterr()  # the plan's progress lines
     code = run_cli(["simulate", str(plan / "plan.json"), "--rigid", "--sensor-mass", "0.008", "99=0.025",
                     "--out", str(tmp_path / "t.uff")])  # fmt: skip
     err = capsys.readouterr().err

@@ -34,6 +34,7 @@ from massline.identify.exciter_mass import riding_masses
 CHANCE = 1e-3  # tail probability beyond which a drop in χ² is no longer chance
 SIGMAS = 5.0  # the gauge's mass must be this many σ from zero
 EXPLAINED = 0.1  # and leave at most this share of the reduced χ² without it (or be within chance of 1)
+UNFIT = 1e300  # χ² of a gauge no body fits (finite: the bounded search compares it)
 LARGEST = 0.05  # the heaviest gauge weighed, as a share of the body's mass per drive point
 
 
@@ -80,7 +81,7 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
         try:
             return chi2_sum(fitted(m))
         except (ValueError, np.linalg.LinAlgError):
-            return np.inf
+            return UNFIT
 
     largest = LARGEST * without.body.mass
     best = minimize_scalar(chi2_at, bounds=(0.0, largest), method="bounded", options={"xatol": 1e-5 * largest})

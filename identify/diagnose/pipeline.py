@@ -188,7 +188,7 @@ class DiagnosisRun:
         undone = [f.effect for f in self.findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
         which = "the body as tested"
         if self.loading is not None:
-            grams = f"{self.loading.housings.describe()} of loading"
+            grams = f"{self.loading.housings.describe()} of loading".replace("×", "x")  # exports are ASCII
             which = f"the body as tested, {grams} on" if as_tested else f"the bare body, {grams} taken off"
         note = (
             f"{source or 'a recording'}, massline diagnose (faults undone: {', '.join(undone) or 'none'}; then "
