@@ -64,7 +64,6 @@ def write_report(console, path: str | Path, build, force: bool = False, status: 
     return Path(path)
 
 
-<<<<<<< HEAD
 def check_exportable(paths: list[str], recording) -> None:
     """Before the identification: refuse ``--export`` files that cannot hold what ``recording`` can show (a
     plate's test leaves z_G and J's z row and column unobserved: only CSV holds that)."""
@@ -82,7 +81,8 @@ def write_exports(console, found, args) -> None:
         found.export(path, args.export_units, as_tested=args.export_as_tested, force=args.force,
                      source=Path(args.uff).name)  # fmt: skip
         console.print(f"wrote {path} ({format_of(path).name}, {args.export_units})")
-=======
+
+
 def plain_progress(stream, steps: int = 4):
     """``progress(stage, done, total)`` as plain lines on ``stream``, each with the seconds since the first: one
     when the stage changes and, within a stage, one each time another ``1/steps`` of ``total`` is done — a few
@@ -99,7 +99,6 @@ def plain_progress(stream, steps: int = 4):
         stream.flush()
 
     return progress
->>>>>>> planbound
 
 
 @contextmanager

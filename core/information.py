@@ -41,7 +41,6 @@ class NoiseModel:
         return np.sqrt((self.relative * H) ** 2 + (self.floor / mass) ** 2)
 
 
-<<<<<<< HEAD
 def driven_inverses(model: RigidModel, riding: np.ndarray) -> np.ndarray:
     """M_j⁻¹ (n_e, q, q) of the body each exciter drives, M_j = M(θ + θ_j): the model's body with the mass riding
     at exciter j's point (SI parameters ``riding`` (n_e, p), e.g. a force gauge's structure side; eq. 14)."""
@@ -57,12 +56,8 @@ def driven(model: RigidModel, exciter_coords: np.ndarray, riding: np.ndarray | N
 
 
 def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray, riding=None):
-    """g_ij (n_sensors, n_exciters, p) and the masslines H_ij (n_sensors, n_exciters) at the model.
-=======
-def sensitivities(model: RigidModel, sensor_coords: np.ndarray, exciter_coords: np.ndarray):
     """g_ij (..., n_sensors, n_exciters, p) and the masslines H_ij (..., n_sensors, n_exciters) at the model, for
-    line coordinates (..., n, q): one layout, or a stack of them.
->>>>>>> planbound
+    line coordinates (..., n, q): one layout, or a stack of them (one layout only with ``riding``).
 
     Summed as g_ij,k = −Σ_a u_ia Y(v_j)_ak by einsum: fast when the exciters are few (pass the many
     lines first, by the symmetry above), and single-threaded, which a tall product with a
