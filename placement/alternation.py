@@ -5,7 +5,7 @@ budget over given candidate lines, solved in turn (greedy, then exchanges) until
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -13,6 +13,7 @@ from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import CandidateLines
 from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import excesses
+from massline.placement.footprints import Footprints, conflicts, hits_blocked, sensors_blocked
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, weighted_sensitivities
 from massline.placement.plans import Budget
@@ -38,7 +39,8 @@ def _stacked(side: CandidateLines, coords: np.ndarray, fixed: np.ndarray, chosen
 @dataclass(frozen=True, kw_only=True)
 class PlannerSettings:
     """What a :class:`Planner` plans besides its candidates: the model, the budget, the noise, the lines held
-    fixed, the criterion it climbs and whether only diagnosable layouts are admitted."""
+    fixed, the criterion it climbs, whether only diagnosable layouts are admitted and the footprints it keeps apart
+    (None: none)."""
 
     model: RigidModel
     budget: Budget
@@ -48,6 +50,7 @@ class PlannerSettings:
     criterion: Criterion = D
     diagnosable: bool = False
     work: Work | None = None
+    footprints: Footprints | None = None
 
     def planner(self, sensor_side: CandidateLines, exciter_side: CandidateLines) -> Planner:
         """The planner of these settings over the given candidate lines."""
@@ -62,6 +65,7 @@ class PlannerSettings:
             criterion=self.criterion,
             diagnosable=self.diagnosable,
             work=self.work,
+            footprints=self.footprints,
         )
 
 
@@ -81,6 +85,7 @@ class Planner:
         criterion: Criterion = D,
         diagnosable: bool = False,
         work: Work | None = None,
+        footprints: Footprints | None = None,
     ):
         self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
         self.diagnosable = diagnosable
@@ -93,6 +98,10 @@ class Planner:
         self.fixed_s = empty if fixed_sensors is None else model.coordinates(fixed_sensors)
         self.fixed_e = empty if fixed_exciters is None else model.coordinates(fixed_exciters)
         self._built = {}
+        self.footprints = footprints
+        if footprints is not None:
+            self.s_sites = footprints.candidates.take(self.sensor_node)
+            self.e_sites = footprints.candidates.take(exciter_side.node[exciter_side.members[:, 0]])
 
     # one side's selection problem, the other side fixed
     def _problem(
@@ -121,15 +130,30 @@ class Planner:
                 f"({param('options.axes')}), a smaller {param('options.sensor_base')} or fewer exclusions"
             )
 
-    def sensor_problem(self, exciter_rows: np.ndarray) -> BlockProblem:
+    def sensor_problem(self, exciter_rows: np.ndarray, exciters=()) -> BlockProblem:
+        """The sensors' problem seen through the exciters' rows; with footprints, open only where an accelerometer
+        keeps clear of the fixed lines and of the hits ``exciters`` (candidate indices), a base from the others."""
         other = np.vstack([self.fixed_e, exciter_rows])
         budgets = (self.budget.sensors, self.budget.triaxial)
-        return self._kept("s", other, lambda: self._problem(self.s, self.s_coords, other, self.fixed_s, budgets))
+        problem = self._kept("s", other, lambda: self._problem(self.s, self.s_coords, other, self.fixed_s, budgets))
+        if self.footprints is None:
+            return problem
+        f = self.footprints
+        hits = f.fixed_hits + self.e_sites.take(exciters)
+        allowed = ~sensors_blocked(self.s_sites, f.fixed_sensors, hits, f.footprint)
+        return replace(problem, allowed=allowed, sites=self.s_sites.points, spacing=f.footprint.sensor_base)
 
-    def exciter_problem(self, sensor_rows: np.ndarray) -> BlockProblem:
+    def exciter_problem(self, sensor_rows: np.ndarray, sensors=()) -> BlockProblem:
+        """The exciters' problem seen through the sensors' rows; with footprints, open only where a hit keeps clear
+        of the fixed accelerometers and of ``sensors`` (candidate indices)."""
         other = np.vstack([self.fixed_s, sensor_rows])
         budgets = (self.budget.exciters,)
-        return self._kept("e", other, lambda: self._problem(self.e, self.e_coords, other, self.fixed_e, budgets))
+        problem = self._kept("e", other, lambda: self._problem(self.e, self.e_coords, other, self.fixed_e, budgets))
+        if self.footprints is None:
+            return problem
+        f = self.footprints
+        placed = f.fixed_sensors + self.s_sites.take(sensors)
+        return replace(problem, allowed=~hits_blocked(self.e_sites, placed, f.footprint))
 
     def _kept(self, side: str, other: np.ndarray, build) -> BlockProblem:
         """The last problem built for the side, by held lines: the search, the polish and the certificate come
@@ -197,9 +221,19 @@ class Planner:
         nodes = self.sensor_node[np.asarray(sensors, dtype=int)]
         return (
             len(set(nodes.tolist())) == len(nodes)
+            and self.mountable(sensors, exciters)
             and self.violation(sensors, exciters) == 0
             and self.regular(*self.layout(sensors, exciters))
         )
+
+    def mountable(self, sensors: list, exciters: list) -> bool:
+        """Do the selection's accelerometers keep a base apart and its hits clear of them (fixed lines included,
+        :mod:`.footprints`)? True without footprints."""
+        if self.footprints is None:
+            return True
+        f = self.footprints
+        placed = f.fixed_sensors + self.s_sites.take(sensors)
+        return not conflicts(placed, f.fixed_hits + self.e_sites.take(exciters), f.footprint)
 
     @property
     def sensor_node(self) -> np.ndarray:
@@ -207,14 +241,16 @@ class Planner:
         return self.s.node[self.s.members[:, 0]]
 
     def separated(self, problem: BlockProblem, sensors: list) -> list:
-        """Each accelerometer on a point another one holds (the later one) exchanged for the candidate of its
-        group, on a free point, that adds the most information."""
+        """Each accelerometer on a point another one holds, or not free beside the others (a footprint's
+        conflict, :meth:`BlockProblem.free`), the later one first, exchanged for the candidate of its group, on a
+        free point, that adds the most information."""
         chosen = list(sensors)
         for position in reversed(range(len(chosen))):
             taken = np.delete(self.sensor_node[chosen], position)
-            if self.sensor_node[chosen[position]] not in taken:
+            others = problem.free(np.delete(chosen, position))
+            if self.sensor_node[chosen[position]] not in taken and others[chosen[position]]:
                 continue
-            free = (problem.group == problem.group[chosen[position]]) & ~np.isin(self.sensor_node, taken)
+            free = (problem.group == problem.group[chosen[position]]) & ~np.isin(self.sensor_node, taken) & others
             free[chosen] = False
             M = problem.information(np.delete(chosen, position)) + problem.regulariser()
             best = best_gains(problem.blocks, np.linalg.inv(M), free)[0]
@@ -248,7 +284,7 @@ class Planner:
         stalls: its exchanges climb back to where the next round's walk starts again)."""
         value, settled_for, short = -np.inf, None, np.inf
         for _ in range(rounds):
-            sp = self.sensor_problem(self.exciter_rows(exciters))
+            sp = self.sensor_problem(self.exciter_rows(exciters), exciters)
             sensors = self.settled(
                 sp,
                 self.separated(sp, sensors if sensors else greedy(sp)),
@@ -257,7 +293,7 @@ class Planner:
             )
             if sorted(sensors) == settled_for:  # the exciters were settled against these very sensors
                 break
-            ep = self.exciter_problem(self.sensor_rows(sensors))
+            ep = self.exciter_problem(self.sensor_rows(sensors), sensors)
             start = exciters if len(exciters) == self.budget.exciters else greedy(ep)
             new_exciters = self.settled(ep, start, lambda c: (sensors, c), self.exciter_cover)
             new_value = ep.value(new_exciters)

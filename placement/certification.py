@@ -40,7 +40,9 @@ class _Sides:
 
     def problem(self, side: str, layout: dict):
         p, other = self.planner, layout[_other(side)]
-        return p.sensor_problem(p.exciter_rows(other)) if side == "sensors" else p.exciter_problem(p.sensor_rows(other))
+        if side == "sensors":
+            return p.sensor_problem(p.exciter_rows(other), other)
+        return p.exciter_problem(p.sensor_rows(other), other)
 
     def admissible(self, side: str, layout: dict):
         other = layout[_other(side)]

@@ -22,7 +22,7 @@ from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
 from massline.meshes.loader import BodyMesh
-from massline.placement.on_surface import is_plate, plan
+from massline.placement.on_surface import anchored, is_plate, plan
 from massline.placement.planner import Budget, Plan
 from massline.placement.work import Reached, Work, WorkSpent
 
@@ -61,6 +61,7 @@ def cheapest_diagnosable(
     ``minimal`` and what the search spent as ``search``; the minimal plan, with what the search reached, when
     the search spends its ``evaluations`` first."""
     planar = is_plate(body)
+    anchored(body, fixed_sensors, fixed_exciters, options)  # conflicting fixed lines refused before any work
     work = Work(evaluations, UNIT)
 
     def planned(budget: Budget, diagnosable: bool, seconds: float) -> Plan:

@@ -10,10 +10,12 @@ from dataclasses import replace
 from typing import Callable
 
 import numpy as np
+import trimesh
 
 from massline.placement.admissible import regular
 from massline.placement.candidates import CandidateOptions, CandidatePoints, candidate_lines, candidate_points
 from massline.placement.diagnosability import diagnosability
+from massline.placement.footprints import Footprint, Footprints, Sites, check_fixed
 from massline.core.information import NoiseModel
 from massline.placement.plans import Budget, Plan, assessed
 from massline.core.lines import Lines
@@ -34,11 +36,40 @@ def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
     return Lines(snap(body.mesh, lines.points, what, UNITS[body.units]), lines.directions, lines.triaxial)
 
 
+def fixed_sites(mesh: trimesh.Trimesh, lines: Lines | None) -> Sites:
+    """The points (m) of fixed lines already on the surface, each with the outward normal of its nearest face."""
+    if lines is None:
+        return Sites.none()
+    faces = [
+        int(np.argmin(np.linalg.norm(trimesh.triangles.closest_point(mesh.triangles, np.tile(p, (len(mesh.faces), 1)))
+                                     - p, axis=1)))
+        for p in lines.points
+    ]  # fmt: skip
+    return Sites(lines.points, mesh.face_normals[np.asarray(faces, dtype=int)].reshape(-1, 3))
+
+
+def anchored(
+    body: BodyMesh, fixed_sensors: Lines | None, fixed_exciters: Lines | None, options: CandidateOptions
+) -> tuple[Lines | None, Lines | None, tuple[Sites, Sites]]:
+    """The fixed lines snapped onto the surface and their sites; refused when two of them conflict
+    (:func:`.footprints.check_fixed`)."""
+    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
+    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
+    anchors = fixed_sites(body.mesh, fixed_sensors), fixed_sites(body.mesh, fixed_exciters)
+    check_fixed(*anchors, Footprint(options.sensor_base, options.hammer_tip))
+    return fixed_sensors, fixed_exciters, anchors
+
+
 def slid(
-    plan: Plan, surface: Surface, points: CandidatePoints, options: CandidateOptions, diagnosable: bool = False
+    plan: Plan,
+    surface: Surface,
+    points: CandidatePoints,
+    options: CandidateOptions,
+    diagnosable: bool = False,
+    footprints: Footprints | None = None,
 ) -> Plan:
     """The plan with its points slid on their flat patches by its criterion, among the layouts the planner
-    admits (regular, and diagnosable when asked)."""
+    admits (regular, and diagnosable when asked), their footprints kept apart (``footprints``' fixed sites)."""
 
     def admitted(sensors: Lines, exciters: Lines) -> bool:
         return regular(plan.model, sensors, exciters) and (
@@ -55,6 +86,7 @@ def slid(
         options=options,
         admissible=admitted,
         criterion=plan.criterion.value,
+        anchors=None if footprints is None else (footprints.fixed_sensors, footprints.fixed_hits),
     )
     assessment = assessed(plan.model, moved.sensors, moved.exciters, plan.noise)
     value = plan.criterion.value(assessment["information"])
@@ -104,9 +136,10 @@ def plan(
     budget.check(planar)
     progress("candidates", 0.0)
     surface = Surface.of(body.mesh)
-    fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
-    fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
+    fixed_sensors, fixed_exciters, anchors = anchored(body, fixed_sensors, fixed_exciters, options)
+    footprint = Footprint(options.sensor_base, options.hammer_tip)
     points = candidate_points(body.mesh, options, surface)
+    footprints = Footprints(footprint, Sites(points.points, points.normals), *anchors)
     sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
     result = plan_on_candidates(
         RigidModel(body.nominal, planar),
@@ -124,8 +157,8 @@ def plan(
         criterion=criterion,
         diagnosable=diagnosable,
         work=work,
+        footprints=footprints,
     )
     progress("sliding the points on their faces", 0.95)
-    return slid(
-        replace(result, candidates=points, clearances=options.clearances), surface, points, options, diagnosable
-    )
+    located = replace(result, candidates=points, clearances=options.clearances)
+    return slid(located, surface, points, options, diagnosable, footprints)

@@ -30,6 +30,7 @@ from massline.placement.candidates import CandidateLines
 from massline.placement.certification import certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.diagnosability import UndiagnosableError
+from massline.placement.footprints import Footprints
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel
 from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
@@ -148,6 +149,7 @@ def plan_on_candidates(
     criterion: str = "D",
     diagnosable: bool = False,
     work: Work | None = None,
+    footprints: Footprints | None = None,
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
@@ -157,7 +159,8 @@ def plan_on_candidates(
     layouts in which one faulty channel or hit can be located are admitted (the certificate's bound covers
     all layouts). ``starts``: the alternation starts from the greedy exciters and ``starts`` − 1 random
     sets (``seed``). ``work``: the diagnosability evaluations the search may spend (:mod:`.work`; it raises
-    ``WorkSpent`` past them).
+    ``WorkSpent`` past them). ``footprints``: hits kept off the accelerometers' footprints and accelerometers
+    a base apart (:mod:`.footprints`; the nodes of the candidate lines index its candidates).
     """
     budget.check(model.planar)
     check_candidates(sensor_side, exciter_side, budget)
@@ -170,6 +173,7 @@ def plan_on_candidates(
         criterion=CRITERIA[criterion],
         diagnosable=diagnosable,
         work=work,
+        footprints=footprints,
     )
     planner = replace(settings, criterion=D).planner(sensor_side, exciter_side)
     planner.check_directions()

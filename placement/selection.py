@@ -27,13 +27,18 @@ from massline.core.information import log_det
 
 @dataclass(frozen=True, eq=False)
 class BlockProblem:
-    """Candidate blocks (n, r, p), their budget group (n,), budgets per group, fixed M₀ (p, p), criterion."""
+    """Candidate blocks (n, r, p), their budget group (n,), budgets per group, fixed M₀ (p, p), criterion; which
+    candidates may be chosen at all (``allowed`` (n,), None: all), and each one's point (``sites`` (n, 3) m) with
+    the least distance (``spacing``, m) between two chosen ones (accelerometers a base apart, :mod:`.footprints`)."""
 
     blocks: np.ndarray
     group: np.ndarray
     budgets: tuple
     fixed: np.ndarray
     criterion: Criterion = D
+    allowed: np.ndarray | None = None
+    sites: np.ndarray | None = None
+    spacing: float = 0.0
 
     @property
     def p(self) -> int:
@@ -45,6 +50,18 @@ class BlockProblem:
 
     def value(self, chosen) -> float:
         return self.criterion.value(self.information(chosen))
+
+    def free(self, chosen, leaving: int | None = None) -> np.ndarray:
+        """(n,) bool: the candidates that may join ``chosen`` once its position ``leaving`` (if any) has left:
+        allowed, not chosen, and ``spacing`` from every chosen candidate that stays."""
+        chosen = np.asarray(chosen, dtype=int)
+        staying = chosen if leaving is None else np.delete(chosen, leaving)
+        ok = np.ones(len(self.blocks), dtype=bool) if self.allowed is None else self.allowed.copy()
+        if self.sites is not None and self.spacing > 0 and len(staying):
+            gap = np.linalg.norm(self.sites[:, None, :] - self.sites[staying][None, :, :], axis=2)
+            ok &= (gap >= self.spacing).all(axis=1)
+        ok[chosen] = False
+        return ok
 
     def regulariser(self) -> np.ndarray:
         """ε I, tiny against the candidates' information, so that log det is finite."""
@@ -117,15 +134,13 @@ def best_scores(
 
 
 def _open(problem: BlockProblem, chosen: list) -> np.ndarray:
-    """Candidates that may still be added: not chosen, group budget not used up."""
+    """Candidates that may still be added: free (:meth:`BlockProblem.free`), group budget not used up."""
     used = (
         np.bincount(problem.group[chosen], minlength=len(problem.budgets))
         if chosen
         else np.zeros(len(problem.budgets), int)
     )
-    ok = used[problem.group] < np.asarray(problem.budgets)[problem.group]
-    ok[chosen] = False
-    return ok
+    return (used[problem.group] < np.asarray(problem.budgets)[problem.group]) & problem.free(chosen)
 
 
 def greedy(problem: BlockProblem, start=()) -> list:
@@ -163,8 +178,7 @@ def swap(
         best = (current + tol * max(abs(current), 1) if ok_now else -np.inf, None, None)
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
-            open_ = problem.group == problem.group[out]
-            open_[chosen] = False
+            open_ = (problem.group == problem.group[out]) & problem.free(chosen, position)
             candidates, totals = best_scores(problem, reduced, open_, tries, best[0])
             for candidate, total in zip(candidates, totals):
                 if total <= best[0]:
@@ -190,8 +204,7 @@ def repair(problem: BlockProblem, chosen: list, admissible, cover: np.ndarray, t
     options = []
     for position, out in enumerate(chosen):
         reduced = M - problem.blocks[out].T @ problem.blocks[out]
-        allowed = cover & (problem.group == problem.group[out])
-        allowed[chosen] = False
+        allowed = cover & (problem.group == problem.group[out]) & problem.free(chosen, position)
         index, gain = best_gains(problem.blocks, np.linalg.inv(reduced), allowed, tries)
         options += [(log_det(reduced) + g, position, int(i)) for i, g in zip(index, gain)]
     ranked = sorted(options, reverse=True)
@@ -256,8 +269,7 @@ def descend(problem: BlockProblem, chosen: list, violations, valid, tries: int =
         trials, information = [], []
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
-            open_ = problem.group == problem.group[out]
-            open_[chosen] = False
+            open_ = (problem.group == problem.group[out]) & problem.free(chosen, position)
             base = log_det(reduced)
             for candidate, gain in zip(*best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries)):
                 trials.append(chosen[:position] + [int(candidate)] + chosen[position + 1 :])

@@ -6,8 +6,9 @@ directions kept. The lines' coordinates ℓ = (d, r × d) are linear in r, so th
 criterion c(F) (log det F for D-optimality; any smooth function of F plugs in) are smooth in (a, b).
 
 Projected gradient ascent: the gradient by central differences; a point whose step would leave the
-mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions, a base's width
-from the other accelerometers) loses the step's
+mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions) or come onto
+another's footprint (accelerometers a base apart, hits half a base and half a tip from the accelerometers on
+their side, fixed ones included: :mod:`.footprints`; the candidate layout starts clear of them) loses the step's
 component towards its nearest bound, then halves it until mountable, else stays; a backtracking line
 search accepts only layouts that improve the criterion and stay admissible (the caller's test, e.g.
 :mod:`.admissible`). Lengths in metres, mesh frame.
@@ -21,6 +22,7 @@ from typing import Callable
 import numpy as np
 
 from massline.placement.candidates import CandidateOptions, CandidatePoints, excluded_by
+from massline.placement.footprints import Footprint, Sites, spacing
 from massline.core.information import NoiseModel, fisher, log_det
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
@@ -63,7 +65,8 @@ def plane_basis(normal: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Mounts:
-    """The points that move: side (0 sensors, 1 exciters), their lines, start (m), face, basis, clearance need."""
+    """The points that move: side (0 sensors, 1 exciters), their lines, start (m), face, basis, clearance need,
+    outward normal (M, 3)."""
 
     side: np.ndarray
     lines: list
@@ -71,6 +74,7 @@ class Mounts:
     face: np.ndarray
     basis: np.ndarray
     need: np.ndarray
+    normal: np.ndarray
 
     @classmethod
     def of(cls, surface: Surface, points: CandidatePoints, nodes: tuple, needs: tuple) -> "Mounts":
@@ -88,6 +92,7 @@ class Mounts:
             face=face,
             basis=np.array([plane_basis(n) for n in surface.normal(face)]).reshape(-1, 2, 3),
             need=np.array([r[3] for r in rows], dtype=float),
+            normal=surface.normal(face).reshape(-1, 3),
         )
 
 
@@ -105,9 +110,13 @@ class Slider:
         options: CandidateOptions,
         criterion: Criterion,
         admissible: Admissible,
+        anchors: tuple = (Sites.none(), Sites.none()),
     ):
         self.surface, self.model, self.noise, self.layout0 = surface, model, noise, layout
         self.mounts, self.options, self.criterion, self.admissible = mounts, options, criterion, admissible
+        self.footprint = Footprint(options.sensor_base, options.hammer_tip)
+        self.anchors = anchors[0] + anchors[1]
+        self.anchor_side = np.repeat([0, 1], [len(anchors[0]), len(anchors[1])])
 
     def points(self, x: np.ndarray) -> np.ndarray:
         """Positions (M, 3) m of the movable points at offsets x."""
@@ -156,14 +165,16 @@ class Slider:
         return out
 
     def apart(self, m: int, point: np.ndarray, positions: np.ndarray) -> bool:
-        """Does an accelerometer at ``point`` keep a base's width (twice its need) from the other accelerometers
-        at ``positions`` (M, 3), or at least the distance it had? Hits may share a point."""
-        others = (self.mounts.side == 0) & (np.arange(len(positions)) != m)
-        if self.mounts.side[m] != 0 or not others.any():
-            return True
-        before = np.linalg.norm(positions[others] - positions[m], axis=1)
-        after = np.linalg.norm(positions[others] - point, axis=1)
-        return bool(np.all(after >= np.minimum(2 * self.mounts.need[m], before)))
+        """Does movable point m at ``point`` keep off the footprints of the other movable points at ``positions``
+        (M, 3) and of the fixed ones (:func:`.footprints.spacing`), or at least the distance it had?"""
+        others = np.arange(len(positions)) != m
+        where = np.vstack([positions[others], self.anchors.points])
+        sides = np.concatenate([self.mounts.side[others], self.anchor_side])
+        normals = np.vstack([self.mounts.normal[others], self.anchors.normals])
+        need = spacing(int(self.mounts.side[m]), self.mounts.normal[m], sides, normals, self.footprint)
+        before = np.linalg.norm(where - positions[m], axis=1)
+        after = np.linalg.norm(where - point, axis=1)
+        return bool(np.all(after >= np.minimum(need, before)))
 
     def moved(self, x: np.ndarray, step: np.ndarray) -> np.ndarray:
         """Offsets after ``step``; a point that would leave its mountable region, or come onto another
@@ -225,6 +236,7 @@ def slide(
     options: CandidateOptions,
     admissible: Admissible = lambda sensors, exciters: True,
     criterion: Criterion = log_det,
+    anchors: tuple | None = None,
 ) -> Slide:
     """Slide the layout's (sensors, exciters) points that come from candidates (``nodes`` ≥ 0) on their patches.
 
@@ -246,9 +258,12 @@ def slide(
         Whether a layout (sensors, exciters) may be used (e.g. the paper's equations solve it, well enough).
     criterion : callable
         c(F) to maximise, log det F by default.
+    anchors : (Sites, Sites), optional
+        The fixed accelerometers' and hits' points (m) and outward normals, whose footprints the points keep off.
     """
     mounts = Mounts.of(surface, points, nodes, options.clearances)
     slider = Slider(
-        surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion, admissible=admissible
-    )
+        surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion,
+        admissible=admissible, anchors=(Sites.none(), Sites.none()) if anchors is None else anchors,
+    )  # fmt: skip
     return slider.run()
