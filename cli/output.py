@@ -22,6 +22,8 @@ from massline.virtual.planned_test import FEModel
 STATUS = "writing the report: building the page and rendering its pictures"
 UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken
 
+QUIET_S = 1.0  # s of work before progress lines start (a quick refusal stays one line)
+
 
 def console_for(stream) -> Console:
     """A console on ``stream``: a terminal's width there, else no wrapping (a file or a pipe gets whole
@@ -83,15 +85,16 @@ def write_exports(console, found, args) -> None:
         console.print(f"wrote {path} ({format_of(path).name}, {args.export_units})")
 
 
-def plain_progress(stream, steps: int = 4):
+def plain_progress(stream, steps: int = 4, quiet: float = QUIET_S):
     """``progress(stage, done, total)`` as plain lines on ``stream``, each with the seconds since the first: one
     when the stage changes and, within a stage, one each time another ``1/steps`` of ``total`` is done — a few
-    lines a stage, not a flood, and no bar's control characters for a log file."""
+    lines a stage, not a flood, and no bar's control characters for a log file. Nothing in the first ``quiet``
+    seconds: work that ends (or is refused) by then leaves its one line alone."""
     start, last = time.perf_counter(), {"stage": None, "step": -1}
 
     def progress(stage: str, done: float, total: float | None) -> None:
         step = int(steps * done / total) if total else -1
-        if stage == last["stage"] and step <= last["step"]:
+        if stage == last["stage"] and step <= last["step"] or time.perf_counter() - start < quiet:
             return
         last.update(stage=stage, step=step)
         share = f" ({100 * done / total:.0f} %)" if total else ""
