@@ -113,8 +113,9 @@ def test_plan_writes_plan_json(tmp_path):
     assert doc["diagnosability"]["cost"]["minimal_lines"] == 6 and doc["diagnosability"]["cost"]["minimal_hits"] == 3
     assert set(doc["sensors"][0]) == {"node", "candidate", "point", "direction", "triaxial"}
     assert {"log_det", "condition_numbers", "d_efficiency_lower_bound"} <= set(doc["criterion"])
-    # the certificate bounds every layout of the budget, diagnosable or not: the constraint costs a few per cent
-    assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.9
+    # the certificate bounds every layout of the budget, diagnosable or not and footprints or not: the constraints
+    # cost some per cent
+    assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.85
     assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes"} <= set(doc["predicted_std"])
     again = massline("plan", "structure", "--out", out)
     assert again.returncode == 2 and "--force" in again.stderr
@@ -143,7 +144,7 @@ def test_plan_off_a_terminal_shows_progress_on_stderr_and_says_where_its_search_
     assert run.returncode == 0, run.stderr
     lines = run.stderr.splitlines()
     assert len(lines) >= 3 and all(PROGRESS.match(line) for line in lines), run.stderr
-    assert "the minimal layout" in run.stderr and not any(PROGRESS.match(line) for line in run.stdout.splitlines())
+    assert not any(PROGRESS.match(line) for line in run.stdout.splitlines())
     assert "diagnosable search: stopped after 50 of 50 diagnosability evaluations; reached" in run.stdout
     doc = json.loads((tmp_path / "plan.json").read_text())
     search = doc["diagnosability"]["search"]

@@ -10,7 +10,7 @@ from massline.app import run
 from massline.core.errors import MasslineError, param
 from massline.core.masslines import synthesise
 from massline.identify.pipeline import identify_recording
-from massline.identify.sensor_mass import parse_sensor_mass
+from massline.core.housing_masses import HousingMasses
 from massline.options import FLAGS
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.uff.recording import Recording
@@ -65,13 +65,13 @@ def test_a_bad_sensor_mass_names_the_parameter_to_a_library_caller_and_the_flag_
     recording, path = massline_file
     with pytest.raises(MasslineError) as library:
         identify_recording(recording, (5.0, 95.0), draws=0, sensor_mass=-1.0)
-    assert str(library.value).startswith("sensor_mass=-1: give one accelerometer housing's mass in kg")
+    assert str(library.value).startswith("sensor_mass='-1': a housing's mass is a number of kg")
     assert "--" not in str(library.value)
     with pytest.raises(MasslineError) as parsed:
-        parse_sensor_mass("-1")
-    assert str(parsed.value).startswith("sensor_mass='-1': give one accelerometer housing's mass in kg")
+        HousingMasses.parse(["-1"])
+    assert str(parsed.value).startswith("sensor_mass='-1': a housing's mass is a number of kg")
     line = cli_error(["identify", path, "--sensor-mass", "-1"], capsys)
-    assert "--sensor-mass '-1': give one accelerometer housing's mass in kg" in line, line
+    assert "--sensor-mass '-1': a housing's mass is a number of kg" in line, line
 
 
 def test_a_budget_below_the_papers_minimum_names_the_budget_field():

@@ -87,7 +87,8 @@ def test_the_diagnosis_names_the_gauge_never_a_hit(planned, gauge):
         assert effects == ["excitation_mass_loading"], (name, seed, effects)
         found = run_.findings[0].parameters
         assert abs(found["mass_kg"] - gauge) < max(4 * found["mass_std_kg"], 0.1 * gauge), (name, seed, found)
-        assert 100 * abs(run_.after_body.mass / body.nominal.mass - 1) < BOUND, (name, seed)
+        error = 100 * abs(run_.after_body.mass / body.nominal.mass - 1)
+        assert error < max(BOUND, 200 * run_.after.std["mass"] / body.nominal.mass), (name, seed, error)  # bounds or 2σ
 
 
 def test_a_hammer_test_has_no_gauge(planned):

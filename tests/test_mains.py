@@ -65,7 +65,7 @@ def clean(request):
 
 def test_a_clean_file_names_no_hum(clean):
     _, found = clean
-    assert found.mains is None and not any("mains" in note for note in found.notes)
+    assert found.mains is None and not any("mains" in str(note) for note in found.notes)
     assert find_mains(found.recording.frequencies, found.recording.frf) is None
 
 
@@ -78,9 +78,9 @@ def test_hum_is_named_set_aside_and_leaves_properties_and_noise(clean, hum):
     found = identify_recording(recording)
     assert found.mains is not None and abs(found.mains.fundamental - fundamental) < 0.5
     assert 1 in found.mains.harmonics and found.mains.amplitudes[0] == pytest.approx(level, rel=0.2)
-    assert any(note.startswith("mains interference") for note in found.notes)
+    assert any(str(note).startswith("mains interference") for note in found.notes)
     assert found.payload["mains"]["fundamental_hz"] == found.mains.fundamental
-    assert not any("mains" in warning for warning in found.warnings)  # a note, not a warning
+    assert not any("mains" in str(warning) for warning in found.warnings)  # a note, not a warning
     on_band = identify_recording(recording, band=(before.band.low, before.band.high), draws=0)
     values, _ = properties(on_band)
     reference, reference_sigma = properties(before)
@@ -102,7 +102,7 @@ def test_diagnose_names_the_hum_as_test_physics():
     assert p["fundamental_hz"] == pytest.approx(50.0, abs=0.5) and p["harmonics"][0] == 1
     assert p["amplitude"] == pytest.approx(0.1, rel=0.2) and len(p["lines_hz"]) >= 2
     assert not [f for f in diagnosis.findings if f.kind == "fault"]
-    assert any(w.startswith("mains interference") for w in diagnosis.document["warnings"])
+    assert any(w["code"] == "mains_set_aside" for w in diagnosis.document["warnings"])
 
 
 @pytest.mark.slow
@@ -124,7 +124,7 @@ def test_an_impact_test_hum_is_found_and_set_aside():
     "text, words",
     [
         ("mains_interference=-0.1@50", "positive fraction"),
-        ("mains_interference=nan@50", "positive fraction"),
+        ("mains_interference=nan@50", "finite number"),
         ("mains_interference=0.1@-50", "positive number of Hz"),
         ("mains_interference=0.1@nan", "positive number of Hz"),
         ("mains_interference=0.1@fifty", "mains_interference=AMPLITUDE[@HZ]"),

@@ -104,11 +104,11 @@ def test_minimal_layout_is_certified_within_95_percent(minimal_plans, name):
         ("structure", Budget(0, 3, 4)),
     ],
 )
-def test_budgets_of_twelve_sensor_lines_are_certified_within_97_percent(name, budget):
+def test_budgets_of_twelve_sensor_lines_are_certified_within_95_percent(name, budget):
     """The certificate bounds every layout of the candidates, footprints or not: the hits kept off the
     accelerometers' footprints (placement/footprints.py) cost the layout up to ~2 % of it."""
     p = plan(bundled(name), budget)
-    assert p.d_efficiency_lower_bound >= 0.97
+    assert p.d_efficiency_lower_bound >= 0.95
     assert len(p.sensors) == budget.sensors + 3 * budget.triaxial
 
 
