@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.diagnose.effects import Scene, named
-from massline.identify.diagnose.notes import finding_note
+from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.meshes import BUNDLED
 from massline.options import SEED as SEED_RANGE
 from massline.output import progress_bar
@@ -161,12 +161,13 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
         f"[bold]identify[/]: {_errors(identified.body, nominal)} against the mesh; "
         f"{band_story(identified.band, truth['planned_band_hz'])}.",
     )
-    if not diagnosis.findings:
-        console.print("[bold]diagnose[/]: no findings: the rigid body fits every line within the noise.")
+    said = verdict(diagnosis.findings, diagnosis.chi2)
+    if said:
+        console.print(f"[bold]diagnose[/]: {said}")
     for k, finding in enumerate(diagnosis.findings, 1):
         console.print(f"[bold]diagnose[/] {k}. {finding_note(finding, sensors, hits)}")
     ranks = [k for k, finding in enumerate(diagnosis.findings, 1) if _named(finding, args.fault, channels, hit)]
-    verdict = (
+    named = (
         "[red]not named[/]"
         if not ranks
         else "named first, at its place"
@@ -175,7 +176,7 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
     )
     before, after = result.relative_rms("before"), result.relative_rms("after")
     console.print(
-        f"the concealed fault is {verdict}; fit {before:.2%} → {after:.2%} RMS (noise {diagnosis.noise:.2%})"
+        f"the concealed fault is {named}; {fit_sentence(diagnosis.chi2, before, after, diagnosis.noise)}"
         + (f"; after: {_errors(diagnosis.after_body, nominal)}" if diagnosis.after_body is not None else "")
     )
     columns = [("identify", identified.body, identified.std)]

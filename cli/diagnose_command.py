@@ -9,7 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.diagnose.diagnosis import roomy
-from massline.identify.diagnose.notes import finding_note
+from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.meshargs import add_nominal_arguments, nominal_mesh
@@ -108,16 +108,14 @@ def run(args: argparse.Namespace, console: Console) -> None:
         )
     print_screens(console, found.screens, sensors)
     before, after = result.relative_rms("before"), result.relative_rms("after")
-    if not any(f.kind == "fault" for f in found.findings):
-        console.print(f"no fault: the model with the test's physics fits every line to {after / noise:.2f}× the noise")
+    said = verdict(found.findings, found.chi2)
+    if said:
+        console.print(said)
     for k, finding in enumerate(found.findings, 1):
         console.print(f"{k}. {finding_note(finding, sensors, found.hits)}")
     for warning in () if found.before is None else found.before.warnings:
         console.print(f"[bold]identify's warning:[/bold] {warning}")
-    console.print(
-        f"fit: relative RMS residual {before:.2%} before, {after:.2%} after "
-        f"({before / noise:.2f}× → {after / noise:.2f}× the noise)"
-    )
+    console.print(fit_sentence(found.chi2, before, after, noise))
     console.print(properties_table(found, nominal, found.planar))
     if args.plot:
         from massline.reports.diagnosis_figures import diagnosis_figure  # matplotlib: loaded when used

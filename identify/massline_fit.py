@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from massline.core.band import GIVE_BAND
+from massline.identify.line_correlation import variance_inflation
 from massline.core.errors import MasslineError
 
 REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
@@ -48,7 +49,8 @@ class BandFit:
     values : (n_s, n_e) array
         The masslines A, (m/s²)/N.
     std : (n_s, n_e) array
-        1-σ of each A from the fit's residual scatter, (m/s²)/N.
+        1-σ of each A from the fit's residual scatter, (m/s²)/N, its variance scaled by how alike neighbouring
+        lines' residuals are (:mod:`.line_correlation`).
     suspension, flexibility : (n_s, n_e) complex arrays
         B ((m/s²)/N·(rad/s)²) and C ((m/s²)/N·(rad/s)⁻²): the tails removed.
     quality : (n_s, n_e) array
@@ -57,6 +59,8 @@ class BandFit:
         How far the plain band average of Re H sits from A, relative to |A|.
     truncation : (n_s, n_e) array
         How far A moves when each tail's next term is taken out (:func:`truncation_shift`), (m/s²)/N.
+    inflation : (n_s, n_e) array
+        τ, the factor each A's white-noise variance was scaled by (1 for white noise).
     """
 
     values: np.ndarray
@@ -66,6 +70,7 @@ class BandFit:
     quality: np.ndarray
     bias: np.ndarray
     truncation: np.ndarray
+    inflation: np.ndarray
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -252,6 +257,8 @@ def fit_band(
     real -= step_real @ real_columns
     imag -= step_imag @ imag_columns
     squares = np.einsum("fn,fn->f", real, real) + np.einsum("fn,fn->f", imag, imag)
+    w = np.sqrt(w2)
+    inflation = variance_inflation(w * real, w * imag)  # neighbouring lines' noise alike: fewer lines' worth
     fit = replace(fit, real=fit.real + step_real, imag=fit.imag + step_imag, rss=rss)
     shape = frf.shape[:2]
     A = fit.real[:, 0].reshape(shape)
@@ -265,12 +272,13 @@ def fit_band(
     truncation = truncation_shift(sums, fit, richer).reshape(shape)
     return BandFit(
         values=A,
-        std=fit.std.reshape(shape),
+        std=(fit.std * np.sqrt(inflation)).reshape(shape),
         suspension=B,
         flexibility=C,
         quality=rms / scale,
         bias=np.abs(plain - A) / scale,
         truncation=truncation,
+        inflation=inflation.reshape(shape),
     )
 
 

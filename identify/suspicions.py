@@ -36,6 +36,7 @@ from massline.core.band import Band
 
 NEAR = 1.5  # band edges closer than this factor to where the FRFs leave their massline are flagged
 CHANCE = 1e-3  # χ² beyond this tail probability of its distribution is flagged
+MISFIT = 2.0  # and a reduced χ² above this
 POOR_COHERENCE = 0.9  # median γ² of an FRF's band lines below which it is flagged
 FEW_LINES = 40
 DISAGREE = 3.0  # |studentised residual| of the scale's reading beyond which it is flagged
@@ -44,6 +45,13 @@ WINDOW_DECAY = np.log(100.0)  # σ_w T of an exponential window to 1 % at the re
 WINDOW_DAMPING = 0.05  # critical damping the window may add to the lowest resonance (virtual.analyser's rule)
 ROLL_OFF = 10.0  # incoherence this many times the band's marks a falling force spectrum
 INCOHERENT = 0.01  # ... when it also exceeds this (1 − γ²)
+
+
+def beyond_chance(chi2: float, dof: float) -> bool:
+    """Whether a reduced χ² over ``dof`` degrees of freedom is more than chance and the noise's own uncertainty
+    allow: beyond its distribution's ``CHANCE`` tail, and above ``MISFIT`` (the 1-σ of a fit estimated from its
+    own scatter is itself known to a few tens of percent). One test for identify, diagnose and the reports."""
+    return bool(np.isfinite(chi2) and chi2 * dof > chi2_distribution.isf(CHANCE, max(dof, 1)) and chi2 > MISFIT)
 
 
 def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
@@ -56,7 +64,7 @@ def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
                 "data can show; add sensors or hits to check the result",
             )
         ]
-    if chi2 * dof > chi2_distribution.isf(CHANCE, max(dof, 1)) and chi2 > 2.0:
+    if beyond_chance(chi2, dof):
         return [
             CodedWarning(
                 "model_misfit",

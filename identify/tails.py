@@ -45,6 +45,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
+from massline.identify.line_correlation import variance_inflation
 
 # Below the band, above it: each a single mode shared by every FRF, named as the test-physics effect whose
 # tail it is (the registry, massline.identify.diagnose.effects)
@@ -204,9 +205,17 @@ class BandData:
 
     @cached_property
     def noise(self) -> np.ndarray:
-        """σ_ij (n_s, n_e): scatter of one real component of one line, from each FRF's free fit."""
-        dof = self.values.shape[2] - 1 - free_columns(self.omega).shape[1]
-        return np.sqrt(np.maximum(self.free.rss / dof, 1e-300))
+        """σ_ij (n_s, n_e): scatter of one real component of one line, from each FRF's free fit, its variance
+        scaled by how alike neighbouring lines' residuals are (:mod:`.line_correlation`): every χ² and BIC of the
+        diagnosis then counts the lines the noise is worth, as identify's 1-σ does."""
+        X = free_columns(self.omega)
+        dof = self.values.shape[2] - 1 - X.shape[1]
+        design = np.column_stack([self.unit, X])
+        flat = self.values.reshape(-1, design.shape[0])
+        residual = flat - (design @ np.linalg.lstsq(design, flat.T, rcond=None)[0]).T
+        n = len(self.frequencies)
+        inflation = variance_inflation(residual[:, :n], residual[:, n:]).reshape(self.free.rss.shape)
+        return np.sqrt(np.maximum(self.free.rss / dof * inflation, 1e-300))
 
     @cached_property
     def free(self) -> Reduced:

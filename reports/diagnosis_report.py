@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from massline.identify.diagnose.diagnosis import roomy
-from massline.identify.diagnose.notes import finding_note
+from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.pipeline import DiagnosisRun
 from massline.meshes.loader import BodyMesh
 from massline.core.numbers import number
@@ -100,13 +100,11 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
         findings = (
             "<ol>" + "".join(f"<li>{escape(finding_note(x, sensors, hits))}</li>" for x in run.findings) + "</ol>"
         )
-    else:
-        findings = f"<p>No findings: the rigid body fits every line within the noise ({after / noise:.2f}× it).</p>"
+    said = verdict(run.findings, run.chi2)
+    if said:
+        findings = f"<p>{escape(said[0].upper() + said[1:])}.</p>" + (findings if run.findings else "")
     findings = caveats(run) + findings
-    fit_line = (
-        f"<p>Fit: relative RMS residual <b>{100 * before:.2f} % before, {100 * after:.2f} % after</b> "
-        f"({before / noise:.2f}× → {after / noise:.2f}× the noise of {100 * noise:.2f} %).</p>"
-    )
+    fit_line = f"<p>{escape(fit_sentence(run.chi2, before, after, noise).replace('fit:', 'Fit:', 1))}.</p>"
     flagged_sensors, flagged_hits = _flagged(run.findings)
     body = run.after_body
     std = None if run.after is None else run.after.std

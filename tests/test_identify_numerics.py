@@ -72,7 +72,7 @@ def test_band_fit_from_sums_is_the_least_squares_fit(noisy, richer):
     values, std = lstsq_fit(f, H, 3.0, 100.0, weights, richer)
     fit = fit_band(f, H, 3.0, 100.0, weights, richer)
     np.testing.assert_allclose(fit.values, values, rtol=1e-10)
-    np.testing.assert_allclose(fit.std, std, rtol=1e-10)
+    np.testing.assert_allclose(fit.std / np.sqrt(fit.inflation), std, rtol=1e-10)  # white noise's 1-σ, then τ
 
 
 @pytest.mark.parametrize("band", [(3.0, 100.0), (1.0, 118.0), (20.0, 40.0)])

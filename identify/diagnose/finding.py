@@ -11,6 +11,9 @@ from massline.identify.diagnose.effect_fit import Fit
 from massline.identify.diagnose.effects import named
 from massline.identify.mains import MainsLines
 from massline.identify.tails import BandData
+from massline.core.effect_names import KINDS
+
+UNEXPLAINED = KINDS[2]  # the finding no effect of the library explains: its effect name is its kind
 
 
 @dataclass(frozen=True)
@@ -37,13 +40,15 @@ class Finding:
 
     @property
     def kind(self) -> str:
-        """ "fault" (the engineer's to mend) or "test_physics" (the support and the elastic modes: modelled)."""
-        return named(self.effect).kind
+        """ "fault" (the engineer's to mend), "test_physics" (the support and the elastic modes: modelled) or
+        "unexplained" (a located misfit no effect of the library explains: :mod:`.unexplained`)."""
+        return UNEXPLAINED if self.effect == UNEXPLAINED else named(self.effect).kind
 
 
 def faults_first(findings: list) -> list:
-    """The findings with the faults first, each group in its order (DESIGN.md)."""
-    return [f for f in findings if f.kind == "fault"] + [f for f in findings if f.kind != "fault"]
+    """The findings with the faults first, then the test physics, then what is unexplained, each group in its
+    order (DESIGN.md)."""
+    return [f for kind in KINDS for f in findings if f.kind == kind]
 
 
 def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonances: dict | None = None) -> Finding:
@@ -80,6 +85,8 @@ def finding_payload(finding: Finding, recording) -> dict:
     sensor = channel(recording.sensor_labels, finding.channels[0]) if finding.channels else None
     excitation = None if finding.exciter is None else channel(recording.exciter_labels, finding.exciter)
     parameters = dict(finding.parameters)
+    if "hits" in parameters:  # an unexplained misfit's hits, 0-based
+        parameters["hits"] = [channel(recording.exciter_labels, j) for j in parameters["hits"]]
     if len(finding.channels) > 1:
         parameters["channels"] = [channel(recording.sensor_labels, c) for c in finding.channels]
     evidence = {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in finding.evidence.items()}

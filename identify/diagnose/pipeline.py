@@ -19,14 +19,15 @@ import numpy as np
 
 from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
-from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
-from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, left_out
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
+from massline.identify.diagnose.targeted import at_place
+from massline.identify.diagnose.undone import best_undone, identified_after
+from massline.identify.diagnose.unexplained import unexplained
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
     Identification,
@@ -128,6 +129,7 @@ class DiagnosisRun:
                 "before": result.relative_rms("before"),
                 "after": result.relative_rms("after"),
                 "noise": result.noise,
+                "chi2_reduced": self.chi2,
             },
             "fit_per_channel": {
                 "before": result.relative_rms("before", axis=1).tolist(),
@@ -144,6 +146,16 @@ class DiagnosisRun:
             "warnings": [w.as_json() for w in self.warnings],
             "units": JSON_UNITS,
         }
+
+    @property
+    def chi2(self) -> dict:
+        """identify's reduced χ² of the masslines on the file as it came and with the named faults undone, and its
+        degrees of freedom (None where identify refused the file or no redundancy checks it): the one χ² of
+        identify, diagnose and the reports."""
+        if self.before is None or not np.isfinite(self.before.best.chi2):
+            return {"before": None, "after": None, "dof": None}
+        after = self.after or self.before
+        return {"before": self.before.best.chi2, "after": after.best.chi2, "dof": self.before.best.dof}
 
     @property
     def warnings(self) -> tuple:
@@ -209,53 +221,6 @@ def reported(body: RigidBody, found: Identification, planar: bool) -> dict:
     return properties_payload(body, found.std, (found.band.low, found.band.high), planar)
 
 
-def moved(without: RigidBody, with_: RigidBody) -> dict:
-    """How far undoing a fault moves identify's properties: mass %, CoG mm, principal moments %."""
-    return {
-        "mass_percent": 100 * (with_.mass / without.mass - 1),
-        "cog_mm": (1e3 * (with_.cog - without.cog)).tolist(),
-        "principal_moments_percent": (100 * (with_.principal_moments / without.principal_moments - 1)).tolist(),
-    }
-
-
-def identified_after(recording, findings: list, band, transverse: float, before: Identification, known: dict):
-    """identify (on ``band``: None, its own) on the recording with every fault undone, and each fault's finding with how far undoing it
-    moved the properties (identify with all faults undone against with all but that one; no bootstrap).
-
-    When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved them).
-    ``known``: identify's options for the masses the engineer gave (``sensor_mass``, ``exciter_mass``).
-    """
-    faults = [f for f in findings if f.kind == "fault" and named(f.effect).undone_on in ("recording", "identify")]
-    if not faults:
-        return before, findings
-    after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
-    if after is None:
-        return before, findings
-    marked = []
-    for finding in findings:
-        if finding in faults and before is not None:
-            rest = [f for f in faults if f is not finding]
-            without = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
-            if without is not None:
-                finding = replace(finding, evidence={**finding.evidence, "moved": moved(without.body, after.body)})
-        marked.append(finding)
-    return after, marked
-
-
-def identify_options(findings: list) -> dict:
-    """identify's options that undo the findings undone by identify itself (a gauge's mass: ``exciter_mass``)."""
-    effects = [(named(f.effect), f) for f in findings]
-    return {e.identify_option: e.option_value(f) for e, f in effects if e.undone_on == "identify"}
-
-
-def attempt(recording, band, transverse: float, draws: int, **options) -> Identification | None:
-    """identify on ``recording`` (with ``options``), or None when it refuses it or its solve fails."""
-    try:
-        return identify_recording(recording, band, transverse, draws=draws, **options)
-    except (MasslineError, np.linalg.LinAlgError, ValueError):
-        return None
-
-
 def check_seen(layout: Layout) -> None:
     """Refuse sensor lines that cannot see every rigid motion (identify refuses them too): nothing to diagnose."""
     need = 3 if layout.planar else 6
@@ -316,16 +281,28 @@ def diagnose_recording(
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
     found = ([] if gauge is None else [gauge.finding()]) + result.findings
-    after, findings = identified_after(recording, found, identify_band, transverse, before, known)
+    found, elsewhere = where_the_misfit_is(found, None if before is None else unexplained(before))
+    after, findings, withdrawn = identified_after(recording, found, identify_band, transverse, before, known)
+    withdrawn = elsewhere + withdrawn
+    left = None if after is None else unexplained(after, withdrawn)
+    if left is not None and left.parameters["shape"] != "spread":  # the place is known: the library tried there
+        candidates = at_place(result, left.channels, left.parameters["hits"])
+        placed = best_undone(recording, found, candidates, identify_band, transverse, known)
+        tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
+        if placed and any(same_place(f, placed[0]) for f in tried[1]):
+            found, (after, findings, withdrawn) = found + placed, tried
     loading = None if nominal is None or after is None else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
         loaded = found + [loading.finding()]
-        after, findings = identified_after(recording, loaded, identify_band, transverse, before, known)
+        after, findings, withdrawn = identified_after(recording, loaded, identify_band, transverse, before, known)
         findings, loading = faults_first(findings), None
     elif loading is not None:
         findings = faults_first(findings + [loading.finding()])
     if mains is not None:
         findings = findings + [mains_finding(mains)]
+    left = None if after is None else unexplained(after, withdrawn)
+    if left is not None:
+        findings = findings + [left]
     return DiagnosisRun(
         recording=recording,
         band=used,
@@ -355,6 +332,28 @@ def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody
     theta, covariance, planar = weighed(after.best, result.after)
     bare = theta - after.housings.theta(planar)  # the housings the engineer gave are no loading
     return mass_loading(bare, covariance, planar, after.recording.sensors, nominal, excitation)
+
+
+def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
+    """The findings, less the faults named away from the one channel or hit that holds identify's whole misfit
+    (``misfit``: the file's :func:`.unexplained.unexplained`; the rest fit within chance without that place),
+    and those faults: the data put the fault there, and a fault elsewhere is a stand-in for it (a hit moved to
+    absorb a channel's gain). Faults with no place (a gauge on every drive point) stay."""
+    if misfit is None or misfit.parameters["shape"] == "spread":
+        return found, []
+    channels, hits = set(misfit.channels), set(misfit.parameters["hits"])
+
+    def elsewhere(f) -> bool:
+        if f.kind != "fault" or (not f.channels and f.exciter is None):
+            return False
+        return not (set(f.channels) & channels or f.exciter in hits)
+
+    return [f for f in found if not elsewhere(f)], [f for f in found if elsewhere(f)]
+
+
+def same_place(a, b) -> bool:
+    """Whether two findings name one effect at one place (a finding and the one identify's proof returned)."""
+    return (a.effect, a.channels, a.exciter) == (b.effect, b.channels, b.exciter)
 
 
 def shifted(recording: Recording, gauge: GaugeMass) -> Recording:

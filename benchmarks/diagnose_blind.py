@@ -1,0 +1,152 @@
+"""The diagnosis, blind, on the bundled bodies' default plans: false alarms, misses, and what it says outside its library.
+
+Each case is what a user runs: ``massline plan BODY`` (the default, diagnosable plan), ``massline simulate``
+(the lab's file: exporter's units, 0 Hz line, coherence, the default cord; or foam, or hammer hits) with one
+fault concealed at a random line, then ``diagnose`` with the mesh's body. Each case's outcome is the first
+fault named (effect and channel or hit), ``unexplained`` at the place it locates, or nothing.
+
+    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--without EFFECT] [--out DIR]
+
+``--without EFFECT`` takes the effect out of the diagnosis's registry (the simulator still conceals it): the
+files carrying it should get ``unexplained`` at the right place, not a wrong name (issue 26's
+leave-one-effect-out). The table prints n per cell; the rates are over the cases run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+import massline.identify.diagnose.effects as registry
+from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.meshes import BUNDLED
+from massline.meshes.loader import load_body
+
+FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % / 5° / 5 mm / 10 g) and above
+    "sensor_gain": ("-0.1", "sensor"),
+    "sensor_polarity": ("", "sensor"),
+    "sensor_direction": ("8", "sensor"),
+    "sensor_location": ("0.008", "sensor"),
+    "sensor_mass_loading": ("0.02", "sensor"),
+    "excitation_direction": ("8", "hit"),
+    "excitation_location": ("0.008", "hit"),
+}
+CLEAN = {"cord": [], "foam": ["--suspension", "foam"], "impact": ["--impact"]}
+
+
+def massline(*args: str) -> None:
+    """Run the command line as a user does (errors raised with its message)."""
+    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True)
+    if done.returncode:
+        raise RuntimeError(done.stderr.strip().splitlines()[-1])
+
+
+def planned(body: str, folder: Path) -> Path:
+    """The body's default plan (planned once per folder)."""
+    plan = folder / f"plan-{body}" / "plan.json"  # not a folder named as the body: it would shadow the bundled name
+    if not plan.exists():
+        massline("plan", body, "--out", str(plan.parent), "--force")
+    return plan
+
+
+def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) -> dict:
+    """Simulate one case, diagnose it with the mesh's body; its outcome."""
+    path = folder / f"{plan.parent.name}-{fault or 'clean'}-{seed}-{'-'.join(extra) or 'cord'}.uff"
+    effect = []
+    if fault:
+        size, _ = FAULTS[fault]
+        effect = ["--effect", f"{fault}={size}" if size else fault]
+    massline("simulate", str(plan), "--seed", str(seed), "--out", str(path), "--force", *effect, *extra)
+    truth = json.loads(path.with_suffix(".truth.json").read_text())
+    body = plan.parent.name.removeprefix("plan-")
+    mesh = load_body(BUNDLED[body].path, "m", BUNDLED[body].density)
+    start = time.perf_counter()
+    found = diagnose_recording(path, None, mesh.nominal)
+    seconds = time.perf_counter() - start
+    return {"body": body, "fault": fault or "none", "truth": truth, "outcome": outcome(found), "seconds": seconds,
+            "before": found.chi2["before"], "after": found.chi2["after"]}  # fmt: skip
+
+
+def outcome(found) -> tuple:
+    """(kind, effect, sensor channels 1-based, hits 1-based) of the first fault named, else the unexplained, else none."""
+    first = [f for f in found.findings if f.kind == "fault"] or [f for f in found.findings if f.kind == "unexplained"]
+    if not first:
+        return ("none", "", (), ())
+    f = first[0]
+    hits = tuple(j + 1 for j in f.parameters.get("hits", []))
+    hits += () if f.exciter is None else (f.exciter + 1,)
+    return (f.kind, f.effect, tuple(c + 1 for c in f.channels), hits)
+
+
+def placed(row: dict) -> bool:
+    """Whether the outcome's place is the concealed fault's (any of its lines)."""
+    lines = set()
+    for e in row["truth"]["effects"]:
+        lines |= set(e.get("lines") or [])
+    kind, _, channels, hits = row["outcome"]
+    where = hits if FAULTS[row["fault"]][1] == "hit" else channels
+    return bool(lines & set(where))
+
+
+def summary(rows: list, without: str | None) -> str:
+    """The confusion table (concealed × outcome, n per cell) and the rates issue 26 asks for."""
+    out = []
+    by = {}
+    for r in rows:
+        kind, effect, *_ = r["outcome"]
+        by.setdefault(r["fault"], Counter())[effect if kind == "fault" else kind] += 1
+    for fault, counts in by.items():
+        out.append(f"{fault:>22} | n={sum(counts.values()):2d} | " + ", ".join(f"{k} {v}" for k, v in counts.items()))
+    clean = [r for r in rows if r["fault"] == "none"]
+    alarms = sum(r["outcome"][0] == "fault" for r in clean)
+    out.append(f"false alarms: {alarms} of {len(clean)} clean files got a fault named")
+    faulty = [r for r in rows if r["fault"] != "none"]
+    if without:
+        held = [r for r in faulty if r["fault"] == without]
+        good = sum(r["outcome"][0] == "unexplained" and placed(r) for r in held)
+        out.append(f"without {without}: {good} of {len(held)} files got unexplained at the right place")
+    else:
+        right = sum(r["outcome"][0] == "fault" and r["outcome"][1] == r["fault"] and placed(r) for r in faulty)
+        at = sum(r["outcome"][0] != "none" and placed(r) for r in faulty)
+        out.append(f"named right at its place: {right} of {len(faulty)}; located (named or unexplained): {at}")
+    out.append(f"median {np.median([r['seconds'] for r in rows]):.0f} s per diagnosis")
+    return "\n".join(out)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--bodies", default="bracket,structure,plate")
+    parser.add_argument("--seeds", type=int, default=1)
+    parser.add_argument("--faults", default=",".join(FAULTS))
+    parser.add_argument("--without", default=None, help="an effect taken out of the diagnosis's registry")
+    parser.add_argument("--out", default=None, help="folder for the plans and files (default: a temporary one)")
+    args = parser.parse_args()
+    if args.without:
+        registry.EFFECTS = tuple(e for e in registry.EFFECTS if e.name != args.without)
+    folder = Path(args.out or tempfile.mkdtemp(prefix="blind-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for body in args.bodies.split(","):
+        plan = planned(body, folder)
+        planar = body == "plate"
+        cases = [(None, s, extra) for s in range(args.seeds) for extra in CLEAN.values()]
+        faults = [f for f in args.faults.split(",") if not (planar and f in ("sensor_direction",))]
+        cases += [(f, s, []) for f in faults for s in range(args.seeds)]
+        for fault, seed, extra in cases:
+            row = case(plan, fault, seed, extra, folder)
+            rows.append(row)
+            print(f"{body:>9} {row['fault']:>22} seed {seed} {' '.join(extra):>20}: {row['outcome']} "
+                  f"χ² {row['before']} → {row['after']} ({row['seconds']:.0f} s)", flush=True)  # fmt: skip
+    print(summary(rows, args.without))
+
+
+if __name__ == "__main__":
+    main()

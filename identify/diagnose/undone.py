@@ -1,0 +1,109 @@
+"""identify on the recording with the diagnosis's faults undone: the properties after, and each fault's proof.
+
+One estimator and one χ²: a fault the diagnosis proposes is named only when undoing it lowers identify's χ² of
+the masslines (Σ z², its σ from the band fits) by more than ``EVIDENCE`` with the other faults undone as well
+(leave one out). A fault that does not is a name the line-level search gave a misfit it could not otherwise
+place (a plate on foam took two hit locations that do not exist, and its properties after were worse than
+before): it is withdrawn, the rest identified again, and what it was fitted to stays in identify's misfit,
+reported as :mod:`.unexplained` when beyond chance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from massline.identify.diagnose.corrections import corrected
+from massline.identify.diagnose.effects import named
+from massline.identify.pipeline import Identification, identify_recording
+from massline.core.errors import MasslineError
+from massline.core.rigid_body import RigidBody
+
+EVIDENCE = 10.0  # Δχ² of identify's masslines a fault must explain to be named (ΔBIC's "very strong", Kass & Raftery)
+
+
+def moved(without: RigidBody, with_: RigidBody) -> dict:
+    """How far undoing a fault moves identify's properties: mass %, CoG mm, principal moments %."""
+    return {
+        "mass_percent": 100 * (with_.mass / without.mass - 1),
+        "cog_mm": (1e3 * (with_.cog - without.cog)).tolist(),
+        "principal_moments_percent": (100 * (with_.principal_moments / without.principal_moments - 1)).tolist(),
+    }
+
+
+def total_chi2(found: Identification) -> float:
+    """identify's χ² of the masslines, Σ z² (nan with no redundancy)."""
+    return float(found.best.chi2 * found.best.dof)
+
+
+def undoable(findings: list) -> list:
+    """The faults identify can be run with undone: on the recording, or by identify's own options."""
+    return [f for f in findings if f.kind == "fault" and named(f.effect).undone_on in ("recording", "identify")]
+
+
+def identified_after(recording, findings: list, band, transverse: float, before: Identification | None,
+                     known: dict) -> tuple[Identification | None, list, list]:  # fmt: skip
+    """identify (on ``band``: None, its own) on the recording with every fault undone; the findings, each fault's
+    with how far undoing it moved the properties and how much of identify's χ² it explains (identify with all
+    faults undone against with all but that one; no bootstrap); and the faults withdrawn.
+
+    A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again.
+    When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved
+    them). ``known``: identify's options for the masses the engineer gave (``sensor_mass``, ``exciter_mass``).
+    """
+    faults = undoable(findings)
+    if not faults:
+        return before, findings, []
+    after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
+    if after is None:
+        return before, findings, []
+    marked, withdrawn = [], []
+    for finding in findings:
+        if finding in faults and before is not None:
+            rest = [f for f in faults if f is not finding]
+            without = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
+            if without is not None:
+                gain = total_chi2(without) - total_chi2(after)
+                evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
+                finding = replace(finding, evidence=evidence)
+                if gain < EVIDENCE:  # nan (no redundancy) keeps it: nothing can check it
+                    withdrawn.append(finding)
+                    continue
+        marked.append(finding)
+    if withdrawn:
+        again, kept, more = identified_after(recording, marked, band, transverse, before, known)
+        return again, kept, withdrawn + more
+    return after, marked, []
+
+
+def best_undone(recording, findings: list, candidates: list, band, transverse: float, known: dict) -> list:
+    """Of ``candidates`` (findings at one place), the one that leaves identify's χ² least with ``findings``' faults
+    undone as well, as a list ([] when identify refuses every one), with the other effects that leave it within
+    ``EVIDENCE`` as its ``alternatives`` (the place is proven; which of them, the masslines cannot tell)."""
+    faults = undoable(findings)
+    scored = []
+    for candidate in candidates:
+        trial = faults + [candidate]
+        found = attempt(corrected(recording, trial), band, transverse, 0, **known | identify_options(trial))
+        if found is not None:
+            scored.append((total_chi2(found), candidate))
+    if not scored:
+        return []
+    least, best = min(scored, key=lambda s: s[0])
+    close = sorted({c.effect for chi2, c in scored if chi2 - least < EVIDENCE and c.effect != best.effect})
+    return [replace(best, evidence={**best.evidence, "alternatives": close})]
+
+
+def identify_options(findings: list) -> dict:
+    """identify's options that undo the findings undone by identify itself (a gauge's mass: ``exciter_mass``)."""
+    effects = [(named(f.effect), f) for f in findings]
+    return {e.identify_option: e.option_value(f) for e, f in effects if e.undone_on == "identify"}
+
+
+def attempt(recording, band, transverse: float, draws: int, **options) -> Identification | None:
+    """identify on ``recording`` (with ``options``), or None when it refuses it or its solve fails."""
+    try:
+        return identify_recording(recording, band, transverse, draws=draws, **options)
+    except (MasslineError, np.linalg.LinAlgError, ValueError):
+        return None

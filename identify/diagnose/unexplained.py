@@ -1,0 +1,119 @@
+"""What the findings leave unexplained: identify's misfit beyond chance, located and read for its shape.
+
+The diagnosis names an effect only when the data prove it; what no named effect explains is not given the
+nearest name but reported as an ``unexplained`` finding (DESIGN.md's ``kind``): identify's rigid model on the
+recording with every named fault undone still leaves a reduced χ² beyond chance (the one test,
+:func:`massline.identify.suspicions.beyond_chance`). The finding says where the misfit sits and what shape it
+has, in identify's standardised residuals z_ij = (A_ij − Â_ij)/σ_ij of the masslines:
+
+* **where**: identify's estimate again with each channel (row i) left out in turn, and each hit (column j): the
+  one whose absence leaves the least misfit holds the most of it. Leaving out is exact where a linear score
+  test is not: each channel's transverse reading (identify's prior) takes up part of a faulty channel's misfit
+  and spreads the rest over the channels that check it (a 10 % gain on the bracket's channel 5 left its
+  largest residual on channel 4);
+* **shape**: one channel, when the rest fit within chance without it (its gain, direction, place, housing or
+  cable); one hit, likewise; or spread, when no one channel or hit holds it (physics the rigid model leaves
+  out: the support acting through the body's flexibility, elastic modes reaching into the band, several faults
+  at once).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import chi2 as chi2_distribution
+
+from cvxpy.error import SolverError
+
+from massline.identify.diagnose.finding import Finding
+from massline.identify.estimator import estimate
+from massline.core.errors import MasslineError
+from massline.core.masslines import Masslines
+from massline.identify.suspicions import CHANCE, beyond_chance
+
+SHAPES = {
+    "one_channel": "the rest fit within the noise without this channel (its gain, direction, place or housing, "
+    "or its cable)",
+    "one_hit": "the rest fit within the noise without this hit (the excitation side: its place, direction, a "
+    "force gauge's mass, the force's calibration)",
+    "spread": "no one channel or hit holds it (physics the rigid model leaves out: the support acting through "
+    "the body's flexibility, elastic modes in the band, several faults at once)",
+}
+
+
+def left_out(found, axis: int, k: int):
+    """identify's estimate without row ``k`` (``axis`` 0: a channel) or column ``k`` (``axis`` 1: a hit) of its
+    masslines, with the same 1-σ, prior and riding masses; None when the rest cannot be estimated."""
+    data, best = found.data, found.best
+    rows = [i for i in range(data.values.shape[0]) if not (axis == 0 and i == k)]
+    columns = [j for j in range(data.values.shape[1]) if not (axis == 1 and j == k)]
+    sub = Masslines(data.values[np.ix_(rows, columns)], data.sensors[rows], data.exciters[columns])
+    riding = None if best.riding is None else best.riding[columns]
+    try:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return estimate(sub, found.sigma[np.ix_(rows, columns)], found.planar, best.prior, riding=riding)
+    except (np.linalg.LinAlgError, SolverError, MasslineError, ValueError):
+        return None
+
+
+def leave_one_out(found, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """Σ z² identify's rigid model leaves with each channel (``axis`` 0) or hit (``axis`` 1) left out in turn, and
+    its degrees of freedom (inf and 0 where the rest cannot be estimated; 0 and 0 with no redundancy left)."""
+    left, dof = [], []
+    for k in range(found.data.values.shape[axis]):
+        e = left_out(found, axis, k)
+        if e is None:
+            left.append(np.inf), dof.append(0.0)
+        elif not np.isfinite(e.chi2) or e.dof <= 0:
+            left.append(0.0), dof.append(0.0)
+        else:
+            left.append(e.chi2 * e.dof), dof.append(e.dof)
+    return np.array(left), np.array(dof)
+
+
+def within_chance(total: float, dof: float) -> bool:
+    """Whether Σ z² ``total`` over ``dof`` degrees of freedom is within chance (no dof left: only a nought is)."""
+    return bool(total <= 0.0) if dof <= 0 else not beyond_chance(total / dof, dof)
+
+
+def unexplained(found, withdrawn: list = ()) -> Finding | None:
+    """The ``unexplained`` finding of identify's result ``found`` (an ``Identification``, the recording with the
+    named faults undone), or None when its reduced χ² is within chance.
+
+    ``channels``: the rows beyond chance; ``parameters``: the hits beyond chance (0-based), the shape (a key of
+    ``SHAPES``) and each channel's and hit's share of the misfit; ``evidence``: the reduced χ² and its dof, and
+    the faults the search proposed but identify's χ² did not prove (``withdrawn``: their effect names).
+    """
+    best = found.best
+    if not beyond_chance(best.chi2, best.dof):
+        return None
+    total = float(best.chi2 * best.dof)
+    (rows, row_dof), (columns, column_dof) = leave_one_out(found, 0), leave_one_out(found, 1)
+    channel, hit = int(np.argmin(rows)), int(np.argmin(columns))
+    shape = "spread"
+    if within_chance(rows[channel], row_dof[channel]) and rows[channel] <= columns[hit]:
+        shape = "one_channel"
+    elif within_chance(columns[hit], column_dof[hit]):
+        shape = "one_hit"
+    parameters = {
+        "hits": [hit] if shape != "one_channel" else [],
+        "shape": shape,
+        "explained_without_channel": (1 - rows / total).tolist(),
+        "explained_without_hit": (1 - columns / total).tolist(),
+    }
+    channels = [channel] if shape != "one_hit" else []
+    evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn})}
+    return Finding("unexplained", tuple(channels), None, parameters, evidence)
+
+
+def sentence(finding: Finding, sensors: list, hits: list) -> str:
+    """The unexplained finding as an engineer would read it: how far beyond the noise, where, which shape."""
+    p, e = finding.parameters, finding.evidence
+    places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
+    where = f"most of it at {' and '.join(places)}: " if p["shape"] != "spread" else ""
+    tried = e.get("withdrawn") or []
+    unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
+    return (
+        f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
+        f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}; "
+        "no effect of the library explains it, so none is named"
+    )

@@ -1,0 +1,82 @@
+"""An open world: one χ² for identify and diagnose, faults proven on it, and what the library cannot name located.
+
+Twelve lines on the structure, its four hits, a rigid virtual test with 1 % noise (fast). With the sensor
+effects taken out of the registry a 10 % gain cannot be named: the diagnosis must say "unexplained" at that
+channel, not give the misfit the nearest name. With the registry whole the gain is named and proven on
+identify's χ² of the masslines.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import bundled
+from test_diagnose import twelve_lines
+
+import massline.identify.diagnose.effects as registry
+from massline.identify.diagnose.notes import finding_note, verdict
+from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.diagnose.unexplained import unexplained
+from massline.identify.diagnose.effects import parse_effect
+from massline.identify.pipeline import identify_recording
+from massline.placement.hand_layouts import structure_exciters
+from massline.virtual.acquisition import Acquisition, run
+
+SENSOR_BLOCKS = ("sensor_gain", "sensor_direction", "sensor_location", "transverse_sensitivity")
+
+
+@pytest.fixture(scope="module")
+def structure():
+    return bundled("structure").nominal
+
+
+def recorded(body, effect: str | None = None, seed: int = 1):
+    effects = () if effect is None else (parse_effect(effect),)
+    rec, _ = run(body, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400), seed=seed)
+    return rec
+
+
+def test_identify_and_diagnose_measure_one_chi2(structure):
+    """diagnose's χ² before is identify's on the same file; with no fault named, after = before."""
+    rec = recorded(structure, "sensor_gain=-0.1@4")
+    found = diagnose_recording(rec, None, structure)
+    assert found.chi2["before"] == identify_recording(rec).best.chi2
+    clean = diagnose_recording(recorded(structure), None, structure)
+    assert clean.chi2["after"] == clean.chi2["before"] < 2
+    assert verdict(clean.findings, clean.chi2).startswith("no fault")
+
+
+def test_a_faulty_channel_is_located_by_leaving_it_out(structure):
+    """identify alone on a 10 % gain at channel 4 (index 3): beyond chance, and the rest fit without that channel."""
+    found = identify_recording(recorded(structure, "sensor_gain=-0.1@4"), draws=0)
+    left = unexplained(found)
+    assert left is not None and left.kind == "unexplained"
+    assert left.channels == (3,) and left.parameters["shape"] == "one_channel"
+    assert unexplained(identify_recording(recorded(structure), draws=0)) is None
+
+
+def test_outside_the_library_the_misfit_is_unexplained_not_misnamed(structure, monkeypatch):
+    """Every sensor block effect taken out of the registry: the gain is named as no other effect, and reported as
+    unexplained at its channel; "no fault" is not said."""
+    rec = recorded(structure, "sensor_gain=-0.1@4")
+    monkeypatch.setattr(registry, "EFFECTS", tuple(e for e in registry.EFFECTS if e.name not in SENSOR_BLOCKS))
+    found = diagnose_recording(rec, None, structure)
+    assert [f.effect for f in found.findings if f.kind == "fault"] == []
+    left = [f for f in found.findings if f.kind == "unexplained"]
+    assert len(left) == 1 and left[0].channels == (3,)
+    assert verdict(found.findings, found.chi2) is None
+    note = finding_note(left[0], found.sensors, found.hits)
+    assert note.startswith("unexplained") and "sensor" in note
+    payload = found.document["findings"][-1]
+    assert payload["kind"] == "unexplained" and payload["sensor"] is not None
+
+
+def test_a_named_fault_is_proven_on_identifys_chi2(structure):
+    """With the registry whole the gain is named at its channel, its evidence says how much of identify's χ² it
+    explains, and the χ² after is within chance."""
+    found = diagnose_recording(recorded(structure, "sensor_gain=-0.1@4"), None, structure)
+    fault = [f for f in found.findings if f.kind == "fault"][0]
+    assert (fault.effect, fault.channels) == ("sensor_gain", (3,))
+    assert fault.evidence["chi2_explained"] > 10
+    assert found.chi2["after"] < 2 and not [f for f in found.findings if f.kind == "unexplained"]
+    assert np.isfinite(found.chi2["dof"])
