@@ -37,6 +37,7 @@ from massline.identify.weighing import WeighedMass
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 from massline.core.information import driven, sensitivities
+from massline.core.lines import cross
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
@@ -135,9 +136,9 @@ def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: Rig
 def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
     """T_i (n, 3, 2): two unit vectors ⊥ each direction d_i, the axes a sensor's transverse reading lies on."""
     helper = np.eye(3)[np.argmin(np.abs(directions), axis=1)]
-    t1 = np.cross(directions, helper)
+    t1 = cross(directions, helper)
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return np.stack([t1, np.cross(directions, t1)], axis=2)
+    return np.stack([t1, cross(directions, t1)], axis=2)
 
 
 @dataclass(frozen=True, eq=False)

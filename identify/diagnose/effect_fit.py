@@ -154,9 +154,8 @@ def fit(problem: Problem, blocks=(), previous: Fit | None = None) -> Fit:
                 x0,
                 jac=problem.jacobian,
                 args=(blocks,),
-                method="lm",
-                x_scale="jac",
-                xtol=1e-10,
+                method="lm",  # x unscaled: MINPACK's own column scaling ("jac") left 28 of a bracket file's 85
+                xtol=1e-10,  # fits at MAX_EVALUATIONS and took a 10 % gain for a moved sensor (2.3× slower)
                 ftol=1e-10,
                 max_nfev=MAX_EVALUATIONS,
             )

@@ -38,7 +38,7 @@ from massline.identify.diagnose.effects import modelled, named
 from massline.identify.diagnose.effects.base import MISALIGNMENT, Block, MeasuredLines
 from massline.identify.estimator import perpendicular_bases
 from massline.identify.tails import Reduced
-from massline.core.lines import Lines
+from massline.core.lines import Lines, cross
 from massline.core.model import RigidModel
 
 __all__ = ["MISALIGNMENT", "Block", "Layout", "Problem", "jacobian", "line_coordinates"]
@@ -70,12 +70,14 @@ class Layout:
             groups.setdefault(i if g < 0 else f"t{g}", []).append(i)
         return cls(sensors, exciters, tuple(tuple(v) for v in groups.values()), planar)
 
-    @property
+    @cached_property
     def sensor_bases(self) -> np.ndarray:
+        """T_i (n_s, 3, 2): the axes each sensor's transverse reading lies on (computed once per layout)."""
         return perpendicular_bases(self.sensors.directions)
 
-    @property
+    @cached_property
     def exciter_bases(self) -> np.ndarray:
+        """U_j (n_e, 3, 2): the axes ⊥ each hit's direction."""
         return perpendicular_bases(self.exciters.directions)
 
     def size(self, block: Block) -> int:
@@ -105,7 +107,7 @@ def line_coordinates(points: np.ndarray, vectors: np.ndarray, planar: bool) -> n
     """(d, r × d) of unnormalised vectors d (a gain stays a gain); the plate's (d_z, y d_z, −x d_z)."""
     if planar:
         return np.column_stack([vectors[:, 2], points[:, 1] * vectors[:, 2], -points[:, 0] * vectors[:, 2]])
-    return np.hstack([vectors, np.cross(points, vectors)])
+    return np.hstack([vectors, cross(points, vectors)])
 
 
 @dataclass(frozen=True, eq=False)
@@ -219,7 +221,7 @@ class Problem:
         if self.n_tau:
             projector = np.eye(3) - np.einsum("na,nb->nab", d, d)
             delta = np.einsum("nab,nbc->nac", projector, self.layout.sensor_bases) / norm[:, None, None]
-            ds = gain[:, None, None] * np.concatenate([delta, np.cross(p[:, :, None], delta, axis=1)], axis=1)
+            ds = gain[:, None, None] * np.concatenate([delta, cross(p[:, :, None], delta, axis=1)], axis=1)
             W = np.stack([V] + ([e @ self.support_matrix(x)] if self.n_support else []))  # ∂(A, b)/∂s_i
             tau_columns = self.model.p + 2 * np.arange(n_s)
             for c in range(2):

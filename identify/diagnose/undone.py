@@ -2,7 +2,7 @@
 
 One estimator and one χ²: a fault the diagnosis proposes is named only when undoing it lowers identify's χ² of
 the masslines (Σ z², its σ from the band fits) by more than ``EVIDENCE`` with the other faults undone as well
-(leave one out). A fault that does not is a name the line-level search gave a misfit it could not otherwise
+(leave one out). (A mass loading found against the mesh is proven by the mesh.) A fault that does not is a name the line-level search gave a misfit it could not otherwise
 place (a plate on foam took two hit locations that do not exist, and its properties after were worse than
 before): it is withdrawn, the rest identified again, and what it was fitted to stays in identify's misfit,
 reported as :mod:`.unexplained` when beyond chance.
@@ -67,7 +67,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                 gain = total_chi2(without) - total_chi2(after)
                 evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
                 finding = replace(finding, evidence=evidence)
-                if gain < EVIDENCE:  # nan (no redundancy) keeps it: nothing can check it
+                if gain < EVIDENCE and not proven_by_mesh(finding):  # nan (no redundancy): nothing can check it
                     withdrawn.append(finding)
                     continue
         marked.append(finding)
@@ -93,6 +93,12 @@ def best_undone(recording, findings: list, candidates: list, band, transverse: f
     least, best = min(scored, key=lambda s: s[0])
     close = sorted({c.effect for chi2, c in scored if chi2 - least < EVIDENCE and c.effect != best.effect})
     return [replace(best, evidence={**best.evidence, "alternatives": close})]
+
+
+def proven_by_mesh(finding) -> bool:
+    """Whether the finding's evidence is the body's excess over the mesh (:mod:`.mass_loading`), which the
+    masslines alone cannot show: a mass riding at every drive point looks, to them, like a heavier body."""
+    return bool(finding.parameters.get("against_mesh"))
 
 
 def identify_options(findings: list) -> dict:
