@@ -161,6 +161,8 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
         f"[bold]identify[/]: {_errors(identified.body, nominal)} against the mesh; "
         f"{band_story(identified.band, truth['planned_band_hz'])}.",
     )
+    for warning in identified.warnings:  # what the identification report lists, said here too
+        console.print(f"[bold]identify's warning:[/] {warning}")
     said = verdict(diagnosis.findings, diagnosis.chi2)
     if said:
         console.print(f"[bold]diagnose[/]: {said}")

@@ -1,6 +1,7 @@
 """One band story: the plan chooses the support and predicts its band by one per-FRF rule; simulate hangs the
 body on it; the demo, the placement report and ``simulate --check`` print that band; identify's band holds it."""
 
+import html
 import json
 import re
 
@@ -138,3 +139,17 @@ def test_simulate_without_suspension_hangs_the_body_on_the_plans_support(demo, t
     assert np.allclose(truth["suspension"]["modes_hz"], expected, rtol=1e-6, atol=1e-6)
     given = massline("simulate", out / "plan.json", "--check", "--rigid", "--suspension", "foam")
     assert "planned: foam" in given.stdout and "departs from it (--suspension, --rigid)" in given.stdout
+
+
+@pytest.mark.slow
+def test_the_demo_says_on_its_console_every_warning_its_reports_list(demo):
+    """What the identification and diagnosis reports warn about, the demo's console said (issue 25)."""
+    out, stdout = demo
+    said = " ".join(stdout.split())
+    for report in ("identification-report.html", "diagnosis-report.html"):
+        page = html.unescape(re.sub(r"<[^>]+>", "|", (out / report).read_text()))
+        if "Warnings|" not in page:
+            continue
+        listed = [w for w in re.split(r"\|+", page.split("Warnings|", 1)[1].split("||")[0]) if w.strip()]
+        for warning in listed:
+            assert " ".join(warning.split())[:60] in said, (report, warning)
