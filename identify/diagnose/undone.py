@@ -78,16 +78,18 @@ def identified_after(recording, findings: list, band, transverse: float, before:
 
 
 def best_undone(recording, findings: list, candidates: list, band, transverse: float, known: dict) -> list:
-    """Of ``candidates`` (findings at one place), the one that leaves identify's χ² least with ``findings``' faults
-    undone as well, as a list ([] when identify refuses every one), with the other effects that leave it within
-    ``EVIDENCE`` as its ``alternatives`` (the place is proven; which of them, the masslines cannot tell)."""
+    """Of ``candidates`` (findings at one place), the one of least BIC on identify's masslines, χ² + k ln n (k the
+    effect's values, n the masslines), with ``findings``' faults undone as well, as a list ([] when identify
+    refuses every one); the other effects within ``EVIDENCE`` of it are its ``alternatives`` (the place is
+    proven; which of them, the masslines cannot tell: one FRF's misfit is one number, a gain or a moved sensor)."""
     faults = undoable(findings)
     scored = []
     for candidate in candidates:
         trial = faults + [candidate]
         found = attempt(corrected(recording, trial), band, transverse, 0, **known | identify_options(trial))
         if found is not None:
-            scored.append((total_chi2(found), candidate))
+            cost = candidate.evidence.get("values", 1) * np.log(found.data.values.size)
+            scored.append((total_chi2(found) + cost, candidate))
     if not scored:
         return []
     least, best = min(scored, key=lambda s: s[0])

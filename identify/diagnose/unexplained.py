@@ -12,9 +12,10 @@ has, in identify's standardised residuals z_ij = (A_ij − Â_ij)/σ_ij of the m
   and spreads the rest over the channels that check it (a 10 % gain on the bracket's channel 5 left its
   largest residual on channel 4);
 * **shape**: one channel, when the rest fit within chance without it (its gain, direction, place, housing or
-  cable); one hit, likewise; or spread, when no one channel or hit holds it (physics the rigid model leaves
-  out: the support acting through the body's flexibility, elastic modes reaching into the band, several faults
-  at once).
+  cable); one hit, likewise; one FRF, when leaving out either its channel or its hit does (a channel the others
+  check through one hit only: the default plans have them); or spread, when no one channel or hit holds it
+  (physics the rigid model leaves out: the support acting through the body's flexibility, elastic modes
+  reaching into the band, several faults at once), its largest part still named.
 """
 
 from __future__ import annotations
@@ -35,6 +36,8 @@ SHAPES = {
     "or its cable)",
     "one_hit": "the rest fit within the noise without this hit (the excitation side: its place, direction, a "
     "force gauge's mass, the force's calibration)",
+    "one_frf": "the rest fit within the noise without this one FRF, which both its channel and its hit hold "
+    "(the channel's gain or direction where the others barely check it, the hit's place or force, their cables)",
     "spread": "no one channel or hit holds it (physics the rigid model leaves out: the support acting through "
     "the body's flexibility, elastic modes in the band, several faults at once)",
 }
@@ -89,18 +92,18 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
     total = float(best.chi2 * best.dof)
     (rows, row_dof), (columns, column_dof) = leave_one_out(found, 0), leave_one_out(found, 1)
     channel, hit = int(np.argmin(rows)), int(np.argmin(columns))
-    shape = "spread"
-    if within_chance(rows[channel], row_dof[channel]) and rows[channel] <= columns[hit]:
-        shape = "one_channel"
-    elif within_chance(columns[hit], column_dof[hit]):
-        shape = "one_hit"
+    by_channel = within_chance(rows[channel], row_dof[channel])
+    by_hit = within_chance(columns[hit], column_dof[hit])
+    shape = {(True, True): "one_frf", (True, False): "one_channel", (False, True): "one_hit"}.get(
+        (by_channel, by_hit), "spread"
+    )
     parameters = {
-        "hits": [hit] if shape != "one_channel" else [],
+        "hits": [hit] if shape in ("one_hit", "one_frf", "spread") else [],
         "shape": shape,
         "explained_without_channel": (1 - rows / total).tolist(),
         "explained_without_hit": (1 - columns / total).tolist(),
     }
-    channels = [channel] if shape != "one_hit" else []
+    channels = [channel] if shape in ("one_channel", "one_frf", "spread") else []
     evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn})}
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
 
@@ -109,7 +112,7 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     """The unexplained finding as an engineer would read it: how far beyond the noise, where, which shape."""
     p, e = finding.parameters, finding.evidence
     places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
-    where = f"most of it at {' and '.join(places)}: " if p["shape"] != "spread" else ""
+    where = f"{'the largest part' if p['shape'] == 'spread' else 'most of it'} at {' and '.join(places)}: "
     tried = e.get("withdrawn") or []
     unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
     return (
