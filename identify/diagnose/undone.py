@@ -1,7 +1,7 @@
 """identify on the recording with the diagnosis's faults undone: the properties after, and each fault's proof.
 
 One estimator and one χ²: a fault the diagnosis proposes is named only when undoing it lowers identify's χ² of
-the masslines (Σ z², its σ from the band fits) by more than ``EVIDENCE`` with the other faults undone as well
+the masslines (Σ z², its σ from the band fits; with its transverse prior's) by more than ``EVIDENCE`` with the other faults undone as well
 (leave one out). (A mass loading found against the mesh is proven by the mesh.) A fault that does not is a name the line-level search gave a misfit it could not otherwise
 place (a plate on foam took two hit locations that do not exist, and its properties after were worse than
 before): it is withdrawn, the rest identified again, and what it was fitted to stays in identify's misfit,
@@ -33,8 +33,11 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
 
 
 def total_chi2(found: Identification) -> float:
-    """identify's χ² of the masslines, Σ z² (nan with no redundancy)."""
-    return float(found.best.chi2 * found.best.dof)
+    """identify's objective: the χ² of the masslines, Σ z², and of its transverse prior, Σ |τ_i|²/t² (nan with no
+    redundancy). A misaligned accelerometer shows in the prior's term: identify reads it along its true axis."""
+    best = found.best
+    prior = float(np.sum(best.transverse**2) / best.prior**2) if best.prior > 0 else 0.0
+    return float(best.chi2 * best.dof) + prior
 
 
 def undoable(findings: list) -> list:
