@@ -80,3 +80,17 @@ def test_a_named_fault_is_proven_on_identifys_chi2(structure):
     assert fault.evidence["chi2_explained"] > 10
     assert found.chi2["after"] < 2 and not [f for f in found.findings if f.kind == "unexplained"]
     assert np.isfinite(found.chi2["dof"])
+
+
+def test_a_tilted_channel_identify_took_up_is_found_off_its_axis(structure):
+    """An 8° misalignment on channel 6: identify reads it along its true axis (the masslines fit within chance),
+    and its transverse part beyond the datasheet's prior places the finding; diagnose names the tilt there."""
+    rec = recorded(structure, "sensor_direction=8@6")
+    found = identify_recording(rec, draws=0)
+    left = unexplained(found)
+    assert left is not None and left.parameters["shape"] == "off_axis" and left.channels == (5,)
+    assert left.parameters["angle_deg"] == pytest.approx(8.0, abs=1.5)
+    run_ = diagnose_recording(rec, None, structure)
+    fault = [f for f in run_.findings if f.kind == "fault"][0]
+    assert (fault.effect, fault.channels) == ("sensor_direction", (5,))
+    assert max(fault.parameters["angle_deg"]) == pytest.approx(8.0, abs=1.0)

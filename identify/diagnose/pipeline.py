@@ -301,8 +301,7 @@ def diagnose_recording(
     if mains is not None:
         findings = findings + [mains_finding(mains)]
     left = None if after is None else unexplained(after, withdrawn)
-    if left is not None:
-        findings = findings + [left]
+    findings = faults_first(findings + ([] if left is None else [left]))
     return DiagnosisRun(
         recording=recording,
         band=used,
