@@ -5,7 +5,8 @@ Each case is what a user runs: ``massline plan BODY`` (the default, diagnosable 
 fault concealed at a random line, then ``diagnose`` with the mesh's body. Each case's outcome is the first
 fault named (effect and channel or hit), ``unexplained`` at the place it locates, or nothing.
 
-    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--without EFFECT] [--out DIR]
+    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--faults A,B] [--without EFFECT]
+        [--no-clean] [--out DIR]
 
 ``--without EFFECT`` takes the effect out of the diagnosis's registry (the simulator still conceals it): the
 files carrying it should get ``unexplained`` at the right place, not a wrong name (issue 26's
@@ -127,6 +128,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=1)
     parser.add_argument("--faults", default=",".join(FAULTS))
     parser.add_argument("--without", default=None, help="an effect taken out of the diagnosis's registry")
+    parser.add_argument("--no-clean", action="store_true", help="faulty cases only")
     parser.add_argument("--out", default=None, help="folder for the plans and files (default: a temporary one)")
     args = parser.parse_args()
     if args.without:
@@ -137,7 +139,7 @@ def main() -> None:
     for body in args.bodies.split(","):
         plan = planned(body, folder)
         planar = body == "plate"
-        cases = [(None, s, extra) for s in range(args.seeds) for extra in CLEAN.values()]
+        cases = [] if args.no_clean else [(None, s, extra) for s in range(args.seeds) for extra in CLEAN.values()]
         faults = [f for f in args.faults.split(",") if not (planar and f in ("sensor_direction",))]
         cases += [(f, s, []) for f in faults for s in range(args.seeds)]
         for fault, seed, extra in cases:
