@@ -25,7 +25,7 @@ from massline.virtual.effects import Instrumentation, instrument
 from massline.virtual.hum import channel_levels, check_hum, with_hum
 from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import Suspension
+from massline.virtual.suspension import Suspension, hung_over
 
 LINES = 2000  # the direct route's spectral lines
 
@@ -114,14 +114,10 @@ def run(
     inst = instrument(sensors, exciters, list(effects), rng)
     placed = Lines(inst.sensor_points, sensors.directions, sensors.triaxial)
     masses, points = accelerometer_masses(placed, setup.sensor_mass)
-    model = SuspendedBody(
-        body,
-        modes,
-        suspension,
-        np.concatenate([masses, inst.masses]),
-        np.vstack([points, inst.mass_points]),
-        setup.modal_loss,
-    )
+    masses, points = np.concatenate([masses, inst.masses]), np.vstack([points, inst.mass_points])
+    loaded = SuspendedBody(body, None, Suspension(), masses, points).loaded
+    hung = hung_over(suspension, loaded.cog)  # re-hung level, as a lab does when a concealed mass tips the body
+    model = SuspendedBody(body, modes, hung, masses, points, setup.modal_loss)
     band = predict_band(model, sensors, exciters)
     analyser = None
     if setup.impact is not None:
