@@ -45,7 +45,7 @@ CLEAN = {"cord": [], "foam": ["--suspension", "foam"], "impact": ["--impact"]}
 
 def massline(*args: str) -> None:
     """Run the command line as a user does (errors raised with its message)."""
-    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True, check=False)
     if done.returncode:
         raise RuntimeError(done.stderr.strip().splitlines()[-1])
 
@@ -92,7 +92,7 @@ def placed(row: dict) -> bool:
     lines = set()
     for e in row["truth"]["effects"]:
         lines |= set(e.get("lines") or [])
-    kind, _, channels, hits = row["outcome"]
+    _, _, channels, hits = row["outcome"]
     where = hits if FAULTS[row["fault"]][1] == "hit" else channels
     return bool(lines & set(where))
 

@@ -75,7 +75,7 @@ def test_a_named_fault_is_proven_on_identifys_chi2(structure):
     """With the registry whole the gain is named at its channel, its evidence says how much of identify's χ² it
     explains, and the χ² after is within chance."""
     found = diagnose_recording(recorded(structure, "sensor_gain=-0.1@4"), None, structure)
-    fault = [f for f in found.findings if f.kind == "fault"][0]
+    fault = next(f for f in found.findings if f.kind == "fault")
     assert (fault.effect, fault.channels) == ("sensor_gain", (3,))
     assert fault.evidence["chi2_explained"] > 10
     assert found.chi2["after"] < 2 and not [f for f in found.findings if f.kind == "unexplained"]
@@ -91,6 +91,6 @@ def test_a_tilted_channel_identify_took_up_is_found_off_its_axis(structure):
     assert left is not None and left.parameters["shape"] == "off_axis" and left.channels == (5,)
     assert left.parameters["angle_deg"] == pytest.approx(8.0, abs=1.5)
     run_ = diagnose_recording(rec, None, structure)
-    fault = [f for f in run_.findings if f.kind == "fault"][0]
+    fault = next(f for f in run_.findings if f.kind == "fault")
     assert (fault.effect, fault.channels) == ("sensor_direction", (5,))
     assert max(fault.parameters["angle_deg"]) == pytest.approx(8.0, abs=1.0)

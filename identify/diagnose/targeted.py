@@ -36,7 +36,8 @@ def at_place(result: Diagnosis, channels: tuple, hits: list) -> list[Finding]:
     passing = [(t, b) for t, b in trials if current.bic - t.bic > EVIDENCE and plausible(t, b)]
     placed = "identify's misfit, one channel or hit left out"
     return [
-        accepted_finding(t, result.band, b, {"delta_bic": current.bic - t.bic, "placed_by": placed,
-                                             "values": layout.size(b)})  # fmt: skip
+        accepted_finding(
+            t, result.band, b, {"delta_bic": current.bic - t.bic, "placed_by": placed, "values": layout.size(b)}
+        )
         for t, b in sorted(passing, key=lambda tb: tb[0].bic)
     ]
