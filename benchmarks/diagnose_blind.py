@@ -5,7 +5,7 @@ Each case is what a user runs: ``massline plan BODY`` (the default, diagnosable 
 fault concealed at a random line, then ``diagnose`` with the mesh's body. Each case's outcome is the first
 fault named (effect and channel or hit), ``unexplained`` at the place it locates, or nothing.
 
-    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--faults A,B] [--without EFFECT]
+    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--first-seed 0] [--faults A,B] [--without EFFECT]
         [--no-clean] [--out DIR]
 
 ``--without EFFECT`` takes the effect out of the diagnosis's registry (the simulator still conceals it): the
@@ -126,6 +126,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="bracket,structure,plate")
     parser.add_argument("--seeds", type=int, default=1)
+    parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--faults", default=",".join(FAULTS))
     parser.add_argument("--without", default=None, help="an effect taken out of the diagnosis's registry")
     parser.add_argument("--no-clean", action="store_true", help="faulty cases only")
@@ -139,9 +140,10 @@ def main() -> None:
     for body in args.bodies.split(","):
         plan = planned(body, folder)
         planar = body == "plate"
-        cases = [] if args.no_clean else [(None, s, extra) for s in range(args.seeds) for extra in CLEAN.values()]
+        seeds = range(args.first_seed, args.first_seed + args.seeds)
+        cases = [] if args.no_clean else [(None, s, extra) for s in seeds for extra in CLEAN.values()]
         faults = [f for f in args.faults.split(",") if not (planar and f in ("sensor_direction",))]
-        cases += [(f, s, []) for f in faults for s in range(args.seeds)]
+        cases += [(f, s, []) for f in faults for s in seeds]
         for fault, seed, extra in cases:
             try:
                 row = case(plan, fault, seed, extra, folder)
