@@ -73,7 +73,21 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     found = diagnose_recording(path, None, mesh.nominal)
     seconds = time.perf_counter() - start
     return {"body": body, "fault": fault or "none", "truth": truth, "outcome": outcome(found), "seconds": seconds,
-            "before": found.chi2["before"], "after": found.chi2["after"]}  # fmt: skip
+            "before": found.chi2["before"], "after": found.chi2["after"], "worse": worse(found, mesh.nominal)}  # fmt: skip
+
+
+def worse(found, bare) -> float:
+    """How much further the body after is from the bare body than identify's before, in identify's 1-σ: the
+    largest over the mass and the CoG's components (nan when identify refused the file)."""
+    if found.before is None or found.after_body is None:
+        return float("nan")
+    std = found.before.std
+
+    def error(body):
+        return np.abs(np.concatenate([[body.mass - bare.mass], body.cog - bare.cog]))
+
+    sigma = np.concatenate([[std["mass"]], std["cog"]])
+    return float(np.max((error(found.after_body) - error(found.before.body)) / sigma))
 
 
 def outcome(found) -> tuple:
@@ -118,6 +132,8 @@ def summary(rows: list, without: str | None) -> str:
         right = sum(r["outcome"][0] == "fault" and r["outcome"][1] == r["fault"] and placed(r) for r in faulty)
         at = sum(r["outcome"][0] != "none" and placed(r) for r in faulty)
         out.append(f"named right at its place: {right} of {len(faulty)}; located (named or unexplained): {at}")
+    worst = np.nanmax([r["worse"] for r in rows] + [-np.inf])
+    out.append(f"after worse than identify's before by at most {worst:.2f} of identify's σ (mass, CoG)")
     out.append(f"median {np.median([r['seconds'] for r in rows]):.0f} s per diagnosis")
     return "\n".join(out)
 
