@@ -102,9 +102,11 @@ def weighing_warnings(z: float, weighed, housings: float) -> list[CodedWarning]:
 
 
 def band_warnings(band: Band, lines: int) -> list[CodedWarning]:
-    """Band edges close to the resonances the recording resolves (``band.suspension_top``, the support's top
-    mode below the band, and ``band.first_elastic``, the first elastic mode above it: :func:`.resonances.
-    bounding_modes`, nan where the record resolves none), and a band with few lines."""
+    """Band edges close to the resonances the recording resolves, and a band with few lines.
+
+    ``band.suspension_top`` is the support's top mode below the band and ``band.first_elastic`` the first
+    elastic mode above it, Hz, as :func:`.resonances.bounding_modes` finds them (nan where the record resolves
+    none: then nothing is said of that edge); ``lines`` the band's spectral lines."""
     found = []
     top, elastic = band.suspension_top, band.first_elastic
     if band.rule != "given" and top < band.low < NEAR * top:
@@ -155,8 +157,7 @@ def small_not_faulty(frf: np.ndarray, coherence: np.ndarray) -> np.ndarray:
     expected = np.minimum(np.median(noise, axis=1)[:, None], np.median(noise, axis=0)[None, :])
     size = np.median(np.abs(frf), axis=2)
     scale2 = size.max(axis=1)[:, None] * size.max(axis=0)[None, :]
-    with np.errstate(invalid="ignore"):
-        return (noise <= FAULTY * expected) & (scale2 >= GOOD_RATIO * expected)
+    return (noise <= FAULTY * expected) & (scale2 >= GOOD_RATIO * expected)
 
 
 def coherence_warnings(
