@@ -52,6 +52,7 @@ from massline.virtual.suspension import Cord, Foam, Suspension
 
 GIVEN = {"given_band_near_support", "given_band_near_elastic"}
 
+
 @pytest.fixture(scope="module")
 def structure():
     return bundled("structure").nominal
