@@ -113,9 +113,9 @@ def band_warnings(band: Band, lines: int) -> list[CodedWarning]:
         found.append(
             CodedWarning(
                 "band_near_support",
-                f"the band starts {band.low / top:.1f}× above the support's top mode at {top:.3g} Hz: its tail is "
-                "a large part of the masslines there and can bias the mass beyond its ±; a softer support (top "
-                "mode below a tenth of the band) removes the doubt",
+                f"the band starts {band.low / top:.1f}× above the highest support mode the record resolves, at "
+                f"{top:.3g} Hz: its tail is a large part of the masslines there and can bias the mass beyond its ±; "
+                "a softer support (top mode below a tenth of the band) removes the doubt",
             )
         )
     if band.rule != "given" and band.high < elastic < NEAR * band.high:

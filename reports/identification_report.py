@@ -232,18 +232,19 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
 
 
 def resonances_note(band) -> str:
-    """'; the support's top mode below it at 2.78 Hz and the first elastic mode above it at 2007 Hz, dash-dot':
-    the resonances the record resolves around the band (:func:`massline.identify.resonances.bounding_modes`),
-    as identify's warnings and diagnose's findings quote them; empty when it resolves neither."""
+    """'; the highest support mode resolved at 2.78 Hz, below it; the first elastic mode at 2007 Hz, above it;
+    dash-dot': the resonances the record resolves around the band (a stiff support's bounce may lie above it:
+    :func:`massline.identify.resonances.bounding_modes`), as identify's warnings and diagnose's findings quote
+    them; empty when it resolves neither."""
     named = [
-        f"{what} at {num(hz, form)} Hz"
+        f"{what} at {num(hz, form)} Hz, {'below' if hz < band.low else 'above'} it"
         for what, hz, form in (
-            ("the support's top mode below it", band.suspension_top, ".3g"),
-            ("the first elastic mode above it", band.first_elastic, ".4g"),
+            ("the highest support mode resolved", band.suspension_top, ".3g"),
+            ("the first elastic mode", band.first_elastic, ".4g"),
         )
         if np.isfinite(hz)
     ]
-    return f"; {' and '.join(named)}, dash-dot" if named else ""
+    return "".join(f"; {x}" for x in named) + ("; dash-dot" if named else "")
 
 
 def masses_note(found: Identification) -> str:
