@@ -27,7 +27,8 @@ from massline.identify.suspicions import (
     truncation_warnings,
     weighing_warnings,
 )
-from massline.identify.uncertainty import bootstrap, combined_std, truncation_std, with_truncation
+from massline.identify.resonances import bounding_modes
+from massline.identify.uncertainty import bootstrap, combined_std, seen_truncation, truncation_std, with_truncation
 from massline.identify.warning_codes import CodedWarning
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
@@ -135,6 +136,10 @@ def without_mains(recording: Recording) -> tuple[Recording, MainsLines | None, t
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Identification:
     """What identify found in a recording: the band, each FRF's band fit, the estimate and its 1-σ.
+
+    ``band``'s ``suspension_top`` and ``first_elastic`` are the support's top mode and the first elastic mode
+    as the record resolves them around it (:func:`.resonances.bounding_modes`; nan where it shows none): the
+    frequencies the warnings and the reports quote.
 
     ``body`` is the reported body: the weighted estimate's, or a paper method's (``method``), with the
     accelerometer ``housings`` taken off; ``best`` is the weighted estimate of the body as tested (what the
@@ -264,17 +269,20 @@ def identify_recording(
     f = recording.frequencies
     weights = coherence_weights(recording.coherence)
     if band:
-        used = given_band(f, *band)
+        chosen = given_band(f, *band)
     else:
-        used = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar=planar, weights=weights)
+        chosen = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar=planar, weights=weights)
+    modes = bounding_modes(f, recording.frf, chosen, recording.sensors, recording.exciters, planar)
+    used = replace(chosen, suspension_top=modes[0], first_elastic=modes[1])  # the resonances the record shows
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
+    richer = fit_band(f, recording.frf, used.low, used.high, weights, richer=True)
     data = Masslines(fit.values, recording.sensors, recording.exciters)
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     housings = Housings.on(recording.sensors, sensor_mass, file_labels(recording))
     prior = None if weighed is None else weighed.plus(housings.total)
     best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
     bare = housings.removed(best)  # refused first when the housings leave no physical body
-    shift = truncation_std(data, fit.truncation, sigma, best, prior)
+    shift = truncation_std(data, seen_truncation(fit.truncation, fit, richer), sigma, best, prior)
     draws_found = bootstrap(data, sigma, best, draws) if draws else []
     tested_std = with_truncation(combined_std(best, draws_found, draws), shift, planar)
     statistical = combined_std(bare, housings.removed_from_each(draws_found, planar), draws)
@@ -286,9 +294,9 @@ def identify_recording(
         fit_warnings(best.chi2, best.dof)
         + weighing_warnings(best.weighed_z, weighed, housings.total)
         + band_warnings(used, int(in_band.sum()))
-        + coherence_warnings(recording.coherence, in_band, channels)
+        + coherence_warnings(recording.frf, recording.coherence, in_band, channels)
         + truncation_warnings(shift, statistical, bare.body)
-        + recording_warnings(f, recording.frf, recording.coherence, used)
+        + recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
         + units_warnings(tested, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
     )
     return Identification(

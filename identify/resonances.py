@@ -4,7 +4,8 @@ A resonance of the suspended body is a peak of the FRF matrix's imaginary part, 
 sensor and hit, standing out of the massline's level ‖Re H‖_F in the band (a massline is real). The peak's
 line gives the mode's frequency to the line spacing, which is what the tail fits cannot: a pole fitted to a
 tail inside the band is poorly determined (a support mode "near 1.3 Hz" for a bounce at 34 Hz). A frequency
-is only given where the record holds the peak; else nan.
+is only given where the record holds the peak, fine enough that its line places the mode within 5 %
+(Δf ≤ 5 % of it: a support mode 2 lines up the axis is anywhere between 1 and 3 lines); else nan.
 
 Which kind a peak above the band is, its shape tells (:func:`rigid_misfit`): a support mode moves the body
 rigidly, so that one rigid motion q explains both sides of the FRF matrix at its peak, the sensors' readings
@@ -12,6 +13,9 @@ S q and the hits' E q; an elastic mode does not. On a stiff support the band can
 the peak just above it is then the support's top mode, not the first elastic one (taken for it, it was
 printed 51–90 % off on the blind suite's stiff cord). The hits' side is what tells the structure's first
 elastic mode apart: its shape at the 14 sensors is within 5 % of a rigid motion, but not at the hits (45 %).
+
+These are the frequencies identify's warnings and band, diagnose's findings and both reports quote
+(:func:`bounding_modes`, :func:`support_and_elastic`): one rule, and nan where the record does not show them.
 """
 
 from __future__ import annotations
@@ -19,9 +23,12 @@ from __future__ import annotations
 import numpy as np
 
 from massline.core.band import Band
+from massline.core.lines import Lines
+from massline.core.plate import plate_coordinates
 
 STANDS_OUT = 3.0  # a resonance's s(f) over the band's massline level
 NEIGHBOURHOOD = 1.1  # a peak is the largest line within this factor in frequency either side
+PRECISION = 0.05  # a mode's frequency is given when its peak's line places it within this fraction
 RIGID = 0.12  # a peak whose shape one rigid motion fits within this is a support mode (blind suite, stiff
 # cord: support modes ≤ 0.04 on clean records, 0.09 beside a hit's direction fault; elastic modes ≥ 0.17)
 
@@ -48,11 +55,12 @@ def peaks(frequencies: np.ndarray, frf: np.ndarray, level: float) -> np.ndarray:
     return np.array(found, dtype=int)
 
 
-def resolved(frf: np.ndarray, k: int) -> bool:
-    """Whether the peak at line k is resolved: both neighbouring lines above half its height (a peak narrower
-    than the line spacing, or cut by the record's edge, does not say where its mode is)."""
-    s = peak_curve(frf)
-    return bool(0 < k < len(s) - 1 and min(s[k - 1], s[k + 1]) >= s[k] / 2)
+def resolved(frequencies: np.ndarray, k: int) -> bool:
+    """Whether the peak at line k places its mode within PRECISION: a peak's line is the nearest to its mode
+    (within Δf/2 of it, however narrow the peak), so it does when Δf ≤ PRECISION f_k; a peak on the record's
+    first or last line may be the edge of one beyond it, and says nothing."""
+    f = frequencies
+    return bool(0 < k < len(f) - 1 and max(f[k] - f[k - 1], f[k + 1] - f[k]) <= PRECISION * f[k])
 
 
 def rigid_misfit(frf_line: np.ndarray, S: np.ndarray, E: np.ndarray) -> float:
@@ -90,6 +98,16 @@ def support_and_elastic(
     above = [k for k in found if f[k] > band.high]
     while above and rigid_misfit(frf[:, :, above[0]], S, E) < RIGID:
         support.append(above.pop(0))
-    top = float(f[max(support)]) if support and resolved(frf, max(support)) else np.nan
-    first = float(f[above[0]]) if above and resolved(frf, above[0]) else np.nan
+    top = float(f[max(support)]) if support and resolved(f, max(support)) else np.nan
+    first = float(f[above[0]]) if above and resolved(f, above[0]) else np.nan
     return top, first
+
+
+def bounding_modes(
+    frequencies: np.ndarray, frf: np.ndarray, band: Band, sensors: Lines, exciters: Lines, planar: bool
+) -> tuple[float, float]:
+    """(top support mode, first elastic mode), Hz, around ``band`` (:func:`support_and_elastic`), with the
+    sensor and hit lines' coordinates of the recording's ``sensors`` and ``exciters`` (a plate's when
+    ``planar``)."""
+    S, E = (plate_coordinates(lines) if planar else lines.coordinates for lines in (sensors, exciters))
+    return support_and_elastic(frequencies, frf, band, S, E)

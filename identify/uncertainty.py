@@ -12,7 +12,10 @@ Two estimates, and the larger is reported for each property:
 To the larger the truncation of the band fits' tails is added in quadrature (``with_truncation``): how far
 the properties move when the masslines are shifted by each tail's next term. It is a systematic error
 (the same in every draw), negligible where the band keeps clear of the resonances and dominant where a
-stiff support or a flexible body leaves no such band.
+stiff support or a flexible body leaves no such band. Each massline's shift is the band fit's estimate of
+the next term (B²/A, D²/C: a single mode's law), held to what fitting the next term to the data moves it by
+(``seen_truncation``): on a small cross-axis massline the single-mode law gives B²/A a hundred times what
+the data show, and that one massline made the whole shift.
 
 ``combined_std`` takes the draws' bodies, so the bare body's 1-σ (accelerometer housings taken off,
 :mod:`.sensor_mass`) comes from the same draws, each with the housings subtracted.
@@ -24,6 +27,7 @@ import numpy as np
 from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
+from massline.identify.massline_fit import BandFit
 from massline.core.accuracy import predicted_std
 from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
@@ -86,6 +90,17 @@ def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result
             continue
         return np.abs(aligned(property_vector(again.body, planar), reference) - reference) / fraction
     return np.full(VECTOR_SIZE, np.inf)
+
+
+SEEN = 2.0  # the data's move of a massline by its next term is known to this many of the richer fit's 1-σ
+
+
+def seen_truncation(shift: np.ndarray, fit: BandFit, richer: BandFit) -> np.ndarray:
+    """Each massline's truncation ``shift`` (n_s, n_e), (m/s²)/N, no larger than the data show it:
+    |A − A'| + SEEN σ', with A' and σ' the massline and 1-σ of the ``richer`` fit, which fits each tail's next
+    term (:func:`.massline_fit.fit_band`), against ``fit``'s A."""
+    seen = np.abs(fit.values - richer.values) + SEEN * richer.std
+    return np.sign(shift) * np.minimum(np.abs(shift), seen)
 
 
 def with_truncation(std: dict, shift: np.ndarray, planar: bool) -> dict:

@@ -190,17 +190,10 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
     )
     model = found.data.values - found.best.residual
     fitted = fit_figure(found.data.values, found.sigma, model, sensors, hits)
-    bounds = [
-        f"the highest suspension resonance at {num(zones.suspension_top, '.2f')} Hz"
-        if np.isfinite(zones.suspension_top)
-        else "",
-        f"the first elastic one at {num(zones.first_elastic, '.0f')} Hz" if np.isfinite(zones.first_elastic) else "",
-    ]
-    bounds = " and ".join(b for b in bounds if b)
     band_note = (
         f"Band {num(zones.low, '.1f')}–{num(zones.high, '.1f')} Hz ({escape(zones.rule)}"
-        + (f"; above {bounds}" if bounds else "")
-        + ", dash-dot). Every FRF is fitted there with A + B/ω² + Cω² + Dω⁴ so that the suspension and "
+        + resonances_note(zones)
+        + "). Every FRF is fitted there with A + B/ω² + Cω² + Dω⁴ so that the suspension and "
         f"residual-flexibility tails do not bias its massline A. Band fits: median RMS residual "
         f"{100 * np.median(fit.quality):.2f} % of the massline, worst {100 * fit.quality.max():.2f} %; a plain "
         f"average over the band would be off by up to {100 * fit.bias.max():.1f} %."
@@ -236,6 +229,22 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + "</section>",
     ]
     return Report(page(f"Identification: {Path(uff_path).name}", parts), renderings)
+
+
+def resonances_note(band) -> str:
+    """'; the highest support mode resolved at 2.78 Hz, below it; the first elastic mode at 2007 Hz, above it;
+    dash-dot': the resonances the record resolves around the band (a stiff support's bounce may lie above it:
+    :func:`massline.identify.resonances.bounding_modes`), as identify's warnings and diagnose's findings quote
+    them; empty when it resolves neither."""
+    named = [
+        f"{what} at {num(hz, form)} Hz, {'below' if hz < band.low else 'above'} it"
+        for what, hz, form in (
+            ("the highest support mode resolved", band.suspension_top, ".3g"),
+            ("the first elastic mode", band.first_elastic, ".4g"),
+        )
+        if np.isfinite(hz)
+    ]
+    return "".join(f"; {x}" for x in named) + ("; dash-dot" if named else "")
 
 
 def masses_note(found: Identification) -> str:

@@ -97,20 +97,20 @@ def support_frf(frequencies: np.ndarray, resonance: float, loss: float) -> np.nd
 def test_a_resonance_within_a_few_lines_of_zero_means_a_short_record():
     band = Band(20.0, 200.0, 5.0, np.nan, "chosen")
     coarse = np.arange(1, 401) * 2.0  # Δf 2 Hz: a 2.5 Hz mode is one line up
-    [warning] = short_record_warnings(coarse, support_frf(coarse, 2.5, 0.6), band)
+    [warning] = short_record_warnings(coarse, support_frf(coarse, 2.5, 0.6), band, windowed=True)
     assert warning.code == "short_record"
     assert "1 line(s) up the axis" in warning.text and "more lines, or a lower fmax" in warning.text
     fine = np.arange(1, 4001) * 0.1
-    assert short_record_warnings(fine, support_frf(fine, 2.5, 0.04), band) == []
+    assert short_record_warnings(fine, support_frf(fine, 2.5, 0.04), band, windowed=True) == []
 
 
 def test_coherence_falling_at_the_edge_or_the_band_top_is_a_force_roll_off():
     f = np.arange(1, 2001) * 0.5
     band = Band(20.0, 200.0, 5.0, 600.0, "chosen")
     flat = np.full((2, 2, len(f)), 0.9999)
-    assert rolloff_warnings(f, flat, band) == []
+    assert rolloff_warnings(f, flat, band, windowed=True) == []
     falling = 1 - 1e-4 * (1 + (f / 100.0) ** 6)  # G_ff ∝ 1/(1 + (f/100)⁶): 1 − γ² ∝ 1/G_ff
-    [warning] = rolloff_warnings(f, np.broadcast_to(falling, flat.shape), band)
+    [warning] = rolloff_warnings(f, np.broadcast_to(falling, flat.shape), band, windowed=True)
     assert (
         warning.code == "force_roll_off" and "the force spectrum rolls off" in warning.text and "600 Hz" in warning.text
     )

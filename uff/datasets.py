@@ -1,7 +1,8 @@
 """The datasets of a Universal File (UFF/UNV): split at their '    -1' delimiters and parsed.
 
 Parsed here: 151 header, 164 units, 15 and 2411 nodes, 18 and 2420 coordinate systems, 58 and 58b functions
-(ascii or binary, 4- or 8-byte, real or complex, even or uneven abscissa); other datasets are listed, not parsed.
+(ascii or binary, 4- or 8-byte, real or complex, even or uneven abscissa) and the window type of 1858 (the 58
+qualifiers: 4 exponential, 5 impact, 6 impact and exponential); other datasets are listed, not parsed.
 
 The file is split and parsed here, not by pyuff 2.5, whose dataset-58 reader misreads what real exporters write:
 it reads an uneven 58b abscissa in single precision (the format's, and real files') as doubles, keeps padding
@@ -303,6 +304,12 @@ def _function(block: RawDataset) -> tuple[Function, list[str]]:
     return function, notes + more + kept
 
 
+def _window_1858(block: RawDataset) -> int:
+    """The window type of a dataset 1858 (record 2, field 2): 0 none or unknown, 1–3 Hanning or flattop,
+    4 exponential, 5 impact (force window), 6 impact and exponential."""
+    return int(block.lines[1].split()[1])
+
+
 def function_name(kind: int) -> str:
     """Name of a dataset-58 function type: 'FRF', 'coherence', 'time response', ..."""
     return FUNCTION_NAMES[kind] if 0 <= kind < len(FUNCTION_NAMES) else f"function type {kind}"
@@ -316,6 +323,7 @@ PARSERS = {
     164: _units_164,
     151: _header_151,
     58: _function,
+    1858: _window_1858,
 }
 
 

@@ -4,7 +4,8 @@ estimators read, from what :func:`.reader.read_uff` found.
 Rows are the response channels in file order, columns the reference channels in file order; a node's three
 response channels along its three axes form a triaxial accelerometer. Every pair must be measured once, on
 one frequency axis, at nodes with coordinates, along translations: anything else is refused with the FRF,
-its line in the file and what to export instead.
+its line in the file and what to export instead. A 1858 qualifier of window type 4 or 6 marks the recording
+as windowed exponentially (an impact test's window).
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ from massline.core.errors import MasslineError
 from massline.core.lines import Lines
 from massline.uff.reader import Frf, UffContents, same_axis
 from massline.uff.recording import Channel, Recording, code_direction
+
+EXPONENTIAL = {4, 6}  # dataset 1858 window types with an exponential window: exponential, impact and exponential
 
 
 def _no_frfs(contents: UffContents) -> MasslineError:
@@ -147,6 +150,7 @@ def to_recording(contents: UffContents) -> Recording:
         description=contents.description,
         sensor_labels=tuple(sensors),
         exciter_labels=tuple(exciters),
+        exponential_window=bool(EXPONENTIAL & set(contents.windows)),
     )
 
 

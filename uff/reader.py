@@ -7,7 +7,8 @@
 - coordinate systems of dataset 18 (origin, a point on +x, a point in the +xz plane, in a reference system) and
   2420 (rows 1-3: the local x, y, z axes in the global frame; row 4: the origin) place the nodes of 15/2411:
   coordinates in their definition system, direction codes in their displacement system;
-- FRFs (58, function type 4) get the coherence (function type 6) of the same channels.
+- FRFs (58, function type 4) get the coherence (function type 6) of the same channels;
+- the window types of the 1858 qualifiers say whether the records were windowed as an impact test's are.
 
 A direction code c (±1..±3) at a node is the global unit vector sign(c)·R[:, |c|−1] of the node's displacement
 frame R (columns: its local axes in the global frame); a node's local +Z may be a global −Z.
@@ -85,6 +86,9 @@ class UffContents:
     frfs : tuple of Frf
     description : str
         Dataset 151's model name and description.
+    windows : tuple of int
+        The window type of every dataset 1858 (the 58 qualifiers), in file order: 4 exponential, 5 impact,
+        6 impact and exponential (record 2, field 2); empty when the file has none.
     warnings : list of str
         Anything odd that was tolerated.
     """
@@ -100,6 +104,7 @@ class UffContents:
     frfs: tuple[Frf, ...]
     description: str
     warnings: list[str]
+    windows: tuple[int, ...] = ()
 
 
 def _resolve(definitions: dict, name: str) -> dict:
@@ -267,4 +272,5 @@ def read_uff(path) -> UffContents:
         frfs=_frfs(functions, length, force, notes, name),
         description=next((p for n, p in parsed if n == 151), ""),
         warnings=notes,
+        windows=tuple(p for n, p in parsed if n == 1858),
     )

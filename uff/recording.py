@@ -77,6 +77,9 @@ class Recording:
         Free text carried into the file header.
     sensor_labels, exciter_labels : tuple of Channel or None
         The channels as the file names them (UFF node and ±1..±3), when read from a file.
+    exponential_window : bool
+        The responses were windowed exponentially, as an impact test's are (a file's dataset 1858 says so:
+        window type 4 or 6). The window adds σ_w = ln(1/end)/T to every pole; False when nothing says so.
     """
 
     frequencies: np.ndarray
@@ -87,6 +90,7 @@ class Recording:
     description: str = ""
     sensor_labels: tuple | None = None
     exciter_labels: tuple | None = None
+    exponential_window: bool = False
 
     def __post_init__(self):
         f = np.asarray(self.frequencies, dtype=float)

@@ -10,7 +10,8 @@ The file holds, in this order (DESIGN.md, "Recordings"):
 - 15 or 2411 nodes;
 - one 58 (ascii) or 58b (binary) record per sensor-exciter pair: function type 4, complex accelerance, response
   node and direction code, reference (exciter) node and direction code; then, when the recording has coherence,
-  one record of function type 6 (coherence, UFF's code for it) per pair.
+  one record of function type 6 (coherence, UFF's code for it) per pair. A recording windowed exponentially
+  (an impact test's) has a 1858 qualifier before each FRF record, window type 6 (impact and exponential).
 
 Nodes and direction codes: :mod:`.layout`.
 
@@ -40,6 +41,7 @@ from massline.uff.units import ACCELERATIONS, UNITS, AccelerationUnits, Characte
 
 COLOR = 8
 FRF, COHERENCE = 4, 6  # UFF 58 function types
+IMPACT_AND_EXPONENTIAL = 6  # dataset 1858's window type of an impact test's force and exponential windows
 ABSCISSA = Characteristic(18, (0, 0, 0), "Frequency", "Hz")
 SILENT = Characteristic(0, (0, 0, 0), "NONE", "NONE")
 
@@ -204,6 +206,15 @@ def _dataset_58(
     return header.encode("ascii") + body + f"{-1:6d}\n".encode()
 
 
+def _qualifiers_1858(number: int, window: int) -> bytes:
+    """Dataset 1858, the qualifiers of the 58 record that follows: its set record ``number`` and ``window``
+    type; everything else unknown (0)."""
+    zeros = f"{0.0:15.7E}" * 5 + "\n"
+    records = [f"{number:12d}" + f"{0:12d}" * 5 + "\n", f"{0:6d}{window:6d}" + f"{0:6d}" * 10 + "\n"]
+    records += [zeros] * 3 + [f"{'NONE':<4s}  {'NONE':<4s}\n", f"{'NONE':<80s}\n"]
+    return f"{-1:6d}\n{1858:6d}\n".encode() + "".join(records).encode() + f"{-1:6d}\n".encode()
+
+
 def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits, binary: bool, stamp: str):
     """The 58 records: every FRF (accelerance, in the file's units), then every coherence."""
     accelerance = (units.numerator, units.denominator)
@@ -219,6 +230,8 @@ def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits
             channel = f"S{i + 1} {code_name(response[1])} / E{j + 1} {code_name(reference[1])}"
             ids = [title, "massline virtual test", stamp, channel, "NONE"]
             number = k * len(pairs) + n + 1
+            if kind == FRF and recording.exponential_window:
+                yield _qualifiers_1858(number, IMPACT_AND_EXPONENTIAL)
             yield _dataset_58(
                 number, kind, ids, response, reference, recording.frequencies, data[i, j], ordinate, binary
             )

@@ -129,7 +129,10 @@ def run(
     check_hum(inst.hums, setup.fmax / setup.lines * np.arange(1, setup.lines + 1))
     masslines = synthesise(model.loaded, sensors, exciters).values
     frequencies, frf, coherence = measure(model, inst, setup, (body.mass, masslines), rng)
-    recording = Recording(frequencies, frf, sensors, exciters, coherence, "massline virtual test")
+    windowed = setup.impact is not None  # an impact test's exponential window, as its file's 1858 says
+    recording = Recording(
+        frequencies, frf, sensors, exciters, coherence, "massline virtual test", exponential_window=windowed
+    )
     truth = {
         "seed": seed,
         "nominal": body.as_dict(),
