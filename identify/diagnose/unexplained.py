@@ -65,22 +65,21 @@ def left_out(found, axis: int, k: int):
 
 def leave_one_out(found, axis: int) -> tuple[np.ndarray, np.ndarray]:
     """Σ z² identify's rigid model leaves with each channel (``axis`` 0) or hit (``axis`` 1) left out in turn, and
-    its degrees of freedom (inf and 0 where the rest cannot be estimated; 0 and 0 with no redundancy left)."""
+    its degrees of freedom (inf and 0 where the rest cannot be estimated or has no redundancy left: on the
+    structure's default plan, 9 channels × 4 hits, leaving out any of three hits leaves none)."""
     left, dof = [], []
     for k in range(found.data.values.shape[axis]):
         e = left_out(found, axis, k)
-        if e is None:
+        if e is None or not np.isfinite(e.chi2) or e.dof <= 0:  # no redundancy left: the rest checks nothing
             left.append(np.inf), dof.append(0.0)
-        elif not np.isfinite(e.chi2) or e.dof <= 0:
-            left.append(0.0), dof.append(0.0)
         else:
             left.append(e.chi2 * e.dof), dof.append(e.dof)
     return np.array(left), np.array(dof)
 
 
 def within_chance(total: float, dof: float) -> bool:
-    """Whether Σ z² ``total`` over ``dof`` degrees of freedom is within chance (no dof left: only a nought is)."""
-    return bool(total <= 0.0) if dof <= 0 else not beyond_chance(total / dof, dof)
+    """Whether Σ z² ``total`` over ``dof`` degrees of freedom is within chance (no dof left: nothing says so)."""
+    return dof > 0 and not beyond_chance(total / dof, dof)
 
 
 def unexplained(found, withdrawn: list = ()) -> Finding | None:
@@ -102,13 +101,14 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
     shape = {(True, True): "one_frf", (True, False): "one_channel", (False, True): "one_hit"}.get(
         (by_channel, by_hit), "spread"
     )
-    parameters = {
-        "hits": [hit] if shape in ("one_hit", "one_frf", "spread") else [],
+    checked = {"channel": bool(np.isfinite(rows[channel])), "hit": bool(np.isfinite(columns[hit]))}
+    parameters = {  # a spread misfit's largest part, where leaving it out can be checked at all
+        "hits": [hit] if shape in ("one_hit", "one_frf") or (shape == "spread" and checked["hit"]) else [],
         "shape": shape,
-        "explained_without_channel": (1 - rows / total).tolist(),
-        "explained_without_hit": (1 - columns / total).tolist(),
+        "explained_without_channel": np.where(np.isfinite(rows), 1 - rows / total, np.nan).tolist(),
+        "explained_without_hit": np.where(np.isfinite(columns), 1 - columns / total, np.nan).tolist(),
     }
-    channels = [channel] if shape in ("one_channel", "one_frf", "spread") else []
+    channels = [channel] if shape in ("one_channel", "one_frf") or (shape == "spread" and checked["channel"]) else []
     evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn})}
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
 
@@ -139,6 +139,7 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     p, e = finding.parameters, finding.evidence
     places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
     where = f"{'the largest part' if p['shape'] == 'spread' else 'most of it'} at {' and '.join(places)}: "
+    where = where if places else "the layout cannot place it (no channel or hit can be left out and checked): "
     tried = e.get("withdrawn") or []
     unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
     if p["shape"] == "off_axis":
