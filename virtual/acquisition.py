@@ -86,6 +86,19 @@ def sensor_mass_payload(mass: float | HousingMasses) -> float | dict:
     return {"default": mass.default, "by_point": {str(k): v for k, v in mass.by_label.items()}}
 
 
+def on_the_body(modes, planned: np.ndarray, moved: np.ndarray) -> np.ndarray:
+    """Points (n, 3) m an effect moved off the solid brought to its nearest point (a sensor slid 8 mm past an edge
+    sits on the body, as a hit that misses its mark still lands on it); the others as they are. Without the FE
+    model (``modes`` None, or one that cannot say), as moved."""
+    nearest = getattr(modes, "nearest", None)
+    changed = np.any(moved != planned, axis=1)
+    if nearest is None or not changed.any():
+        return moved
+    out = moved.copy()
+    out[changed] = nearest(moved[changed])
+    return out
+
+
 def auto_fmax(model: SuspendedBody) -> float:
     """The direct route's bandwidth, Hz: 1.5 × the first elastic mode, or 40 × the top support mode if rigid."""
     if model.n_elastic:
@@ -112,6 +125,8 @@ def run(
     suspension = suspension or Suspension()
     rng = np.random.default_rng(seed)
     inst = instrument(sensors, exciters, list(effects), rng)
+    inst.sensor_points = on_the_body(modes, sensors.points, inst.sensor_points)
+    inst.exciter_points = on_the_body(modes, exciters.points, inst.exciter_points)
     placed = Lines(inst.sensor_points, sensors.directions, sensors.triaxial)
     masses, points = accelerometer_masses(placed, setup.sensor_mass)
     masses, points = np.concatenate([masses, inst.masses]), np.vstack([points, inst.mass_points])

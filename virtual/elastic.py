@@ -174,15 +174,24 @@ class ElasticModes:
         cells = np.arange(self.basis.mesh.t.shape[1])
         return int(cells[np.argmin(self._clamped(np.repeat(x[:, None], len(cells), axis=1), cells)[1])])
 
-    def _locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Cells (p,) and clamped reference coordinates (3, p) of points (p, 3) in m, frame O xyz."""
+    def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Nearest cells (p,), clamped reference coordinates (3, p) and distances (p,) m of points (p, 3) in m."""
         k = min(CANDIDATES, self.basis.mesh.t.shape[1])
         candidates = self._centroids.query(points, k)[1].reshape(len(points), k)
         _, distance = self._clamped(np.repeat(points.T, k, axis=1), candidates.ravel())
         cells = candidates[np.arange(len(points)), distance.reshape(-1, k).argmin(axis=1)]
         for i in np.flatnonzero(distance.reshape(-1, k).min(axis=1) > FOUND * self.element_size):
             cells[i] = self._nearest_cell(points[i])
-        local, distance = self._clamped(points.T, cells)
+        return (cells, *self._clamped(points.T, cells))
+
+    def nearest(self, points: np.ndarray) -> np.ndarray:
+        """The points (p, 3) m of the solid nearest points (p, 3) m: themselves inside it, else on its surface."""
+        cells, local, _ = self._cells(np.atleast_2d(points))
+        return self.basis.mapping.F(local[:, :, None], tind=cells)[:, :, 0].T
+
+    def _locate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Cells (p,) and clamped reference coordinates (3, p) of points (p, 3) in m, frame O xyz."""
+        cells, local, distance = self._cells(points)
         outside = np.flatnonzero(distance > OUTSIDE * self.element_size)
         if len(outside):
             i = outside[0]
