@@ -129,8 +129,8 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
     frfs = frf_figure(recording.frequencies, recording.frf, f_band, picks, sensors, hits, levels)
     swapped = bool(result.fixes)
     frf_caption = (
-        f"Recorded FRFs (the channels the findings name first) with the diagnosis band {num(f_band[0], '.1f')}–"
-        f"{num(f_band[1], '.1f')} Hz ({escape(run.band.rule)}) and each model's massline for that FRF"
+        f"Recorded FRFs (the channels the findings name first) with the diagnosis band {num(run.band.low, '.1f')}–"
+        f"{num(run.band.high, '.1f')} Hz ({escape(run.band.rule)}) and each model's massline for that FRF"
         + ("; after the diagnosis, flipped or swapped channels are modelled as corrected" if swapped else "")
         + ". The properties are identify's, on its band "
         f"{num(run.estimation_band.low, '.1f')}–{num(run.estimation_band.high, '.1f')} Hz, with every FRF's tails."

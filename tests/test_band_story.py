@@ -153,3 +153,12 @@ def test_the_demo_says_on_its_console_every_warning_its_reports_list(demo):
         listed = [w for w in re.split(r"\|+", page.split("Warnings|", 1)[1].split("||")[0]) if w.strip()]
         for warning in listed:
             assert " ".join(warning.split())[:60] in said, (report, warning)
+
+
+@pytest.mark.slow
+def test_the_demo_report_prints_the_band_the_console_does(demo):
+    """The diagnosis report's band is identify's band edges as the console prints them, not its first line."""
+    out, stdout = demo
+    said = printed(" ".join(stdout.split()).split("identify chose the band")[1])
+    page = re.sub(r"<[^>]+>", " ", (out / "diagnosis-report.html").read_text())
+    assert printed(page.split("diagnosis band")[1]) == said
