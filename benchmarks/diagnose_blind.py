@@ -40,7 +40,22 @@ FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % 
     "excitation_direction": ("8", "hit"),
     "excitation_location": ("0.008", "hit"),
 }
-CLEAN = {"cord": [], "foam": ["--suspension", "foam"], "impact": ["--impact"]}
+CLEAN = {  # the conditions clean files are run under (the faulty ones: the plan's soft cord)
+    "cord": [],
+    "foam": ["--suspension", "foam"],
+    "impact": ["--impact"],
+    "mains": ["--effect", "mains_interference=0.1"],
+    "stiff": "stiff",  # a cord whose bounce is a tenth of the first elastic mode (stiff_cord)
+}
+
+
+def stiff_cord(plan: Path) -> list:
+    """--suspension for a cord above the CoG whose bounce is f₁/10: k = m (2π f₁/10)²."""
+    doc = json.loads(plan.read_text())
+    mass, cog = doc["nominal"]["mass"], doc["nominal"]["cog"]
+    k = mass * (2 * np.pi * doc["elastic"]["frequencies_hz"][0] / 10) ** 2
+    at = ";".join(f"{v:.6g}" for v in (cog[0], cog[1], cog[2] + 0.02))
+    return ["--suspension", f"cord:k={k:.6g},L=1,at={at}"]
 
 
 def massline(*args: str) -> None:
@@ -60,11 +75,13 @@ def planned(body: str, folder: Path) -> Path:
 
 def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) -> dict:
     """Simulate one case, diagnose it with the mesh's body; its outcome."""
-    path = folder / f"{plan.parent.name}-{fault or 'clean'}-{seed}-{'-'.join(extra) or 'cord'}.uff"
+    style = extra if isinstance(extra, str) else "-".join(extra).replace("=", "").replace(":", "") or "cord"
+    path = folder / f"{plan.parent.name}-{fault or 'clean'}-{seed}-{style}.uff"
     effect = []
     if fault:
         size, _ = FAULTS[fault]
         effect = ["--effect", f"{fault}={size}" if size else fault]
+    extra = stiff_cord(plan) if extra == "stiff" else extra
     massline("simulate", str(plan), "--seed", str(seed), "--out", str(path), "--force", *effect, *extra)
     truth = json.loads(path.with_suffix(".truth.json").read_text())
     body = plan.parent.name.removeprefix("plan-")
@@ -167,7 +184,7 @@ def main() -> None:
                 print(f"{body:>9} {fault or 'none':>22} seed {seed}: not simulated ({refused})", flush=True)
                 continue
             rows.append(row)
-            print(f"{body:>9} {row['fault']:>22} seed {seed} {' '.join(extra):>20}: {row['outcome']} "
+            print(f"{body:>9} {row['fault']:>22} seed {seed} {' '.join(extra) if isinstance(extra, list) else extra:>20}: {row['outcome']} "
                   f"χ² {row['before']} → {row['after']} ({row['seconds']:.0f} s)", flush=True)  # fmt: skip
     print(summary(rows, args.without))
 
