@@ -288,9 +288,10 @@ def diagnose_recording(
     if left is not None and left.parameters["shape"] != "spread":  # the place is known: the library tried there
         candidates = at_place(result, left.channels, left.parameters["hits"])
         placed = best_undone(recording, found, candidates, identify_band, transverse, known)
-        tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
-        if placed and any(same_place(f, placed[0]) for f in tried[1]):
-            found, (after, findings, withdrawn) = found + placed, tried
+        if placed:
+            tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
+            if any(same_place(f, placed[0]) for f in tried[1]):
+                found, (after, findings, withdrawn) = found + placed, tried
     loading = None if nominal is None or after is None else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
         loaded = found + [loading.finding()]

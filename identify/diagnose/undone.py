@@ -1,11 +1,12 @@
 """identify on the recording with the diagnosis's faults undone: the properties after, and each fault's proof.
 
 One estimator and one χ²: a fault the diagnosis proposes is named only when undoing it lowers identify's χ² of
-the masslines (Σ z², its σ from the band fits; with its transverse prior's) by more than ``EVIDENCE`` with the other faults undone as well
-(leave one out). (A mass loading found against the mesh is proven by the mesh.) A fault that does not is a name the line-level search gave a misfit it could not otherwise
-place (a plate on foam took two hit locations that do not exist, and its properties after were worse than
-before): it is withdrawn, the rest identified again, and what it was fitted to stays in identify's misfit,
-reported as :mod:`.unexplained` when beyond chance.
+the masslines (Σ z², its σ from the band fits; with its transverse prior's) by more than ``EVIDENCE`` with the
+other faults undone as well (leave one out). (A mass loading found against the mesh is proven by the mesh.) A
+fault that does not is a name the line-level search gave a misfit it could not otherwise place (a plate on foam
+took two hit locations that do not exist, and its properties after were worse than before): it is withdrawn,
+the rest identified again, and what it was fitted to stays in identify's misfit, reported as
+:mod:`.unexplained` when beyond chance.
 """
 
 from __future__ import annotations
@@ -15,12 +16,12 @@ from dataclasses import replace
 import numpy as np
 
 from massline.identify.diagnose.corrections import corrected
+from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import named
+from massline.identify.diagnose.unexplained import tilts
 from massline.identify.pipeline import Identification, identify_recording
 from massline.core.errors import MasslineError
 from massline.core.rigid_body import RigidBody
-
-EVIDENCE = 10.0  # Δχ² of identify's masslines a fault must explain to be named (ΔBIC's "very strong", Kass & Raftery)
 
 
 def moved(without: RigidBody, with_: RigidBody) -> dict:
@@ -35,9 +36,7 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
 def total_chi2(found: Identification) -> float:
     """identify's objective: the χ² of the masslines, Σ z², and of its transverse prior, Σ |τ_i|²/t² (nan with no
     redundancy). A misaligned accelerometer shows in the prior's term: identify reads it along its true axis."""
-    best = found.best
-    prior = float(np.sum(best.transverse**2) / best.prior**2) if best.prior > 0 else 0.0
-    return float(best.chi2 * best.dof) + prior
+    return float(found.best.chi2 * found.best.dof + np.sum(tilts(found)))
 
 
 def undoable(findings: list) -> list:
