@@ -276,6 +276,25 @@ def weighted_system(
     return WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, **scale), H
 
 
+def damped(trial, before: float, halvings: int = 40):
+    """(h, trial(h)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most ``before``.
+
+    Gauss–Newton's full step overshoots where the masslines fit no rigid body (a band across a resonance, a
+    flipped channel): the iterate can run to a mass of 10¹⁹ kg and a singular system. Halving the step until the
+    objective does not rise keeps every iterate a body and the objective falling. None when no h does.
+    """
+    h = 1.0
+    for _ in range(halvings):
+        try:
+            found = trial(h)
+        except (np.linalg.LinAlgError, FloatingPointError, ValueError, ZeroDivisionError):
+            found = None
+        if found is not None and found[1].chi2_sum <= before * (1 + 1e-12):
+            return h, found
+        h /= 2
+    return None
+
+
 def estimate(
     data: Masslines,
     sigma: np.ndarray,
@@ -301,33 +320,31 @@ def estimate(
     T = None if planar or transverse <= 0 else perpendicular_bases(directions)
     lines = None if T is None else transverse_lines(points, T)
     tilt = np.zeros((len(directions), 0 if T is None else 2))
-    theta, constrained = model.theta, False
-    for _ in range(iterations):
+    constrained = False
+
+    def at(theta: np.ndarray, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
+        """The model re-centred at θ, its weighted system and masslines with the channels tilted by ``tilt``."""
+        moved = RigidModel(model.body(theta), planar)
         s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
-        system, _ = weighted_system(
-            model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
+        system, H = weighted_system(
+            moved, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
             riding=riding,
         )
+        return moved, system, H, tilt
+
+    model, system, H, tilt = at(model.theta, tilt)
+    for _ in range(iterations):
         x, tau, _ = system.step()
-        candidate = theta + model.scale * x
-        if not np.all(np.isfinite(candidate)):
-            raise MasslineError(
-                "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band "
-                f"across a resonance?); run massline diagnose, or give {GIVE_BAND}"
-            )
-        if not planar and not is_consistent(candidate, model.scale[-1]):
+        theta = model.theta
+        if np.all(np.isfinite(x)) and not planar and not is_consistent(theta + model.scale * x, model.scale[-1]):
             step = constrained_step(*system.dense(), theta, model)
             x, tau, constrained = step[: model.p], step[model.p :].reshape(tilt.shape), True
-            candidate = theta + model.scale * x
-        theta, tilt = candidate, tilt + tau
-        model = RigidModel(model.body(theta), planar)
-        if max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
+        taken = damped(lambda h: at(theta + h * model.scale * x, tilt + h * tau), system.chi2_sum)
+        if taken is None:  # no step along (x, τ) lowers the objective: as far as Gauss–Newton goes
             break
-    s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
-    system, H = weighted_system(
-        model, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
-        riding=riding,
-    )
+        h, (model, system, H, tilt) = taken
+        if h * max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
+            break
     chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
     readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
