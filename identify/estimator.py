@@ -124,7 +124,10 @@ def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: Rig
     problem = cp.Problem(cp.Minimize(objective), [psd])
     with warnings.catch_warnings():  # an inaccurate solution is judged below, by its status, not printed
         warnings.simplefilter("ignore", UserWarning)
-        problem.solve(solver=cp.CLARABEL)
+        try:
+            problem.solve(solver=cp.CLARABEL)
+        except cp.error.SolverError:  # the solver gave up: no step, as an infeasible status
+            delta.value = None
     if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or delta.value is None:
         raise MasslineError(
             "the estimate leaves the physical bodies and no physical step fits the masslines (a flipped or "
@@ -277,7 +280,7 @@ def weighted_system(
 
 
 def damped(trial, before: float, halvings: int = 40):
-    """(h, trial(h)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most ``before``.
+    """(h, trial(h)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most ``before`` (finite).
 
     Gauss–Newton's full step overshoots where the masslines fit no rigid body (a band across a resonance, a
     flipped channel): the iterate can run to a mass of 10¹⁹ kg and a singular system. Halving the step until the
@@ -289,7 +292,7 @@ def damped(trial, before: float, halvings: int = 40):
             found = trial(h)
         except (np.linalg.LinAlgError, FloatingPointError, ValueError, ZeroDivisionError):
             found = None
-        if found is not None and found[1].chi2_sum <= before * (1 + 1e-12):
+        if found is not None and np.isfinite(found[1].chi2_sum) and found[1].chi2_sum <= before * (1 + 1e-12):
             return h, found
         h /= 2
     return None
@@ -323,7 +326,10 @@ def estimate(
     constrained = False
 
     def at(theta: np.ndarray, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
-        """The model re-centred at θ, its weighted system and masslines with the channels tilted by ``tilt``."""
+        """The model re-centred at θ, its weighted system and masslines with the channels tilted by ``tilt``;
+        MasslineError (a ValueError) where θ is no body (a mass ≤ 0)."""
+        if not theta[0] > 0:
+            raise MasslineError(f"a mass of {theta[0]:.4g} kg is not physical: the data or the layout are wrong")
         moved = RigidModel(model.body(theta), planar)
         s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
         system, H = weighted_system(
@@ -334,12 +340,22 @@ def estimate(
 
     model, system, H, tilt = at(model.theta, tilt)
     for _ in range(iterations):
-        x, tau, _ = system.step()
+        try:
+            x, tau, _ = system.step()
+        except np.linalg.LinAlgError:  # S singular: no step (a flag below refuses)
+            x = tau = np.full(1, np.nan)
         theta = model.theta
         if np.all(np.isfinite(x)) and not planar and not is_consistent(theta + model.scale * x, model.scale[-1]):
             step = constrained_step(*system.dense(), theta, model)
             x, tau, constrained = step[: model.p], step[model.p :].reshape(tilt.shape), True
-        taken = damped(lambda h: at(theta + h * model.scale * x, tilt + h * tau), system.chi2_sum)
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(tau))):
+            raise MasslineError(
+                "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band "
+                f"across a resonance?); run massline diagnose, or give {GIVE_BAND}"
+            )
+        # from an inconsistent start the (constrained) full step is the way back to a body: taken whole
+        ceiling = np.inf if not (planar or is_consistent(theta, model.scale[-1])) else system.chi2_sum
+        taken = damped(lambda h: at(theta + h * model.scale * x, tilt + h * tau), ceiling)
         if taken is None:  # no step along (x, τ) lowers the objective: as far as Gauss–Newton goes
             break
         h, (model, system, H, tilt) = taken

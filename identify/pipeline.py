@@ -280,7 +280,11 @@ def identify_recording(
     sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
     housings = Housings.on(recording.sensors, sensor_mass, file_labels(recording))
     prior = None if weighed is None else weighed.plus(housings.total)
-    best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
+    try:
+        best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
+    except MasslineError as refused:  # what the recording says against its band is the likely reason: said too
+        against = recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
+        raise MasslineError("; ".join([str(refused)] + [w.text for w in against])) from None
     bare = housings.removed(best)  # refused first when the housings leave no physical body
     shift = truncation_std(data, seen_truncation(fit.truncation, fit, richer), sigma, best, prior)
     draws_found = bootstrap(data, sigma, best, draws) if draws else []

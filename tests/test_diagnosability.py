@@ -153,8 +153,8 @@ def test_a_faulty_channel_is_located_on_the_default_plan_and_not_on_the_minimal(
     assert np.mean([at for at, _, _ in runs]) >= 0.95, runs
     assert np.mean([named for _, named, _ in runs]) >= 5 / 6, runs
     for fault in ("sensor_polarity", "sensor_gain"):  # the minimal plan's direction faults: see the README
-        at, _, redundant = located(minimal, fault, 0, tmp_path)
-        assert not at and not redundant
+        _, named, redundant = located(minimal, fault, 0, tmp_path)  # a fault may sit at the channel (3 of 10)
+        assert not named and not redundant
 
 
 if __name__ == "__main__":
