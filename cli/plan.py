@@ -192,6 +192,9 @@ def sliding_line(plan) -> str:
     )
 
 
+AXIS_UNDETERMINED = "any (equal moments)"  # an axis whose 1-σ passes 90°: its two moments are equal or nearly
+
+
 def std_table(plan) -> Table:
     b, s = plan.model.nominal, plan.predicted_std
     table = Table(title="Predicted accuracy (Cramér–Rao, 1-σ)")
@@ -210,12 +213,12 @@ def std_table(plan) -> Table:
     rows += [(f"principal axis {k + 1}", np.nan, s["principal_axes_deg"][k], "°", np.nan) for k in range(3)]
     for name, value, sigma, unit, ref in rows:
         if np.isnan(sigma):
-            table.add_row(name, number(value, 5), "unobservable", unit, "")
+            table.add_row(name, number(value, 5, scale=ref), "unobservable", unit, "")
             continue
         table.add_row(
             name,
-            "" if np.isnan(value) else number(value, 5),
-            sigma_text(sigma),
+            "" if np.isnan(value) else number(value, 5, scale=ref),
+            AXIS_UNDETERMINED if unit == "°" and sigma > 90 else sigma_text(sigma),
             unit,
             "" if np.isnan(ref) else f"{sigma / ref:.2%}",
         )

@@ -9,7 +9,11 @@ or an edge with one triangle only. The *clearance* of a point on a patch is
 the radius of the largest disk around p, in the patch's plane, that stays inside the patch and keeps
 that far from every feature edge in space (a rim above a pocket's floor counts). An accelerometer with
 a base B across fits where clearance ≥ B/2; a hammer tip T across strikes square where clearance ≥ T/2.
-All lengths in metres, mesh frame.
+
+A *gentle crease* (less than ``SMOOTH_DEG``, on a surface curving no tighter than ``SMOOTH_RADIUS``: a
+tessellated cylinder's side) bounds no patch for the clearance: a base across it stands at most
+(B/2)²/(2R) off the surface at its rim (0.4 mm for a 10 mm base on R 30 mm), what a film of wax or
+adhesive fills. The point keeps its own triangle's normal. All lengths in metres, mesh frame.
 """
 
 from __future__ import annotations
@@ -25,6 +29,8 @@ from scipy.spatial import cKDTree
 from massline.core.errors import MasslineError
 
 FLAT_DEG = 0.5  # neighbouring triangles closer than this to coplanar belong to one flat patch
+SMOOTH_DEG = 10.0  # a crease gentler than this on a surface of radius ≥ SMOOTH_RADIUS is no patch boundary
+SMOOTH_RADIUS = 0.03  # m
 SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor or a hit keeps away from
 PIECES_PER_SIZE = 200  # long edges are cut into pieces no longer than the body's size / this, for the search
 SNAP_TOLERANCE = 2e-3  # m: a fixed sensor or hit given farther than this from the surface is refused
@@ -42,6 +48,17 @@ def feature_edges(mesh: trimesh.Trimesh, degrees: float = SHARP_EDGE_DEG) -> np.
     sharp = mesh.face_adjacency_edges[mesh.face_adjacency_angles > np.radians(degrees)]
     unique, counts = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
     return mesh.vertices[np.vstack([sharp, unique[counts == 1]])]
+
+
+def gentle_creases(mesh: trimesh.Trimesh) -> np.ndarray:
+    """Which face adjacencies (mesh.face_adjacency rows) crease by θ < ``SMOOTH_DEG`` where the surface's radius
+    R ≈ (h₁ + h₂)/(2θ) ≥ ``SMOOTH_RADIUS``, h_k the height of face k over the shared edge (m)."""
+    angle = mesh.face_adjacency_angles
+    ends = mesh.vertices[mesh.face_adjacency_edges]
+    length = np.maximum(np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1), 1e-300)
+    heights = 2 * mesh.area_faces[mesh.face_adjacency] / length[:, None]
+    radius = heights.sum(axis=1) / (2 * np.maximum(angle, 1e-300))
+    return (angle < np.radians(SMOOTH_DEG)) & (radius >= SMOOTH_RADIUS)
 
 
 def flat_patches(mesh: trimesh.Trimesh, degrees: float = FLAT_DEG) -> np.ndarray:
@@ -78,7 +95,7 @@ class Surface:
     def of(cls, mesh: trimesh.Trimesh) -> "Surface":
         patch = flat_patches(mesh)
         adjacent = patch[mesh.face_adjacency]
-        between = adjacent[:, 0] != adjacent[:, 1]
+        between = (adjacent[:, 0] != adjacent[:, 1]) & ~gentle_creases(mesh)
         edges = mesh.vertices[mesh.face_adjacency_edges[between]]
         features = feature_edges(mesh)
         return cls(
@@ -104,13 +121,19 @@ class Surface:
         return float(self.mesh.extents.max())
 
     @cached_property
-    def patch_area(self) -> np.ndarray:
-        """Area (m²) of each flat patch."""
-        return np.bincount(self.patch, weights=self.mesh.area_faces)
+    def smooth(self) -> tuple[np.ndarray, np.ndarray]:
+        """The smooth region of each face (its flat patches joined across gentle creases) and each region's area
+        (m²)."""
+        mesh = self.mesh
+        pairs = mesh.face_adjacency[(self.patch[mesh.face_adjacency[:, 0]] == self.patch[mesh.face_adjacency[:, 1]])
+                                    | gentle_creases(mesh)]
+        region = connected_components(trimesh.graph.edges_to_coo(pairs, count=len(mesh.faces)), directed=False)[1]
+        return region, np.bincount(region, weights=mesh.area_faces)
 
     def roomy(self, faces: np.ndarray, radius: float) -> np.ndarray:
-        """Whether the patch of each face (n,) is large enough to hold a disk of ``radius`` (m) at all."""
-        return self.patch_area[self.patch[faces]] >= np.pi * radius**2
+        """Whether the smooth region of each face (n,) is large enough to hold a disk of ``radius`` (m) at all."""
+        region, area = self.smooth
+        return area[region[faces]] >= np.pi * radius**2
 
     def normal(self, faces: np.ndarray) -> np.ndarray:
         """Outward unit normal (n, 3) of the faces' patches (that of the face: a patch is flat)."""

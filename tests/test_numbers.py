@@ -133,3 +133,27 @@ def test_props_of_a_centred_box_prints_no_rounding_noise(tmp_path):
     rows = {cells[0]: cells[1] for cells in zip(*(col._cells for col in body_table(body, "box").columns))}
     assert all(rows[name] == "0" for name in ("CoG x", "CoG y", "CoG z", "J_G xy", "J_G xz", "J_G yz")), rows
     assert run(["props", str(path), "--units", "m", "--density", "2700"]) == 0
+
+
+def test_the_plans_accuracy_table_of_a_cylinder_prints_no_rounding_noise():
+    """A cylinder centred on the origin (64 facets): CoG 0 up to ~1e−16 m prints 0, and its two equal moments'
+    axes, whose 1-σ runs to 10⁵°, are said to be any axis, not given a ±."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    import trimesh
+
+    from massline.plan import AXIS_UNDETERMINED, std_table
+    from massline.core.accuracy import predicted_std
+    from massline.core.model import RigidModel
+    from massline.meshes.loader import BodyMesh
+
+    body = BodyMesh(trimesh.creation.cylinder(radius=0.04, height=0.12, sections=64), 2700.0).nominal
+    body = type(body)(body.mass, body.cog + [-1.1721e-16, 0, 0], body.inertia_cog)
+    model = RigidModel(body)
+    information = np.diag(1e6 * np.arange(1, 11.0))
+    table = std_table(SimpleNamespace(model=model, predicted_std=predicted_std(model, information)))
+    rows = {cells[0]: cells[1:3] for cells in zip(*(col._cells for col in table.columns))}
+    assert rows["CoG x"][0] == "0", rows
+    assert rows["principal axis 2"][1] == rows["principal axis 3"][1] == AXIS_UNDETERMINED, rows
+    assert rows["principal axis 1"][1] != AXIS_UNDETERMINED

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.linalg import eigh
 
+from massline.core.numbers import vector_text
 from massline.core.errors import MasslineError, param
 from massline.core.lines import skew
 from massline.core.rigid_body import RigidBody
@@ -224,8 +225,7 @@ class Suspension:
         if self.foam is not None:
             return f"foam k={self.foam.stiffness:.0f} N/m"
         c = self.cords[0]
-        point = ", ".join(f"{v * 1e3:.0f}" for v in c.attachment)
-        return f"cord k={c.stiffness:.0f} N/m, L={c.length:g} m at ({point}) mm"
+        return f"cord k={c.stiffness:.0f} N/m, L={c.length:g} m at {vector_text(np.round(c.attachment * 1e3))} mm"
 
     def supports(self) -> tuple[np.ndarray, np.ndarray]:
         """Support points (k, 3) and the unit direction (k, 3) in which each one pushes or pulls."""
