@@ -181,3 +181,19 @@ def test_fixed_points_are_in_plan_json_the_table_and_the_simulated_test(tmp_path
     assert recording.frf.shape[:2] == (len(doc["sensors"]), len(doc["exciters"]))
     np.testing.assert_allclose(recording.sensors.points[0], [0.006, 0.06, 0.15], atol=1e-6)
     np.testing.assert_allclose(recording.exciters.points[0], [0.16, 0.06, 0.006], atol=1e-6)
+
+
+@pytest.mark.parametrize("radius, fits", [(0.04, True), (0.01, False)])
+def test_a_cylinders_side_holds_an_accelerometer_where_it_curves_gently(radius, fits):
+    """64 facets, 5.6° apart: on R 40 mm (facets 3.9 mm wide) a 10 mm base stands 0.3 mm off at its rim, and the
+    side's clearance is the distance to its rims (the 90° edges); on R 10 mm (1 mm facets, a 1.3 mm gap) each
+    facet stays its own patch, narrower than the base."""
+    mesh = trimesh.creation.cylinder(radius=radius, height=0.12, sections=64)
+    surface = Surface.of(mesh)
+    side = np.flatnonzero(np.abs(mesh.face_normals[:, 2]) < 0.1)
+    middle = mesh.triangles_center[side] * [1, 1, 0]  # each side face's point at mid-height
+    clearance = surface.clearance(middle, side, 0.1)
+    if fits:
+        assert np.allclose(clearance, 0.06, rtol=1e-6) and surface.roomy(side, 0.005).all()
+    else:
+        assert clearance.max() < 2 * np.pi * radius / 64
