@@ -279,8 +279,9 @@ def weighted_system(
     return WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, **scale), H
 
 
-def damped(trial, before: float, halvings: int = 40):
-    """(h, trial(h)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most ``before`` (finite).
+def damped(trial, theta, dtheta, tilt, dtilt, before: float, halvings: int = 40):
+    """(h, trial(θ + h Δθ, τ + h Δτ)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most
+    ``before`` (finite); ``trial`` gives (model, system, …) at the parameters θ (SI) and tilts τ.
 
     Gauss–Newton's full step overshoots where the masslines fit no rigid body (a band across a resonance, a
     flipped channel): the iterate can run to a mass of 10¹⁹ kg and a singular system. Halving the step until the
@@ -289,7 +290,7 @@ def damped(trial, before: float, halvings: int = 40):
     h = 1.0
     for _ in range(halvings):
         try:
-            found = trial(h)
+            found = trial(theta + h * dtheta, tilt + h * dtilt)
         except (np.linalg.LinAlgError, FloatingPointError, ValueError, ZeroDivisionError):
             found = None
         if found is not None and np.isfinite(found[1].chi2_sum) and found[1].chi2_sum <= before * (1 + 1e-12):
@@ -355,7 +356,7 @@ def estimate(
             )
         # from an inconsistent start the (constrained) full step is the way back to a body: taken whole
         ceiling = np.inf if not (planar or is_consistent(theta, model.scale[-1])) else system.chi2_sum
-        taken = damped(lambda h: at(theta + h * model.scale * x, tilt + h * tau), ceiling)
+        taken = damped(at, theta, model.scale * x, tilt, tau, ceiling)
         if taken is None:  # no step along (x, τ) lowers the objective: as far as Gauss–Newton goes
             break
         h, (model, system, H, tilt) = taken
