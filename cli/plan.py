@@ -24,6 +24,7 @@ from massline.core.numbers import counted, formatted, number, sigma_text, vector
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget
+from massline.virtual.fe_process import FEInProcess
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -332,11 +333,39 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     noise = NoiseModel(args.noise_relative, args.noise_floor)
     budget = chosen_budget(args, is_plate(body))
+    fixed = {
+        "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
+        "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
+    }
+    fe_solve = FEInProcess(body, str(args.mesh))  # beside the search: the plan takes the longer, not the sum
+    try:
+        result = searched(args, body, options, noise, budget, fixed, console)
+    except BaseException:
+        fe_solve.close()
+        raise
+    sensor_labels, hit_labels = result.point_labels
+    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
+    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
+    console.print(std_table(result))
+    console.print(criterion_text(result))
+    console.print(sliding_line(result))
+    diagnosability_note(console, result)
+    with progress_bar(console) as progress:
+        fe = fe_solve.result(lambda: progress("the FE model (solved beside the search)", 0, None))
+        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe)
+        say_material(console, fe)
+    say_fe_model(console, fe)
+    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
+    out.mkdir(parents=True, exist_ok=True)
+    write_atomic(target, to_json(doc), args.force)
+    console.print(f"wrote {target}")
+    write_report(console, report, lambda: build_report(target, console), args.force, status=None)
+
+
+def searched(args, body, options, noise, budget, fixed: dict, console):
+    """The plan: the cheapest diagnosable layout, or the budget's (``budget`` not None), its progress shown."""
     with progress_bar(console) as bar:
-        fixed = {
-            "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
-            "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
-        }
 
         def progress(stage: str, f: float) -> None:
             bar(stage, f, 1.0)
@@ -351,20 +380,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
                 progress=progress,
             )  # fmt: skip
-    sensor_labels, hit_labels = result.point_labels
-    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
-    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
-    console.print(std_table(result))
-    console.print(criterion_text(result))
-    console.print(sliding_line(result))
-    diagnosability_note(console, result)
-    with progress_bar(console) as progress:
-        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, progress)
-        say_material(console, fe)
-    say_fe_model(console, fe)
-    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
-    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
-    out.mkdir(parents=True, exist_ok=True)
-    write_atomic(target, to_json(doc), args.force)
-    console.print(f"wrote {target}")
-    write_report(console, report, lambda: build_report(target, console), args.force, status=None)
+    return result
