@@ -226,13 +226,21 @@ def std_table(plan) -> Table:
     return table
 
 
+def certificate_note(certificate) -> str:
+    """" (its branch and bound stopped after N relaxation steps; …)" when its budget ended it, else ""."""
+    if certificate is None or not certificate.stopped:
+        return ""
+    return f" (its branch and bound stopped after its {certificate.limit} {certificate.unit}: a tighter bound may hold)"
+
+
 def criterion_text(result) -> str:
     """The criterion, its certificate, λ_min, the D certificate and the paper's condition numbers."""
     c, systems = result.criterion, condition_systems(result.model.planar)
     d_too = "" if c.name == "D" else f", D-efficiency ≥ {result.d_efficiency_lower_bound:.1%}"
     lines = [
         f"criterion {c.name}: {c.title} = {result.value:.4g}; the candidate layout's certified {c.name}-efficiency ≥ "
-        f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone",
+        f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone"
+        + certificate_note(result.certificate),
         f"log det F = {result.log_det:.3f} ({result.model.p} parameters){d_too}; smallest eigenvalue of F "
         f"(relative parameters) {result.smallest_eigenvalue:.4g}",
         "condition numbers: " + ", ".join(f"{systems.get(k, k)} {v:.3g}" for k, v in result.condition.items()),
@@ -351,7 +359,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(sliding_line(result))
     diagnosability_note(console, result)
     with progress_bar(console) as progress:
-        fe = fe_solve.result(lambda: progress("the FE model (solved beside the search)", 0, None))
+        fe = fe_solve.result(progress)
         test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe)
         say_material(console, fe)
     say_fe_model(console, fe)

@@ -16,14 +16,14 @@ def test_the_second_process_solves_the_same_model(monkeypatch):
     monkeypatch.setenv("MASSLINE_CACHE", "off")
     body = bundled("plate")
     solving = FEInProcess(body, "plate")
-    waited = []
-    there = solving.result(lambda: waited.append(1))
+    stages = []
+    there = solving.result(lambda *stage: stages.append(stage))
     here = plan_fe_model(body, "plate")
     np.testing.assert_allclose(there.modes.omega, here.modes.omega, rtol=1e-9)
     first = np.abs(here.modes.shapes[:, 0]).max()  # the first mode (ARPACK's random start moves the last digits)
     np.testing.assert_allclose(np.abs(there.modes.shapes[:, 0]), np.abs(here.modes.shapes[:, 0]), atol=1e-6 * first)
     assert there.material == here.material and not there.kept and there.modes.n_dofs == here.modes.n_dofs
-    assert not solving._process.is_alive()
+    assert not solving._process.is_alive() and stages[0][0] == "meshing" and stages[-1][1] == stages[-1][2]
 
 
 def test_an_error_in_the_second_process_is_raised_here(monkeypatch):

@@ -20,12 +20,13 @@ POLL = 0.25  # s between looks at the pipe while waiting (so that Ctrl-C is take
 
 
 def _solve(body: BodyMesh, mesh_name: str | None, pipe) -> None:
-    """In the second process: the plan's FE model, sent back as arrays (or the exception met)."""
+    """In the second process: each stage of the solve as ("stage", name, done, total), then the plan's FE model
+    as ("modes", arrays, material, kept, assumed), or ("error", the exception met)."""
     try:
-        fe = plan_fe_model(body, mesh_name)
-        pipe.send((as_arrays(fe.modes), fe.material, fe.kept, fe.assumed))
+        fe = plan_fe_model(body, mesh_name, lambda *stage: pipe.send(("stage", *stage)))
+        pipe.send(("modes", as_arrays(fe.modes), fe.material, fe.kept, fe.assumed))
     except BaseException as error:  # noqa: BLE001 — handed to the first process, which raises it
-        pipe.send(error)
+        pipe.send(("error", error))
     finally:
         pipe.close()
 
@@ -40,18 +41,24 @@ class FEInProcess:
         self._process.start()
         sending.close()
 
-    def result(self, waiting=lambda: None) -> FEModel:
-        """The FE model, once solved; ``waiting()`` is called while it is not."""
+    def result(self, progress=None) -> FEModel:
+        """The FE model, once solved; each stage of the solve, as it is read, to ``progress(stage, done, total)``
+        (the stages the search outlasted at once, then the one under way)."""
         try:
-            while not self._pipe.poll(POLL):
-                if not self._process.is_alive() and not self._pipe.poll():
-                    raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}, sending nothing")
-                waiting()
-            got = self._pipe.recv()
+            while True:
+                if not self._pipe.poll(POLL):
+                    if not self._process.is_alive() and not self._pipe.poll():
+                        raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}")
+                    continue
+                kind, *got = self._pipe.recv()
+                if kind != "stage":
+                    break
+                if progress is not None:
+                    progress(*got)
         finally:
             self.close()
-        if isinstance(got, BaseException):
-            raise got
+        if kind == "error":
+            raise got[0]
         arrays, material, kept, assumed = got
         return FEModel(from_arrays(arrays, material), material, kept, assumed)
 
