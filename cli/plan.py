@@ -24,6 +24,7 @@ from massline.core.numbers import counted, formatted, number, sigma_text, vector
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget
+from massline.virtual.fe_process import FEInProcess
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -225,13 +226,21 @@ def std_table(plan) -> Table:
     return table
 
 
+def certificate_note(certificate) -> str:
+    """" (its branch and bound stopped after N relaxation steps; …)" when its budget ended it, else ""."""
+    if certificate is None or not certificate.stopped:
+        return ""
+    return f" (its branch and bound stopped after its {certificate.limit} {certificate.unit}: a tighter bound may hold)"
+
+
 def criterion_text(result) -> str:
     """The criterion, its certificate, λ_min, the D certificate and the paper's condition numbers."""
     c, systems = result.criterion, condition_systems(result.model.planar)
     d_too = "" if c.name == "D" else f", D-efficiency ≥ {result.d_efficiency_lower_bound:.1%}"
     lines = [
         f"criterion {c.name}: {c.title} = {result.value:.4g}; the candidate layout's certified {c.name}-efficiency ≥ "
-        f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone",
+        f"{result.efficiency_lower_bound:.1%} of the best layout changing the sensors alone or the exciters alone"
+        + certificate_note(result.certificate),
         f"log det F = {result.log_det:.3f} ({result.model.p} parameters){d_too}; smallest eigenvalue of F "
         f"(relative parameters) {result.smallest_eigenvalue:.4g}",
         "condition numbers: " + ", ".join(f"{systems.get(k, k)} {v:.3g}" for k, v in result.condition.items()),
@@ -332,11 +341,39 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
     noise = NoiseModel(args.noise_relative, args.noise_floor)
     budget = chosen_budget(args, is_plate(body))
+    fixed = {
+        "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
+        "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
+    }
+    fe_solve = FEInProcess(body, str(args.mesh))  # beside the search: the plan takes the longer, not the sum
+    try:
+        result = searched(args, body, options, noise, budget, fixed, console)
+    except BaseException:
+        fe_solve.close()
+        raise
+    sensor_labels, hit_labels = result.point_labels
+    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
+    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
+    console.print(std_table(result))
+    console.print(criterion_text(result))
+    console.print(sliding_line(result))
+    diagnosability_note(console, result)
+    with progress_bar(console) as progress:
+        fe = fe_solve.result(progress)
+        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe)
+        say_material(console, fe)
+    say_fe_model(console, fe)
+    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
+    out.mkdir(parents=True, exist_ok=True)
+    write_atomic(target, to_json(doc), args.force)
+    console.print(f"wrote {target}")
+    write_report(console, report, lambda: build_report(target, console), args.force, status=None)
+
+
+def searched(args, body, options, noise, budget, fixed: dict, console):
+    """The plan: the cheapest diagnosable layout, or the budget's (``budget`` not None), its progress shown."""
     with progress_bar(console) as bar:
-        fixed = {
-            "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
-            "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
-        }
 
         def progress(stage: str, f: float) -> None:
             bar(stage, f, 1.0)
@@ -351,20 +388,4 @@ def run(args: argparse.Namespace, console: Console) -> None:
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
                 progress=progress,
             )  # fmt: skip
-    sensor_labels, hit_labels = result.point_labels
-    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
-    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
-    console.print(std_table(result))
-    console.print(criterion_text(result))
-    console.print(sliding_line(result))
-    diagnosability_note(console, result)
-    with progress_bar(console) as progress:
-        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, progress)
-        say_material(console, fe)
-    say_fe_model(console, fe)
-    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
-    console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
-    out.mkdir(parents=True, exist_ok=True)
-    write_atomic(target, to_json(doc), args.force)
-    console.print(f"wrote {target}")
-    write_report(console, report, lambda: build_report(target, console), args.force, status=None)
+    return result

@@ -27,13 +27,13 @@ from __future__ import annotations
 
 import heapq
 import itertools
-import time
 
 import numpy as np
 
 from massline.core.information import log_det
 from massline.placement.relaxation import relax_first_order
 from massline.placement.selection import BlockProblem, leverages
+from massline.placement.work import DEFAULT_STEPS, STEPS, Work
 
 
 def _node_problem(problem: BlockProblem, cells: tuple) -> tuple[BlockProblem, np.ndarray]:
@@ -124,8 +124,10 @@ class BranchAndBound:
         root_weights: np.ndarray | None = None,
         admissible=None,
         any_slack: float = -np.inf,
+        work: Work | None = None,
     ):
         self.problem, self.slack, self.tol, self.admissible = problem, slack, tol, admissible
+        self.work = Work(DEFAULT_STEPS, STEPS) if work is None else work
         self.any_slack = any_slack
         self.start, self.root_weights = list(chosen), root_weights
         self.best_value, self.best = problem.value(chosen), list(chosen)
@@ -148,14 +150,14 @@ class BranchAndBound:
         """Nodes whose bound is below this close."""
         return max(self.best_value + self.slack, self.best_any[0] + self.any_slack)
 
-    def run(self, until: float, deadline: float | None = None, max_nodes: int = 100_000, stop=lambda: False) -> None:
-        """Nodes until ``until`` (time.perf_counter()), ``max_nodes`` in all, the search ends or ``stop()``; a
-        node's relaxation runs on to ``deadline`` (default ``until``)."""
+    def run(self, until: int | None = None, deadline: int | None = None, max_nodes: int = 100_000, stop=lambda: False):
+        """Nodes until its work reaches ``until`` (relaxation steps; default its limit), ``max_nodes`` in all, the
+        search ends or ``stop()``; a node's relaxation runs on to ``deadline`` (default ``until``)."""
         deadline = until if deadline is None else deadline
-        while self.heap and self.nodes < max_nodes and time.perf_counter() < until and not stop():
+        while self.heap and self.nodes < max_nodes and not self.work.reached(until) and not stop():
             self._node(deadline)
 
-    def _node(self, deadline: float) -> None:
+    def _node(self, deadline: int | None) -> None:
         problem = self.problem
         negative_bound, _, cells, parent = heapq.heappop(self.heap)
         if -negative_bound <= self.target:  # the largest open bound: every open node closes
@@ -168,7 +170,9 @@ class BranchAndBound:
             start = [int(np.flatnonzero(index == i)[0]) for i in self.start]
         else:
             weights, start = _warm_start(sub, *parent), ()
-        z, bound = relax_first_order(sub, start, weights, tol=self.tol, stop_below=self.target, deadline=deadline)
+        z, bound = relax_first_order(
+            sub, start, weights, tol=self.tol, stop_below=self.target, work=self.work, until=deadline
+        )
         bound = min(bound, -negative_bound)
         groups = [(np.flatnonzero(sub.group == g), m) for g, m in enumerate(sub.budgets)]
         self._met(sorted(int(index[i]) for i in _rounded(z, groups)))
@@ -212,14 +216,17 @@ def branch_and_bound(
     *,
     max_nodes: int = 100_000,
     tol: float = 1e-4,
-    seconds: float = 10.0,
+    work: Work | None = None,
+    until: int | None = None,
     root_bound: float = np.inf,
     root_weights: np.ndarray | None = None,
     admissible=None,
 ) -> tuple[float, list]:
-    """:class:`BranchAndBound` run for ``seconds`` or ``max_nodes``: its bound and best selection."""
+    """:class:`BranchAndBound` run until ``work`` reaches ``until`` (relaxation steps; default its limit) or
+    ``max_nodes``: its bound and best selection."""
     search = BranchAndBound(
-        problem, chosen, slack, tol=tol, root_bound=root_bound, root_weights=root_weights, admissible=admissible
-    )
-    search.run(time.perf_counter() + seconds, max_nodes=max_nodes)
+        problem, chosen, slack, tol=tol, root_bound=root_bound, root_weights=root_weights, admissible=admissible,
+        work=work,
+    )  # fmt: skip
+    search.run(until, max_nodes=max_nodes)
     return search.bound, search.best

@@ -20,7 +20,6 @@ would stop it short of the target it states. Its bound still covers every select
 from __future__ import annotations
 
 import itertools
-import time
 from typing import Callable
 
 import numpy as np
@@ -28,7 +27,9 @@ import numpy as np
 from massline.placement.cell_bound import BranchAndBound, branch_and_bound
 from massline.placement.relaxation import relax_cvxpy, relax_first_order
 from massline.placement.selection import BlockProblem, greedy, swap
+from massline.placement.work import DEFAULT_STEPS, STEPS, Work
 
+MIN_SHARE = 50  # relaxation steps a split problem gets at least
 TARGETS = (0.96, 0.99)  # branch and bound closes nodes within these certified efficiencies in turn
 
 
@@ -60,7 +61,8 @@ def certify_admissible(
     admissible: Callable[[list], bool],
     cover_for: Callable[[list], np.ndarray | None],
     *,
-    seconds: float = 10.0,
+    work: Work,
+    until: int | None = None,
     depth: int = 2,
     root_bound: float = np.inf,
     root_weights: np.ndarray | None = None,
@@ -73,33 +75,34 @@ def certify_admissible(
     split problems, each certified the same way (``depth`` levels of cuts). A
     bound over all selections holds for the admissible ones too, so the smaller
     of the two is returned. ``root_bound`` and ``root_weights``: the whole problem's
-    relaxation, already solved, where the branch and bound's root starts.
+    relaxation, already solved, where the branch and bound's root starts. It stops when ``work`` (relaxation
+    steps) reaches ``until`` (default its limit); each split problem gets an equal share of what is left.
     """
-    deadline = time.perf_counter() + seconds
+    deadline = work.limit if until is None else until
     bound, best = branch_and_bound(
-        problem, chosen, slack, seconds=seconds, root_bound=root_bound, root_weights=root_weights
+        problem, chosen, slack, work=work, until=deadline, root_bound=root_bound, root_weights=root_weights
     )
     if problem.value(best) <= problem.value(chosen) + 1e-9 or admissible(best) or depth == 0:
         return bound, best if admissible(best) else list(chosen)
     cover = cover_for(best)
-    if cover is None and time.perf_counter() < deadline:  # no cut known: close nodes against admissible bests only
+    if cover is None and not work.reached(deadline):  # no cut known: close nodes against admissible bests only
         found, best = branch_and_bound(
-            problem, chosen, slack, seconds=deadline - time.perf_counter(), root_bound=bound, admissible=admissible
+            problem, chosen, slack, work=work, until=deadline, root_bound=bound, admissible=admissible
         )
         return min(bound, found), best
-    if cover is None or time.perf_counter() > deadline:
+    if cover is None or work.reached(deadline):
         return bound, list(chosen)
     bounds, winner = [], list(chosen)
     parts = split_by_cover(problem, cover)
     for part in parts:
-        if time.perf_counter() > deadline:  # unfinished: the uncut bound is what stands
+        if work.reached(deadline):  # unfinished: the uncut bound is what stands
             return bound, winner
         start = swap(part, greedy(part))
         if not admissible(start):
             start = list(chosen) if _fits(part, chosen) else start
-        remaining = max(deadline - time.perf_counter(), 0.05) / len(parts)
+        share = work.spent + max((deadline - work.spent) // len(parts), MIN_SHARE)
         part_bound, part_best = certify_admissible(
-            part, start, slack, admissible, cover_for, seconds=remaining, depth=depth - 1
+            part, start, slack, admissible, cover_for, work=work, until=share, depth=depth - 1
         )
         bounds.append(part_bound)
         if admissible(part_best) and part.value(part_best) > problem.value(winner):
@@ -124,8 +127,11 @@ class SideBound:
     (:func:`certify_admissible`). ``tighten`` may be called again and again.
     """
 
-    def __init__(self, problem, chosen, relaxation="first-order", *, admissible=None, cover_for=None, targets=TARGETS):
+    def __init__(
+        self, problem, chosen, relaxation="first-order", *, admissible=None, cover_for=None, targets=TARGETS, work=None
+    ):
         self.problem, self.chosen = problem, list(chosen)
+        self.work = Work(DEFAULT_STEPS, STEPS) if work is None else work
         self.admissible = admissible or (lambda c: True)
         self.cover_for, self.covers = cover_for or (lambda c: None), {}
         self.slacks = [problem.p * np.log(1 / target) for target in targets]
@@ -145,6 +151,7 @@ class SideBound:
             root_weights=self.weights,
             admissible=self.admissible,
             any_slack=self.slacks[-1],
+            work=self.work,
         )
 
     @property
@@ -166,11 +173,11 @@ class SideBound:
             or self.bound <= self.problem.value(self.best) + self.slacks[-1]
         )
 
-    def tighten(self, until: float, deadline: float | None = None) -> None:
-        """Branch and bound until ``until`` (time.perf_counter()), a node's relaxation on to ``deadline``;
-        the cuts when it needs them."""
+    def tighten(self, until: int | None = None, deadline: int | None = None) -> None:
+        """Branch and bound until its work reaches ``until`` (relaxation steps; default its limit), a node's
+        relaxation on to ``deadline`` (default ``until``); the cuts when it needs them."""
         deadline = until if deadline is None else deadline
-        while not self.finished and time.perf_counter() < until:
+        while not self.finished and not self.work.reached(until):
             if self.search.finished:  # this target is met: the next, from the root at the bound reached
                 slack = next(s for s in self.slacks if s < self.search.slack)
                 self.search = self._search(slack, self.best, self.bound)
@@ -182,7 +189,8 @@ class SideBound:
                     self.search.slack,
                     self.admissible,
                     self.cover_for,
-                    seconds=max(deadline - time.perf_counter(), 0.0),
+                    work=self.work,
+                    until=deadline,
                 )
                 self.cut_best = winner if self.admissible(winner) else None
 
@@ -203,10 +211,10 @@ def certify(
     relaxation: str = "first-order",
     admissible=None,
     cover_for=None,
-    seconds: float = 10.0,
+    steps: int = DEFAULT_STEPS,
 ) -> tuple[float, list]:
     """Upper bound U on ``problem`` over the admissible selections, and the best one met (:class:`SideBound`
-    tightened for ``seconds``)."""
-    side = SideBound(problem, chosen, relaxation, admissible=admissible, cover_for=cover_for)
-    side.tighten(time.perf_counter() + seconds)
+    tightened for ``steps`` relaxation steps)."""
+    side = SideBound(problem, chosen, relaxation, admissible=admissible, cover_for=cover_for, work=Work(steps, STEPS))
+    side.tighten()
     return side.bound, side.best

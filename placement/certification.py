@@ -24,10 +24,9 @@ side's branch and bound starts again from its root when the other side's is run.
 
 from __future__ import annotations
 
-import time
-
 from massline.placement.certificate import SideBound
 from massline.placement.criterion_relaxation import relax_criterion
+from massline.placement.work import STEPS, Work
 
 SIDES = ("sensors", "exciters")
 
@@ -53,33 +52,37 @@ class _Sides:
     def cover(self, side: str, layout: dict):
         return self.planner.sensor_cover(layout["exciters"]) if side == "sensors" else self.planner.exciter_cover
 
-    def bound(self, side: str, layout: dict, relaxation: str) -> SideBound:
-        """The side's bound at the layout, the other side held: its relaxation solved, ready to tighten."""
+    def bound(self, side: str, layout: dict, relaxation: str, work: Work) -> SideBound:
+        """The side's bound at the layout, the other side held: its relaxation solved, ready to tighten on
+        ``work``."""
         problem, admissible = self.problem(side, layout), self.admissible(side, layout)
-        return SideBound(problem, layout[side], relaxation, admissible=admissible, cover_for=self.cover(side, layout))
+        cover = self.cover(side, layout)
+        return SideBound(problem, layout[side], relaxation, admissible=admissible, cover_for=cover, work=work)
 
 
 def _other(side: str) -> str:
     return SIDES[1 - SIDES.index(side)]
 
 
-SLICE = 0.1  # seconds the branch and bound of one side runs before the sides are compared again
+SLICE = 500  # relaxation steps the branch and bound of one side takes before the sides are compared again
+CERTIFY_STEPS = 30_000  # the D certificate's default budget (relaxation steps): at most ~12 s on 2 cores (2 500 a second)
 
 
-def certify_d(planner, sensors: list, exciters: list, relaxation: str, seconds: float) -> tuple[list, list, dict]:
-    """The layout, improved where a side's branch and bound met better, and its bounds U_s, U_e.
+def certify_d(planner, sensors: list, exciters: list, relaxation: str, steps: int) -> tuple[list, list, dict, Work]:
+    """The layout, improved where a side's branch and bound met better, its bounds U_s, U_e, and the work spent.
 
     ``planner`` is the placement.planner.Planner over every candidate. Each side's relaxation
-    bounds it first; for ``seconds`` then, the side whose bound is the larger (the one that
-    sets the certified efficiency) is tightened by its branch and bound, a slice at a time,
+    bounds it first; for ``steps`` relaxation steps then, the side whose bound is the larger (the one
+    that sets the certified efficiency) is tightened by its branch and bound, a slice at a time,
     until that side can close no further. A better selection met on one side is adopted and
-    the other side's bound computed anew (module docstring); when time runs out before that
+    the other side's bound computed anew (module docstring); when the steps run out before that
     bound is as tight as the one given up, the layout before is returned with its bounds
-    (the one of greater certified efficiency, both bounds valid for it).
+    (the one of greater certified efficiency, both bounds valid for it). A budget of work, not of
+    seconds: the certificate a plan states is the same on any machine.
     """
-    deadline = time.perf_counter() + seconds
+    work = Work(steps, STEPS)
     sides, layout = _Sides(planner), {"sensors": list(sensors), "exciters": list(exciters)}
-    bounds = {side: sides.bound(side, layout, relaxation) for side in SIDES}
+    bounds = {side: sides.bound(side, layout, relaxation, work) for side in SIDES}
 
     def certified() -> tuple:
         value = sides.problem(SIDES[0], layout).value(layout[SIDES[0]])
@@ -87,17 +90,17 @@ def certify_d(planner, sensors: list, exciters: list, relaxation: str, seconds: 
         return value - max(stated.values()), layout["sensors"], layout["exciters"], stated
 
     before = []
-    while time.perf_counter() < deadline:
+    while not work.reached():
         side = max(SIDES, key=lambda s: bounds[s].bound)
         if bounds[side].finished:
             break
-        bounds[side].tighten(min(deadline, time.perf_counter() + SLICE), deadline)
+        bounds[side].tighten(min(work.limit, work.spent + SLICE), work.limit)
         problem = sides.problem(side, layout)
         if problem.value(bounds[side].best) > problem.value(layout[side]) + 1e-9:
             before.append(certified())
             layout = {**layout, side: bounds[side].best}
-            bounds[_other(side)] = sides.bound(_other(side), layout, relaxation)
-    return max([certified()] + before, key=lambda c: c[0])[1:]
+            bounds[_other(side)] = sides.bound(_other(side), layout, relaxation, work)
+    return *max([certified()] + before, key=lambda c: c[0])[1:], work
 
 
 def certify_criterion(planner, sensors: list, exciters: list) -> dict:

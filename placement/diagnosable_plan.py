@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Callable, Iterator
 
+from massline.placement.certification import CERTIFY_STEPS
 from massline.placement.candidates import CandidateOptions
 from massline.placement.diagnosability import UndiagnosableError
 from massline.core.errors import MasslineError, param
@@ -52,7 +53,7 @@ def cheapest_diagnosable(
     fixed_sensors: Lines | None = None,
     fixed_exciters: Lines | None = None,
     relaxation: str = "first-order",
-    certify_seconds: float = 20.0,
+    certify_steps: int = CERTIFY_STEPS,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
     evaluations: int = EVALUATIONS,
@@ -64,20 +65,20 @@ def cheapest_diagnosable(
     anchored(body, fixed_sensors, fixed_exciters, options)  # conflicting fixed lines refused before any work
     work = Work(evaluations, UNIT)
 
-    def planned(budget: Budget, diagnosable: bool, seconds: float) -> Plan:
+    def planned(budget: Budget, diagnosable: bool, steps: int) -> Plan:
         return plan(
             body, budget, options, noise, fixed_sensors=fixed_sensors, fixed_exciters=fixed_exciters,
-            relaxation=relaxation, planar=planar, certify_seconds=seconds, criterion=criterion,
+            relaxation=relaxation, planar=planar, certify_steps=steps, criterion=criterion,
             diagnosable=diagnosable, work=work,
         )  # fmt: skip
 
     progress("the minimal layout", 0.0)
-    minimal = planned(minimal_budget(planar), False, 0.0)
+    minimal = planned(minimal_budget(planar), False, 0)
     tried = []
     for budget in budgets(planar):
         progress(f"a diagnosable layout of {_size(budget)} ({work.spent} of {work.limit} {UNIT} spent)", work.fraction)
         try:
-            found = planned(budget, True, certify_seconds)
+            found = planned(budget, True, certify_steps)
         except UndiagnosableError:
             tried.append(budget)
             continue

@@ -22,6 +22,7 @@ from massline.core.lines import Lines
 from massline.meshes.loader import UNITS, BodyMesh
 from massline.core.model import RigidModel
 from massline.placement.mountable import Surface, snap
+from massline.placement.certification import CERTIFY_STEPS
 from massline.placement.planner import plan_on_candidates
 from massline.placement.sliding import slide
 from massline.placement.work import Work
@@ -122,7 +123,7 @@ def plan(
     relaxation: str = "first-order",
     starts: int = 3,
     planar: bool | None = None,
-    certify_seconds: float = 20.0,
+    certify_steps: int = CERTIFY_STEPS,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
     diagnosable: bool = False,
@@ -152,7 +153,7 @@ def plan(
         relaxation=relaxation,
         starts=starts,
         seed=options.seed,
-        certify_seconds=certify_seconds,
+        certify_steps=certify_steps,
         progress=progress,
         criterion=criterion,
         diagnosable=diagnosable,

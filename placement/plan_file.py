@@ -103,6 +103,7 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
             "condition_systems": {k: condition_systems(plan.model.planar).get(k, k) for k in plan.condition},
             "d_efficiency_lower_bound": plan.d_efficiency_lower_bound,
             "upper_bounds": plan.d_bounds,
+            "certificate": None if plan.certificate is None else plan.certificate.as_dict(),
             "worst_relative_std": plan.worst_relative_std,
             "sliding": _sliding(plan),
         },

@@ -27,7 +27,7 @@ from typing import Callable
 
 from massline.placement.alternation import EVALUATIONS, WORKING_SET, Planner, PlannerSettings
 from massline.placement.candidates import CandidateLines
-from massline.placement.certification import certify_criterion, certify_d
+from massline.placement.certification import CERTIFY_STEPS, certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.diagnosability import UndiagnosableError
 from massline.placement.footprints import Footprints
@@ -36,7 +36,7 @@ from massline.core.information import NoiseModel
 from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
-from massline.placement.work import Work
+from massline.placement.work import Reached, Work
 
 __all__ = [  # the planner's vocabulary, from here as from the modules that define it
     "WORKING_SET", "Budget", "CandidateLines", "Found", "Planner", "PlannerSettings",
@@ -119,17 +119,22 @@ def searched(settings: PlannerSettings, planner: Planner, starts: int, seed: int
 
 
 def certified(
-    settings: PlannerSettings, planner: Planner, layout: tuple[list, list], relaxation: str, seconds: float
-) -> tuple[list, list, dict, dict]:
+    settings: PlannerSettings, planner: Planner, layout: tuple[list, list], relaxation: str, steps: int
+) -> tuple[list, list, dict, dict, Reached]:
     """The layout (improved where the D certificate's branch and bound met better), the bounds of its criterion
-    and those of log det F (``certification``): an A or E layout's bounds are its criterion's, over every
-    layout (diagnosable or not)."""
+    and those of log det F (``certification``), and what the D certificate spent of its ``steps``: an A or E
+    layout's bounds are its criterion's, over every layout (diagnosable or not)."""
     if settings.criterion is D:
-        sensors, exciters, d_bounds = certify_d(planner, *layout, relaxation, seconds)
-        return sensors, exciters, d_bounds, d_bounds
-    d_bounds = certify_d(planner, *layout, relaxation, 0.0)[2]
+        sensors, exciters, d_bounds, work = certify_d(planner, *layout, relaxation, steps)
+        return sensors, exciters, d_bounds, d_bounds, spent(work)
+    *_, d_bounds, work = certify_d(planner, *layout, relaxation, 0)
     everyone = replace(settings, diagnosable=False).planner(planner.s, planner.e)
-    return *layout, certify_criterion(everyone, *layout), d_bounds
+    return *layout, certify_criterion(everyone, *layout), d_bounds, spent(work)
+
+
+def spent(work: Work) -> Reached:
+    """What the D certificate spent: stopped when its budget ended it before it could close no further."""
+    return Reached(work.spent, work.limit, work.unit, work.reached(), "the bounds stated")
 
 
 def plan_on_candidates(
@@ -144,7 +149,7 @@ def plan_on_candidates(
     relaxation: str = "first-order",
     starts: int = 3,
     seed: int = 0,
-    certify_seconds: float = 20.0,
+    certify_steps: int = CERTIFY_STEPS,
     progress: Callable[[str, float], None] = lambda stage, fraction: None,
     criterion: str = "D",
     diagnosable: bool = False,
@@ -153,8 +158,8 @@ def plan_on_candidates(
 ) -> Plan:
     """The best layout of ``budget`` among given candidate lines, certified, with predicted 1-σ.
 
-    ``certify_seconds`` bounds the branch and bound that tightens the D certificate;
-    what it reaches by then is what the plan states. ``criterion`` is "D", "A" or "E"
+    ``certify_steps`` bounds the branch and bound that tightens the D certificate (relaxation steps, a budget of
+    work, not of seconds); what it reaches by then is what the plan states. ``criterion`` is "D", "A" or "E"
     (criteria.py): A and E alternate from the D layout by their own criterion. ``diagnosable``: only
     layouts in which one faulty channel or hit can be located are admitted (the certificate's bound covers
     all layouts). ``starts``: the alternation starts from the greedy exciters and ``starts`` − 1 random
@@ -178,9 +183,9 @@ def plan_on_candidates(
     planner = replace(settings, criterion=D).planner(sensor_side, exciter_side)
     planner.check_directions()
     layout = searched(settings, planner, starts, seed, progress)
-    planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its seconds instead
+    planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its steps instead
     progress("certifying", 0.85)
-    sensors, exciters, bounds, d_bounds = certified(settings, planner, layout, relaxation, certify_seconds)
+    sensors, exciters, bounds, d_bounds, certificate = certified(settings, planner, layout, relaxation, certify_steps)
     S_all, E_all = planner.layout(sensors, exciters)
     assessment = assessed(model, S_all, E_all, noise)
     progress("done", 1.0)
@@ -196,6 +201,7 @@ def plan_on_candidates(
         criterion=settings.criterion,
         value=settings.criterion.value(assessment["information"]),
         d_bounds=d_bounds,
+        certificate=certificate,
         candidate_log_det=assessment["log_det"],
         **assessment,
     )

@@ -91,6 +91,7 @@ class Plan:
     candidate_log_det: float = np.nan  # log det F of the layout chosen among the candidates, before sliding
     candidate_value: float = np.nan  # its criterion value (NaN: not slid, ``value`` is the candidate layout's)
     search: Reached | None = None  # what the diagnosable search spent and reached (None: the budget was given)
+    certificate: Reached | None = None  # what the D certificate's branch and bound spent of its relaxation steps
 
     @property
     def point_labels(self) -> tuple[np.ndarray, np.ndarray]:

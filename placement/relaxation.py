@@ -19,12 +19,11 @@ the relaxation loose: certificate.py tightens it.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from massline.core.information import log_det
 from massline.placement.selection import BlockProblem, leverages
+from massline.placement.work import Work
 
 
 def upper_bound(problem: BlockProblem, M: np.ndarray, c: np.ndarray | None = None) -> float:
@@ -97,7 +96,8 @@ def relax_first_order(
     refresh: int = 25,
     stop_below: float = -np.inf,
     stop_above: float = np.inf,
-    deadline: float = np.inf,
+    work: Work | None = None,
+    until: int | None = None,
 ) -> tuple[np.ndarray, float]:
     """Pairwise Frank–Wolfe on the relaxation, from the selection ``start`` (or ``weights``).
 
@@ -107,8 +107,8 @@ def relax_first_order(
     leverages per group), refreshed with the full leverages every ``refresh``
     steps, when the bound over all candidates is evaluated. It stops when the
     bound is within ``tol`` of the relaxed value, falls to ``stop_below``, or the
-    relaxed value passes ``stop_above`` (branch and bound needs no more), or at
-    ``deadline`` (time.perf_counter()). Returns the weights and the certified bound U.
+    relaxed value passes ``stop_above`` (branch and bound needs no more), or when ``work`` (one unit a step)
+    reaches ``until`` (default its limit). Returns the weights and the certified bound U.
     """
     n = len(problem.blocks)
     if weights is None:
@@ -137,23 +137,25 @@ def relax_first_order(
             value = log_det(M)
             if best_bound - value < tol or best_bound <= stop_below or value >= stop_above:
                 break
-            if time.perf_counter() > deadline:
+            if work is not None and work.reached(until):
                 break
             if np.linalg.cond(M) > 1e13:  # rounding has caught up with the iterate: keep the bound so far
                 break
-            work = np.flatnonzero(z > 0)
+            active = np.flatnonzero(z > 0)
             for g in range(len(problem.budgets)):
                 members = np.flatnonzero(problem.group == g)
-                work = np.union1d(work, members[np.argsort(c_all[members])[-working_size:]])
-        c = leverages(problem.blocks[work], np.linalg.inv(M))
+                active = np.union1d(active, members[np.argsort(c_all[members])[-working_size:]])
+        if work is not None:
+            work.tally()
+        c = leverages(problem.blocks[active], np.linalg.inv(M))
         step = None
         for g in range(len(problem.budgets)):
-            in_g = problem.group[work] == g
-            towards, away = in_g & (z[work] < 1), in_g & (z[work] > 0)
+            in_g = problem.group[active] == g
+            towards, away = in_g & (z[active] < 1), in_g & (z[active] > 0)
             if towards.any() and away.any():
                 j, i = np.argmax(np.where(towards, c, -np.inf)), np.argmin(np.where(away, c, np.inf))
                 if step is None or c[j] - c[i] > step[0]:
-                    step = (c[j] - c[i], work[i], work[j])
+                    step = (c[j] - c[i], active[i], active[j])
         if step is None or step[0] <= 1e-12:
             break
         _, i, j = step

@@ -3,11 +3,16 @@ seconds, so that where it stops is reproducible) and stops at its limit, saying 
 
 The diagnosable search (:mod:`.diagnosable_plan`) counts diagnosability evaluations: one per layout whose
 leverages and confusions (:mod:`.diagnosability`) are computed, a stack of trials counting as many as it holds.
+The D certificate (:mod:`.certification`) counts relaxation steps: one per step of the first-order relaxation
+(:func:`.relaxation.relax_first_order`) of any branch-and-bound node; its parts stop at marks on one count.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+STEPS = "relaxation steps"  # the D certificate's unit of work (:mod:`.certification`)
+DEFAULT_STEPS = 100_000  # a branch and bound run with no budget given
 
 
 class WorkSpent(Exception):
@@ -24,6 +29,14 @@ class Work:
     limit: int
     unit: str
     spent: int = 0
+
+    def tally(self, units: int = 1) -> None:
+        """Count ``units`` without stopping: a search that checks :meth:`reached` itself (the certificate)."""
+        self.spent += units
+
+    def reached(self, mark: int | None = None) -> bool:
+        """Whether the units spent have come to ``mark`` (default: the limit)."""
+        return self.spent >= (self.limit if mark is None else mark)
 
     def spend(self, units: int) -> None:
         """Count ``units``; past the limit, raise :class:`WorkSpent` (what was spent stays counted)."""

@@ -16,7 +16,7 @@ from massline.core.band import Band, frf_scales, held_band, stray
 from massline.core.masslines import synthesise
 from massline.placement.on_surface import plan
 from massline.core.band import band_from_dict, band_to_dict
-from massline.virtual.planned_test import plan_test, planned_suspension
+from massline.virtual.planned_test import FEModel, plan_test, planned_suspension
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
@@ -65,7 +65,7 @@ def test_no_frf_strays_beyond_the_tolerance_inside_the_planned_band(name):
     material = Material(BUNDLED[name].youngs, BUNDLED[name].poisson, body.density)
     size = max(default_size(body.mesh), size_for_dofs(body.mesh, 8000))
     modes = ElasticBody.from_mesh(body.mesh, material, size).modes(20)
-    test, _ = plan_test(body, name, planned.sensors, planned.exciters, None, modes)
+    test, _ = plan_test(body, name, planned.sensors, planned.exciters, None, FEModel(modes, material))
     band = band_from_dict(test["band"])
     assert band.exists and band.ratio >= 1.5 and band.tolerance <= 0.05
     model = SuspendedBody(body.nominal, modes, Suspension.from_dict(test["suspension"]))

@@ -73,15 +73,16 @@ def test_only_admissible_selections_become_the_best_and_the_bound_still_covers_a
 
 
 def test_certify_d_never_states_less_than_its_relaxation_nor_a_wrong_bound():
-    """Whatever the time, the stated gap is at least the relaxation's at the given layout (a better selection
-    adopted late never costs the certificate), and each side's bound covers every change of that side."""
+    """Whatever the budget, the stated gap is at least the relaxation's at the given layout (a better selection
+    adopted late never costs the certificate), and each side's bound covers every change of that side; the work
+    spent stays within the budget, but for the relaxation steps of the node running when it ran out."""
     planner, _ = _planner(3000)
     sensors, exciters = _admitted_layout(planner, 300)
-    relaxation = _gap(planner, sensors, exciters, certify_d(planner, sensors, exciters, "first-order", 0.0)[2])
-    for seconds in (0.05, 0.3, 1.0):
-        s, e, bounds = certify_d(planner, sensors, exciters, "first-order", seconds)
-        assert planner.admits(s, e)
-        assert _gap(planner, s, e, bounds) >= relaxation - 1e-9, seconds
+    relaxation = _gap(planner, sensors, exciters, certify_d(planner, sensors, exciters, "first-order", 0)[2])
+    for steps in (100, 800, 2500):
+        s, e, bounds, work = certify_d(planner, sensors, exciters, "first-order", steps)
+        assert planner.admits(s, e) and work.spent <= steps + 25  # the relaxation looks every 25 steps
+        assert _gap(planner, s, e, bounds) >= relaxation - 1e-9, steps
 
 
 def test_side_bound_ends_within_its_last_target_or_at_a_better_inadmissible_selection():
@@ -116,6 +117,15 @@ def test_minimal_plan_on_1e5_lines_is_certified_within_95_percent():
     """The issue's scale: 1e5 candidate lines, the paper's 6 × 3. Time is measured in benchmarks/plan_scaling.py
     (about 4 s on 2 cores); here the branch and bound is given room for a slower machine."""
     planner, side = _planner(100_000)
-    plan = plan_on_candidates(planner.model, side, side, Budget(6, 3), certify_seconds=10.0)
+    plan = plan_on_candidates(planner.model, side, side, Budget(6, 3), certify_steps=25000)
     assert plan.d_efficiency_lower_bound >= 0.95
     assert kinematic_condition(planner.model, plan.sensors) <= KINEMATIC_LIMIT
+
+
+def test_the_certificate_is_the_same_whatever_the_machine():
+    """A budget of relaxation steps, not seconds: two runs state the same bounds and layout, to the bit, however
+    long each took (with seconds, a slower machine stated 94.12 % where the README said 95.06 %)."""
+    planner, _ = _planner(3000)
+    sensors, exciters = _admitted_layout(planner, 300)
+    first, second = (certify_d(planner, sensors, exciters, "first-order", 800) for _ in range(2))
+    assert first[:3] == second[:3] and first[3].spent == second[3].spent

@@ -143,7 +143,7 @@ def test_plan_off_a_terminal_shows_progress_on_stderr_and_says_where_its_search_
     run = massline("plan", "plate", "--search-evaluations", "50", "--out", tmp_path)
     assert run.returncode == 0, run.stderr
     lines = run.stderr.splitlines()
-    assert len(lines) >= 3 and all(PROGRESS.match(line) for line in lines), run.stderr
+    assert lines and all(PROGRESS.match(line) for line in lines), run.stderr  # the FE, solved beside, may be done
     assert not any(PROGRESS.match(line) for line in run.stdout.splitlines())
     assert "diagnosable search: stopped after 50 of 50 diagnosability evaluations; reached" in run.stdout
     doc = json.loads((tmp_path / "plan.json").read_text())

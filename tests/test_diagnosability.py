@@ -93,7 +93,7 @@ def test_budgets_start_at_the_cheapest_that_can_be_diagnosable():
 @lru_cache(maxsize=None)
 def default_plan(name: str):
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
-    return mesh, cheapest_diagnosable(mesh, certify_seconds=0.0)
+    return mesh, cheapest_diagnosable(mesh, certify_steps=0)
 
 
 @pytest.mark.slow
@@ -186,7 +186,7 @@ def test_a_stack_of_layouts_is_judged_as_each_one_alone():
 
 def test_a_search_out_of_evaluations_plans_the_minimal_layout_and_says_what_it_reached():
     mesh = load_body(BUNDLED["plate"].path, "m", BUNDLED["plate"].density)
-    p = cheapest_diagnosable(mesh, certify_seconds=0.0, evaluations=50)
+    p = cheapest_diagnosable(mesh, certify_steps=0, evaluations=50)
     assert p.search.stopped and (p.search.spent, p.search.limit) == (50, 50)
     assert (len(p.sensors), len(p.exciters)) == (3, 3) and not p.diagnosability.diagnosable
     assert p.search.sentence.startswith("stopped after 50 of 50 diagnosability evaluations; reached no budget")

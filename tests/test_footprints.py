@@ -118,7 +118,7 @@ BODIES = ("plate", "structure", "bracket")
 @pytest.fixture(scope="module", params=BODIES)
 def minimal_plan(request):
     body = bundled(request.param)
-    return plan(body, minimal_budget(is_plate(body)), certify_seconds=2.0)
+    return plan(body, minimal_budget(is_plate(body)), certify_steps=5000)
 
 
 @pytest.mark.slow
@@ -128,7 +128,7 @@ def test_minimal_plans_of_the_bundled_bodies_are_mountable_together(minimal_plan
 
 @pytest.fixture(scope="module", params=BODIES)
 def default_plan(request):
-    return cheapest_diagnosable(bundled(request.param), certify_seconds=2.0)
+    return cheapest_diagnosable(bundled(request.param), certify_steps=5000)
 
 
 @pytest.mark.slow
@@ -143,7 +143,7 @@ def test_default_plans_of_the_bundled_bodies_are_mountable_together(default_plan
 def test_plans_of_the_cad_parts_are_mountable_together(name):
     units, budget, options = CAD[name]
     body = load_body(FIXTURE_MESHES / name, units, density=2700)
-    p = plan(body, budget, options, certify_seconds=1.0)
+    p = plan(body, budget, options, certify_steps=2500)
     assert_mountable_together(p, Footprint(options.sensor_base, options.hammer_tip))
 
 
@@ -151,7 +151,7 @@ def test_fixed_lines_kept_apart_from_the_planned_ones():
     body = bundled("structure")
     fixed = Lines([[0.006, 0.06, 0.15]], [[0.0, 0.0, 1.0]])  # the column's top
     p = plan(body, Budget(6, 3), fixed_sensors=fixed, fixed_exciters=Lines([[0.16, 0.06, 0.006]], [[-1.0, 0, 0]]),
-             certify_seconds=1.0)  # fmt: skip
+             certify_steps=2500)  # fmt: skip
     normals = np.vstack([[0.0, 0, 1], p.candidates.normals[p.sensor_nodes[1:]]])
     hit_normals = np.vstack([[-1.0, 0, 0], p.candidates.normals[p.exciter_nodes[1:]]])
     assert conflicts(Sites(p.sensors.points, normals), Sites(p.exciters.points, hit_normals), FOOTPRINT) == []

@@ -35,7 +35,7 @@ def test_file(tmp_path_factory):
     """A small virtual test of the structure: 10 accelerometers and 4 hits as planned, rigid, on the planned
     cord, 400 lines to 150 Hz, one sensor's gain 29 % low (line 2): the UFF and the planned band."""
     body = bundled("structure")
-    planned = plan(body, Budget(10, 4), CandidateOptions(n_samples=200), certify_seconds=1.0)
+    planned = plan(body, Budget(10, 4), CandidateOptions(n_samples=200), certify_steps=2500)
     bench = Bench(body.nominal, planned.sensors, planned.exciters, None, 150.0, lines=400)
     recording, truth = scenario(bench, "sensor_gain", 1, effects=BY_NAME)
     assert truth["faults"][0]["lines"] == [2]

@@ -109,7 +109,7 @@ def test_bundled_plans_are_mountable_and_sliding_gains(bundled_plans, name):
 def test_cad_plans_are_mountable(name):
     units, budget, options = CAD[name]
     body = load_body(FIXTURE_MESHES / name, units, density=2700)
-    p = plan(body, budget, options, certify_seconds=5.0)
+    p = plan(body, budget, options, certify_steps=12500)
     assert_mountable(body, p)
     assert p.sliding.gain >= 0
 
@@ -135,7 +135,7 @@ def test_a_base_larger_than_the_faces_is_refused(tmp_path):
 def test_fixed_sensor_is_snapped_onto_the_surface():
     body = bundled("structure")
     fixed = Lines([[0.006, 0.06, 0.1515]], [[0.0, 0.0, 2.0]])  # 1.5 mm above the column's top
-    p = plan(body, Budget(6, 3), fixed_sensors=fixed, certify_seconds=2.0)
+    p = plan(body, Budget(6, 3), fixed_sensors=fixed, certify_steps=5000)
     np.testing.assert_allclose(p.sensors.points[0], [0.006, 0.06, 0.15], atol=1e-12)
     np.testing.assert_allclose(p.sensors.directions[0], [0.0, 0.0, 1.0])
     assert p.sensor_nodes[0] == -1 and len(p.sensors) == 7

@@ -52,12 +52,29 @@ def model_key(mesh: trimesh.Trimesh, material: Material, size: float, n: int) ->
     return digest.hexdigest()
 
 
+def as_arrays(modes: ElasticModes) -> dict:
+    """The arrays the modes are rebuilt from (:func:`from_arrays`): nodes (m), tetrahedra, element size (m),
+    ω (rad/s) and shapes."""
+    return {
+        "points": modes.basis.mesh.p.T,
+        "tets": modes.basis.mesh.t.T,
+        "element_size": modes.element_size,
+        "omega": modes.omega,
+        "shapes": modes.shapes,
+    }
+
+
+def from_arrays(arrays, material: Material) -> ElasticModes:
+    """The modes of :func:`as_arrays`' arrays (a dict or an open .npz), on their basis rebuilt."""
+    body = ElasticBody(arrays["points"], arrays["tets"], material, float(arrays["element_size"]))
+    return ElasticModes(np.asarray(arrays["omega"]), np.asarray(arrays["shapes"]), body.basis, body.element_size)
+
+
 def load(path: Path, material: Material) -> ElasticModes | None:
     """The modes kept in ``path``, or None when there are none (or the file is unreadable)."""
     try:
         with np.load(path) as kept:
-            body = ElasticBody(kept["points"], kept["tets"], material, float(kept["element_size"]))
-            return ElasticModes(kept["omega"], kept["shapes"], body.basis, body.element_size)
+            return from_arrays(kept, material)
     except (OSError, KeyError, ValueError):
         return None
 
@@ -71,14 +88,7 @@ def store(path: Path, modes: ElasticModes) -> None:
         return
     try:
         with os.fdopen(handle, "wb") as file:
-            np.savez(
-                file,
-                points=modes.basis.mesh.p.T,
-                tets=modes.basis.mesh.t.T,
-                element_size=modes.element_size,
-                omega=modes.omega,
-                shapes=modes.shapes,
-            )
+            np.savez(file, **as_arrays(modes))
         os.replace(temporary, path)
     except OSError:
         pass

@@ -101,8 +101,15 @@ def fe_model(
     return FEModel(modes, material, kept, assumed)
 
 
+def plan_fe_model(body: BodyMesh, mesh_name: str | None, progress=None) -> FEModel:
+    """simulate's default FE model of ``body`` (``MODES`` modes), in its material (:func:`body_material`; the
+    metal assumed named), from the cache or solved (``progress`` over the solve)."""
+    material = body_material(body, mesh_name)
+    return fe_model(body, material, progress=progress, assumed=assumed_material(body, mesh_name))
+
+
 def plan_test(
-    body: BodyMesh, mesh_name: str | None, sensors, exciters, progress=None, modes: ElasticModes | None = None
+    body: BodyMesh, mesh_name: str | None, sensors, exciters, progress=None, fe: FEModel | None = None
 ) -> tuple[dict, FEModel]:
     """Choose the support a test of ``sensors`` × ``exciters`` hangs ``body`` on, and predict its band.
 
@@ -116,8 +123,8 @@ def plan_test(
         The plan's accelerometer and hit lines (m).
     progress : callable, optional
         ``progress(stage, done, total)`` over the FE solve (module docstring).
-    modes : ElasticModes, optional
-        The free body's elastic modes to predict on; default: simulate's default FE model (``MODES`` modes).
+    fe : FEModel, optional
+        The free body's elastic modes to predict on; default: :func:`plan_fe_model` (solved or read back here).
 
     Returns
     -------
@@ -126,13 +133,8 @@ def plan_test(
     fe : FEModel
         The elastic modes they were predicted on and their material.
     """
-    material = body_material(body, mesh_name)
-    assumed = assumed_material(body, mesh_name)
-    if modes is None:
-        fe = fe_model(body, material, progress=progress, assumed=assumed)
-    else:
-        fe = FEModel(modes, material, False, assumed)
-    modes = fe.modes
+    fe = plan_fe_model(body, mesh_name, progress) if fe is None else fe
+    modes, material = fe.modes, fe.material
     models = [SuspendedBody(body.nominal, modes, s) for s in support_candidates(body.mesh, body.nominal)]
     (chosen, band), *others = choose_support(models, sensors, exciters)
     elastic = {

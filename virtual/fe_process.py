@@ -1,0 +1,70 @@
+"""The plan's FE model solved in a second process, while the layout is searched in the first.
+
+The FE model a plan predicts its band on (:func:`massline.virtual.planned_test.plan_fe_model`) does not depend on
+the layout, and the layout search does not need it: on two cores the two overlap, so a plan takes the longer of
+the two instead of their sum (a 64-facet cylinder's 27 000-DOF solve is about 25 s). The process is started by
+``spawn`` (a fresh interpreter: no thread of this one is forked), gets the body, and sends the modes back as the
+arrays the cache keeps (:func:`massline.virtual.fe_cache.as_arrays`), or the error it met, which is raised here.
+It is a daemon, terminated when it is no longer wanted (``close``) and when this process exits.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+
+from massline.meshes.loader import BodyMesh
+from massline.virtual.fe_cache import as_arrays, from_arrays
+from massline.virtual.planned_test import FEModel, plan_fe_model
+
+POLL = 0.25  # s between looks at the pipe while waiting (so that Ctrl-C is taken at once)
+
+
+def _solve(body: BodyMesh, mesh_name: str | None, pipe) -> None:
+    """In the second process: each stage of the solve as ("stage", name, done, total), then the plan's FE model
+    as ("modes", arrays, material, kept, assumed), or ("error", the exception met)."""
+    try:
+        fe = plan_fe_model(body, mesh_name, lambda *stage: pipe.send(("stage", *stage)))
+        pipe.send(("modes", as_arrays(fe.modes), fe.material, fe.kept, fe.assumed))
+    except BaseException as error:  # noqa: BLE001 — handed to the first process, which raises it
+        pipe.send(("error", error))
+    finally:
+        pipe.close()
+
+
+class FEInProcess:
+    """The plan's FE model of ``body`` being solved in a second process (module docstring)."""
+
+    def __init__(self, body: BodyMesh, mesh_name: str | None):
+        context = multiprocessing.get_context("spawn")
+        self._pipe, sending = context.Pipe(duplex=False)
+        self._process = context.Process(target=_solve, args=(body, mesh_name, sending), daemon=True)
+        self._process.start()
+        sending.close()
+
+    def result(self, progress=None) -> FEModel:
+        """The FE model, once solved; each stage of the solve, as it is read, to ``progress(stage, done, total)``
+        (the stages the search outlasted at once, then the one under way)."""
+        try:
+            while True:
+                if not self._pipe.poll(POLL):
+                    if not self._process.is_alive() and not self._pipe.poll():
+                        raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}")
+                    continue
+                kind, *got = self._pipe.recv()
+                if kind != "stage":
+                    break
+                if progress is not None:
+                    progress(*got)
+        finally:
+            self.close()
+        if kind == "error":
+            raise got[0]
+        arrays, material, kept, assumed = got
+        return FEModel(from_arrays(arrays, material), material, kept, assumed)
+
+    def close(self) -> None:
+        """Stop the process, if it still runs, and release the pipe."""
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join()
+        self._pipe.close()
