@@ -331,7 +331,10 @@ def estimate(
         MasslineError (a ValueError) where θ is no body (a mass ≤ 0)."""
         if not theta[0] > 0:
             raise MasslineError(f"a mass of {theta[0]:.4g} kg is not physical: the data or the layout are wrong")
-        moved = RigidModel(model.body(theta), planar)
+        return on(RigidModel(model.body(theta), planar), tilt)
+
+    def on(moved: RigidModel, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
+        """``moved``'s weighted system and masslines with the channels tilted by ``tilt``."""
         s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
         system, H = weighted_system(
             moved, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
@@ -339,7 +342,7 @@ def estimate(
         )
         return moved, system, H, tilt
 
-    model, system, H, tilt = at(model.theta, tilt)
+    model, system, H, tilt = on(model, tilt)  # the start as given (θ → body loses J_G's digits far from O)
     for _ in range(iterations):
         try:
             x, tau, _ = system.step()
