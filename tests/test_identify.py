@@ -142,7 +142,8 @@ def test_masslines_no_body_fits_give_a_body_not_a_crash(structure, seed):
         assert "the estimate diverged" in str(refused)
         return
     assert found.body.mass > 0 and np.all(np.isfinite(found.body.theta))
-    assert np.sum((found.residual / sigma) ** 2) <= np.sum((start.residual / sigma) ** 2) * (1 + 1e-9)
+    if is_consistent(start.model.theta, start.model.scale[-1]):  # else the way back to a body may cost fit
+        assert np.sum((found.residual / sigma) ** 2) <= np.sum((start.residual / sigma) ** 2) * (1 + 1e-9)
 
 
 def test_singular_layout_is_refused(structure, tmp_path):
