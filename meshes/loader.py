@@ -115,6 +115,28 @@ def validate_solid(mesh: trimesh.Trimesh, name: str) -> None:
             f"{name} is inside-out: its faces are wound inward, so its volume is negative "
             f"({mesh.volume:.4g}); flip the normals (e.g. trimesh.repair.fix_inversion) and export again"
         )
+    if not encloses_a_solid(mesh):
+        raise MasslineError(
+            f"{name} folds through itself: its faces are closed and wound outward, yet the volume they bound has "
+            "the centre of mass or the inertia no solid has; remove the self-intersections and export again"
+        )
+
+
+def encloses_a_solid(mesh: trimesh.Trimesh) -> bool:
+    """Whether the mass properties the faces give (unit density) are those of a solid.
+
+    A solid's centre of mass lies within its bounding box and its second moments about it,
+    Σ = ½ tr(J) I − J (the body's covariance times its mass, J the inertia tensor about the CoG),
+    are positive definite. A surface that passes through itself counts some regions negatively and
+    can break either.
+    """
+    props = trimesh.triangles.mass_properties(mesh.triangles, density=1.0)
+    lo, hi = mesh.bounds
+    slack = 1e-9 * float(np.max(mesh.extents))
+    inside = bool(np.all(props["center_mass"] >= lo - slack) and np.all(props["center_mass"] <= hi + slack))
+    inertia = props["inertia"]
+    moments = np.linalg.eigvalsh(0.5 * np.trace(inertia) * np.eye(3) - inertia)
+    return inside and moments.min() > 0
 
 
 def check_density(density: float, source: str = "") -> float:

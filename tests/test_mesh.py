@@ -148,6 +148,21 @@ def test_inconsistent_winding_is_refused(tmp_path):
         load_body(tmp_path / "flipped.ply", "m", density=1000)
 
 
+def test_a_surface_folded_through_itself_is_refused(tmp_path):
+    """A corner pushed through the opposite face: closed, wound outward, positive volume, yet no solid
+    (its second moments about the CoG are not positive definite); a corner pulled out is a solid."""
+    for corner, solid in [((0.5, 0.5, -2.0), False), ((3.0, 3.0, 3.0), True)]:  # in decimetres of a 1 dm cube
+        mesh = trimesh.creation.box([0.1, 0.1, 0.1])
+        mesh.vertices[np.argmax(mesh.vertices.sum(axis=1))] = np.array(corner) / 10
+        assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+        mesh.export(tmp_path / "folded.obj")
+        if solid:
+            assert load_body(tmp_path / "folded.obj", "m", density=100).nominal.mass > 0
+        else:
+            with pytest.raises(MasslineError, match="folds through itself"):
+                load_body(tmp_path / "folded.obj", "m", density=100)
+
+
 @pytest.mark.parametrize(
     "content,match",
     [
