@@ -25,6 +25,7 @@ from massline.core.rigid_body import (
     RigidBody,
     mass_matrix,
     mass_matrix_basis,
+    physical_mass,
     steiner,
     tensor_from_six,
 )
@@ -87,6 +88,7 @@ class RigidModel:
         if not self.planar:
             return RigidBody.from_theta(theta)
         m, mcx, mcy, jxx, jyy, jxy = theta
+        m = physical_mass(m)
         cog = np.array([mcx / m, mcy / m, 0.0])
         J_O = tensor_from_six([jxx, jyy, self.nominal.inertia_origin[2, 2], jxy, 0.0, 0.0])
         return RigidBody(m, cog, J_O - steiner(m, cog))

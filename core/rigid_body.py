@@ -113,6 +113,13 @@ def principal(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return moments, axes
 
 
+def physical_mass(m: float) -> float:
+    """``m`` (kg) when a body can have it; MasslineError otherwise (an estimate run off to m ≤ 0)."""
+    if not m > 0:
+        raise MasslineError(f"a mass of {m:.4g} kg is not physical: the data or the layout are wrong")
+    return m
+
+
 @dataclass(frozen=True, eq=False)
 class RigidBody:
     """Mass (kg), centre of gravity (m) and inertia about the CoG (kg·m²), frame O xyz."""
@@ -130,9 +137,7 @@ class RigidBody:
     @classmethod
     def from_theta(cls, theta: np.ndarray) -> "RigidBody":
         """The body of the 10 parameters θ (J about O)."""
-        m = theta[0]
-        if not m > 0:
-            raise MasslineError(f"a mass of {m:.4g} kg is not physical: the data or the layout are wrong")
+        m = physical_mass(theta[0])
         cog = np.asarray(theta[1:4]) / m
         return cls(m, cog, tensor_from_six(theta[4:]) - steiner(m, cog))
 

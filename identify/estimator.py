@@ -27,7 +27,6 @@ and the scale said.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -41,9 +40,13 @@ from massline.core.lines import cross
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
-from massline.core.rigid_body import RigidBody, tensor_from_six
+from massline.identify.consistency import constrained_step, is_consistent
+from massline.core.rigid_body import RigidBody
 
-CONSISTENCY_MARGIN = 1e-9  # smallest eigenvalue of P kept, relative to m L²
+DIVERGED = (
+    "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band across a "
+    f"resonance?); run massline diagnose, or give {GIVE_BAND}"
+)
 TRANSVERSE = 0.03  # prior 1-σ of an accelerometer's transverse sensitivity (datasheets: 3–5 %, paper §3)
 
 
@@ -93,47 +96,6 @@ class Estimate:
     weighed: WeighedMass | None = None
     weighed_z: float = np.nan
     riding: np.ndarray | None = None
-
-
-def pseudo_inertia(theta: np.ndarray) -> np.ndarray:
-    """P(θ) (4×4, kg·m², kg·m, kg) from θ = (m, m c, J_O six, tensor sign)."""
-    J = tensor_from_six(theta[4:])
-    P = np.zeros((4, 4))
-    P[:3, :3] = 0.5 * np.trace(J) * np.eye(3) - J
-    P[:3, 3] = P[3, :3] = theta[1:4]
-    P[3, 3] = theta[0]
-    return P
-
-
-def is_consistent(theta: np.ndarray, scale: float) -> bool:
-    return bool(np.linalg.eigvalsh(pseudo_inertia(theta)).min() > CONSISTENCY_MARGIN * scale)
-
-
-def constrained_step(J: np.ndarray, r: np.ndarray, theta: np.ndarray, model: RigidModel) -> np.ndarray:
-    """argmin ‖J δ − r‖² subject to P(θ + scale·δ[:p]) ⪰ ε I (δ in scaled parameters, then any others)."""
-    import cvxpy as cp
-
-    delta = cp.Variable(J.shape[1])
-    P = sum(pseudo_inertia(np.eye(10)[k] * model.scale[k]) * delta[k] for k in range(model.p))
-    P = P + pseudo_inertia(theta)
-    epsilon = CONSISTENCY_MARGIN * model.scale[-1]
-    unit = max(float(np.abs(J).max()), 1e-300)  # the same problem, with its numbers near 1 for the solver
-    objective = cp.sum_squares((J / unit) @ delta - r / unit)
-    scale = np.diag(1 / np.sqrt(np.maximum(np.abs(np.diag(pseudo_inertia(theta))), 1e-300)))
-    psd = scale @ ((P + P.T) / 2) @ scale >> epsilon * scale @ scale
-    problem = cp.Problem(cp.Minimize(objective), [psd])
-    with warnings.catch_warnings():  # an inaccurate solution is judged below, by its status, not printed
-        warnings.simplefilter("ignore", UserWarning)
-        try:
-            problem.solve(solver=cp.CLARABEL)
-        except cp.error.SolverError:  # the solver gave up: no step, as an infeasible status
-            delta.value = None
-    if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or delta.value is None:
-        raise MasslineError(
-            "the estimate leaves the physical bodies and no physical step fits the masslines (a flipped or "
-            f"swapped channel, or a band across a resonance?); run massline diagnose, or give {GIVE_BAND}"
-        )
-    return np.asarray(delta.value)
 
 
 def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
@@ -329,8 +291,6 @@ def estimate(
     def at(theta: np.ndarray, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
         """The model re-centred at θ, its weighted system and masslines with the channels tilted by ``tilt``;
         MasslineError (a ValueError) where θ is no body (a mass ≤ 0)."""
-        if not theta[0] > 0:
-            raise MasslineError(f"a mass of {theta[0]:.4g} kg is not physical: the data or the layout are wrong")
         return on(RigidModel(model.body(theta), planar), tilt)
 
     def on(moved: RigidModel, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
@@ -346,17 +306,14 @@ def estimate(
     for _ in range(iterations):
         try:
             x, tau, _ = system.step()
-        except np.linalg.LinAlgError:  # S singular: no step (a flag below refuses)
-            x = tau = np.full(1, np.nan)
+        except np.linalg.LinAlgError:  # S singular: no step
+            raise MasslineError(DIVERGED) from None
         theta = model.theta
         if np.all(np.isfinite(x)) and not planar and not is_consistent(theta + model.scale * x, model.scale[-1]):
             step = constrained_step(*system.dense(), theta, model)
             x, tau, constrained = step[: model.p], step[model.p :].reshape(tilt.shape), True
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(tau))):
-            raise MasslineError(
-                "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band "
-                f"across a resonance?); run massline diagnose, or give {GIVE_BAND}"
-            )
+            raise MasslineError(DIVERGED)
         # from an inconsistent start the (constrained) full step is the way back to a body: taken whole
         ceiling = np.inf if not (planar or is_consistent(theta, model.scale[-1])) else system.chi2_sum
         taken = damped(at, theta, model.scale * x, tilt, tau, ceiling)

@@ -19,7 +19,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from massline.identify.estimator import Estimate, is_consistent
+from massline.identify.consistency import is_consistent
+from massline.identify.estimator import Estimate
 from massline.core.errors import MasslineError, param
 from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines

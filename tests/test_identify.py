@@ -9,7 +9,8 @@ from test_cli import massline
 from test_uff_reader import BAD, assert_command_refuses
 
 from massline.identify.zones import find_band
-from massline.identify.estimator import constrained_step, estimate, is_consistent, pseudo_inertia
+from massline.identify.consistency import constrained_step, is_consistent, pseudo_inertia
+from massline.identify.estimator import estimate
 from massline.identify.massline_fit import fit_band
 from massline.identify.pipeline import identify_recording
 from massline.identify.uncertainty import property_std
