@@ -1,9 +1,14 @@
-"""What the benchmark scripts share: timing with peak memory, accelerometers on a surface."""
+"""What the benchmark scripts share: timing with peak memory, accelerometers on a surface, `massline plan` run as a
+user runs it."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import time
 import tracemalloc
+from pathlib import Path
 
 import numpy as np
 
@@ -30,3 +35,13 @@ def surface_lines(mesh, n: int, rng) -> Lines:
     faces = rng.choice(len(mesh.faces), n, p=mesh.area_faces / mesh.area)
     points = np.einsum("nk,nkd->nd", rng.dirichlet(np.ones(3), n), mesh.triangles[faces])
     return Lines(points, mesh.face_normals[faces])
+
+
+def run_plan(arguments: list, out: Path, cache: bool = True) -> tuple[subprocess.CompletedProcess, float]:
+    """`massline plan ARGUMENTS --out OUT` in a subprocess (the FE cache off unless ``cache``): the finished
+    process and its wall-clock seconds."""
+    command = [str(Path(sys.executable).with_name("massline")), "plan", *arguments, "--out", str(out)]
+    env = os.environ if cache else {**os.environ, "MASSLINE_CACHE": "off"}
+    start = time.perf_counter()
+    run = subprocess.run(command, capture_output=True, text=True, env=env, check=False)
+    return run, time.perf_counter() - start

@@ -12,12 +12,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
+from common import run_plan
 
 from massline.core.accuracy import worst_relative_std
 from massline.core.model import RigidModel
@@ -27,8 +26,7 @@ from massline.meshes import BUNDLED
 
 def planned(name: str, options: list, out: Path) -> dict:
     """plan.json of `massline plan NAME OPTIONS --out OUT`."""
-    command = [str(Path(sys.executable).with_name("massline")), "plan", name, *options, "--out", str(out)]
-    run = subprocess.run(command, capture_output=True, text=True, check=False)
+    run, _ = run_plan([name, *options], out)
     if run.returncode != 0:
         raise SystemExit(f"massline plan {name} {' '.join(options)} failed: {run.stderr.strip()}")
     return json.loads((out / "plan.json").read_text())

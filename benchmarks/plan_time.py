@@ -19,13 +19,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
-import sys
 import tempfile
-import time
 from pathlib import Path
 
 import trimesh
+
+from common import run_plan
 
 from massline.meshes import BUNDLED
 
@@ -64,11 +63,7 @@ def bodies(folder: Path) -> dict:
 
 def timed_plan(body: list, options: list, out: Path) -> dict:
     """One `massline plan` in a subprocess: seconds, exit code, layout, progress lines, stopped by its budget."""
-    command = [str(Path(sys.executable).with_name("massline")), "plan", *body, *options, "--out", str(out)]
-    env = {**os.environ, "MASSLINE_CACHE": "off"}
-    start = time.perf_counter()
-    run = subprocess.run(command, capture_output=True, text=True, env=env)
-    seconds = time.perf_counter() - start
+    run, seconds = run_plan([*body, *options], out, cache=False)
     result = {"seconds": seconds, "code": run.returncode, "progress": len(run.stderr.splitlines())}
     if run.returncode != 0:
         return result | {"layout": "refused", "stopped": "", "why": run.stderr.strip().splitlines()[-1][:90]}
