@@ -347,7 +347,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     }
     fe_solve = FEInProcess(body, str(args.mesh))  # beside the search: the plan takes the longer, not the sum
     try:
-        result = searched(args, body, options, noise, budget, fixed, console)
+        result = searched(args, body, options, noise, budget, fixed, console, fe_solve.check)
     except BaseException:
         fe_solve.close()
         raise
@@ -371,11 +371,13 @@ def run(args: argparse.Namespace, console: Console) -> None:
     write_report(console, report, lambda: build_report(target, console), args.force, status=None)
 
 
-def searched(args, body, options, noise, budget, fixed: dict, console):
-    """The plan: the cheapest diagnosable layout, or the budget's (``budget`` not None), its progress shown."""
+def searched(args, body, options, noise, budget, fixed: dict, console, check=lambda: None):
+    """The plan: the cheapest diagnosable layout, or the budget's (``budget`` not None), its progress shown;
+    ``check()`` at every step shown (it raises what ends the plan early: the FE model's refusal)."""
     with progress_bar(console) as bar:
 
         def progress(stage: str, f: float) -> None:
+            check()
             bar(stage, f, 1.0)
 
         if budget is None:

@@ -39,3 +39,23 @@ def test_closing_stops_the_process():
     solving = FEInProcess(bundled("bracket"), "bracket")
     solving.close()
     assert not solving._process.is_alive() and solving._process.exitcode is not None
+
+
+def test_a_failed_solve_is_raised_by_check_while_the_search_runs(monkeypatch):
+    """``check`` (called at each step of the layout search) raises the refusal once the solve has met it: the plan
+    is refused then, not after the search; before that it returns at once."""
+    import time
+
+    monkeypatch.setenv("MASSLINE_CACHE", "off")
+    two = trimesh.util.concatenate([trimesh.creation.box((0.1, 0.1, 0.1)), trimesh.creation.box((0.1, 0.1, 0.1))])
+    two.vertices[len(two.vertices) // 2 :] += [0.3, 0, 0]
+    solving = FEInProcess(BodyMesh(two, 2700.0), None)
+    deadline = time.monotonic() + 120
+    with pytest.raises(MasslineError, match="separate pieces"):
+        while time.monotonic() < deadline:
+            started = time.monotonic()
+            solving.check()
+            assert time.monotonic() - started < 1.0
+            time.sleep(0.05)
+    assert not solving._process.is_alive()
+    solving.close()

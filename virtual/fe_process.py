@@ -40,31 +40,54 @@ class FEInProcess:
         self._process = context.Process(target=_solve, args=(body, mesh_name, sending), daemon=True)
         self._process.start()
         sending.close()
+        self._stages: list[tuple] = []  # stages read by ``check`` and not yet shown
+        self._last: tuple | None = None  # ("modes", …) or ("error", …), once read
+
+    def _read(self, wait: float) -> bool:
+        """Read one message if one comes within ``wait`` s; whether the last one (modes or error) has come."""
+        if self._last is None and self._pipe.poll(wait):
+            kind, *got = self._pipe.recv()
+            if kind == "stage":
+                self._stages.append(tuple(got))
+            else:
+                self._last = (kind, *got)
+        elif self._last is None and not self._process.is_alive() and not self._pipe.poll():
+            self.close()
+            raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}")
+        return self._last is not None
+
+    def check(self) -> None:
+        """Raise, at once, the error the solve met if it has already failed (without waiting for it)."""
+        while self._last is None and self._pipe.poll():
+            self._read(0.0)
+        if self._last is not None and self._last[0] == "error":
+            self.close()
+            raise self._last[1]
 
     def result(self, progress=None) -> FEModel:
         """The FE model, once solved; each stage of the solve, as it is read, to ``progress(stage, done, total)``
         (the stages the search outlasted at once, then the one under way)."""
         try:
             while True:
-                if not self._pipe.poll(POLL):
-                    if not self._process.is_alive() and not self._pipe.poll():
-                        raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}")
-                    continue
-                kind, *got = self._pipe.recv()
-                if kind != "stage":
+                done = self._read(POLL)
+                while self._stages:
+                    stage = self._stages.pop(0)
+                    if progress is not None:
+                        progress(*stage)
+                if done:
                     break
-                if progress is not None:
-                    progress(*got)
         finally:
             self.close()
+        kind, *got = self._last
         if kind == "error":
             raise got[0]
         arrays, material, kept, assumed = got
         return FEModel(from_arrays(arrays, material), material, kept, assumed)
 
     def close(self) -> None:
-        """Stop the process, if it still runs, and release the pipe."""
+        """Stop the process, if it still runs, and release the pipe (again: nothing)."""
         if self._process.is_alive():
             self._process.terminate()
         self._process.join()
-        self._pipe.close()
+        if not self._pipe.closed:
+            self._pipe.close()
