@@ -37,7 +37,7 @@ def at_place(result: Diagnosis, channels: tuple, hits: list) -> list[Finding]:
     placed = "identify's misfit, one channel or hit left out"
     return [
         accepted_finding(
-            t, result.band, b, {"delta_bic": current.bic - t.bic, "placed_by": placed, "values": layout.size(b)}
+            t, result.band, b, {"delta_bic": current.bic - t.bic, "placed_by": placed}
         )
         for t, b in sorted(passing, key=lambda tb: tb[0].bic)
     ]

@@ -18,7 +18,7 @@ import numpy as np
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import named
-from massline.identify.diagnose.unexplained import tilts
+from massline.identify.diagnose.shapes import objective, outfits
 from massline.identify.pipeline import Identification, identify_recording
 from massline.core.errors import MasslineError
 from massline.core.rigid_body import RigidBody
@@ -36,7 +36,7 @@ def moved(without: RigidBody, with_: RigidBody) -> dict:
 def total_chi2(found: Identification) -> float:
     """identify's objective: the χ² of the masslines, Σ z², and of its transverse prior, Σ |τ_i|²/t² (nan with no
     redundancy). A misaligned accelerometer shows in the prior's term: identify reads it along its true axis."""
-    return float(found.best.chi2 * found.best.dof + np.sum(tilts(found)))
+    return objective(found.best)
 
 
 def undoable(findings: list) -> list:
@@ -71,6 +71,10 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                 finding = replace(finding, evidence=evidence)
                 if gain < EVIDENCE and not proven_by_mesh(finding):  # nan (no redundancy): nothing can check it
                     withdrawn.append(finding)
+                    continue
+                shape = None if proven_by_mesh(finding) else outfits(without, after, finding)
+                if shape is not None:  # a factor at its place explains as much: the name is not proven
+                    withdrawn.append(replace(finding, evidence={**evidence, "outfitted_by": shape}))
                     continue
         marked.append(finding)
     if withdrawn:

@@ -109,8 +109,15 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
         "explained_without_hit": np.where(np.isfinite(columns), 1 - columns / total, np.nan).tolist(),
     }
     channels = [channel] if shape in ("one_channel", "one_frf") or (shape == "spread" and checked["channel"]) else []
-    evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn})}
+    evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn}),
+                "outfitted": outfitted(withdrawn)}  # fmt: skip
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
+
+
+def outfitted(withdrawn: list) -> list[dict]:
+    """The withdrawn faults a factor at their place fitted as well (:func:`.shapes.outfits`): effect, place,
+    factors."""
+    return [{"effect": f.effect, **f.evidence["outfitted_by"]} for f in withdrawn if "outfitted_by" in f.evidence]
 
 
 def tilts(found) -> np.ndarray:
@@ -140,8 +147,10 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
     where = f"{'the largest part' if p['shape'] == 'spread' else 'most of it'} at {' and '.join(places)}: "
     where = where if places else "the layout cannot place it (no channel or hit can be left out and checked): "
-    tried = e.get("withdrawn") or []
+    factors = e.get("outfitted") or []
+    tried = [t for t in e.get("withdrawn") or [] if t not in {f["effect"] for f in factors}]
     unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
+    unproven += "".join(f"; {factor_phrase(f, sensors, hits)}" for f in factors)
     if p["shape"] == "off_axis":
         return (
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
@@ -152,4 +161,14 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
         f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
         f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}; "
         "no effect of the library explains it, so none is named"
+    )
+
+
+def factor_phrase(shape: dict, sensors: list, hits: list) -> str:
+    """A withdrawn fault a factor outfitted, as the engineer reads it."""
+    places = [f"sensor {sensors[i]}" for i in shape["rows"]] + [f"hit {hits[j]}" for j in shape["columns"]]
+    factors = ", ".join(f"×{g:.3g}" for g in shape["factors"])
+    return (
+        f"{shape['effect']} fits it, but one factor on {' and '.join(places)}'s FRFs ({factors}: a gain, a "
+        "calibration, a sign) fits at least as well, counting the values each is fitted with"
     )
