@@ -20,8 +20,11 @@ from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very stro
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.shapes import objective, outfits
 from massline.identify.pipeline import Identification, identify_recording
+from massline.identify.suspicions import beyond_chance
 from massline.core.errors import MasslineError
 from massline.core.rigid_body import RigidBody
+
+MOST = 0.9  # share of identify's misfit beyond its dof the named faults must explain when they leave it beyond chance
 
 
 def moved(without: RigidBody, with_: RigidBody) -> dict:
@@ -50,7 +53,9 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     with how far undoing it moved the properties and how much of identify's χ² it explains (identify with all
     faults undone against with all but that one; no bootstrap); and the faults withdrawn.
 
-    A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again.
+    A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again;
+    so are all of them when together they leave identify's χ² beyond chance having explained less than ``MOST`` of
+    it (:func:`explains_the_misfit`).
     When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved
     them). ``known``: identify's options for the masses the engineer gave (``sensor_mass``, ``exciter_mass``).
     """
@@ -80,7 +85,22 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     if withdrawn:
         again, kept, more = identified_after(recording, marked, band, transverse, before, known)
         return again, kept, withdrawn + more
+    stand_ins = [f for f in undoable(marked) if not proven_by_mesh(f)]
+    if stand_ins and before is not None and not explains_the_misfit(before, after):
+        again, kept, _ = identified_after(recording, [f for f in marked if f not in stand_ins], band, transverse,
+                                          before, known)  # fmt: skip
+        return again, kept, stand_ins
     return after, marked, []
+
+
+def explains_the_misfit(before: Identification, after: Identification) -> bool:
+    """Whether the faults undone leave identify's χ² within chance, or explain at least ``MOST`` of its excess
+    over its degrees of freedom: a fault that takes a little off a misfit of another kind and leaves the rest is
+    a stand-in (a stiff cord's misfit on the structure took a 'moved sensor' for 20 % of it)."""
+    if not np.isfinite(after.best.chi2) or not beyond_chance(after.best.chi2, after.best.dof):
+        return True
+    excess = total_chi2(before) - before.best.dof
+    return total_chi2(before) - total_chi2(after) >= MOST * excess
 
 
 def best_undone(recording, findings: list, candidates: list, band, transverse: float, known: dict) -> list:
