@@ -94,3 +94,32 @@ def test_a_tilted_channel_identify_took_up_is_found_off_its_axis(structure):
     fault = next(f for f in run_.findings if f.kind == "fault")
     assert (fault.effect, fault.channels) == ("sensor_direction", (5,))
     assert max(fault.parameters["angle_deg"]) == pytest.approx(8.0, abs=1.0)
+
+
+def test_a_factor_on_one_row_is_recovered_by_the_library_free_shape(structure):
+    """shapes.scaled on identify's masslines of a 10 % gain at channel 4: the factor 0.9 (to its 1-σ) and a χ²
+    within chance; on channel 1 (the wrong row) the misfit stays."""
+    from massline.identify.diagnose.shapes import objective, scaled
+
+    found = identify_recording(recorded(structure, "sensor_gain=-0.1@4"), draws=0)
+    right, factor = scaled(found, rows=(3,))
+    wrong, _ = scaled(found, rows=(0,))
+    assert factor[0] == pytest.approx(0.9, abs=0.01)
+    assert right < found.best.dof + 4 * np.sqrt(2 * found.best.dof) < wrong <= objective(found.best) + 1e-9
+
+
+def test_with_only_the_gain_out_of_the_library_no_other_name_takes_it(structure, monkeypatch):
+    """Only sensor_gain taken out: a moved sensor or a tilt could fit the gain's misfit, but one factor on the
+    channel's row fits at least as well for its values, so no fault is named and the channel is reported
+    unexplained, with the factor found."""
+    rec = recorded(structure, "sensor_gain=-0.1@4")
+    monkeypatch.setattr(registry, "EFFECTS", tuple(e for e in registry.EFFECTS if e.name != "sensor_gain"))
+    found = diagnose_recording(rec, None, structure)
+    assert [f.effect for f in found.findings if f.kind == "fault"] == []
+    left = [f for f in found.findings if f.kind == "unexplained"]
+    assert len(left) == 1 and left[0].channels == (3,)
+    outfitted = left[0].evidence["outfitted"]
+    assert outfitted and {s["effect"] for s in outfitted} <= {"sensor_location", "sensor_direction"}
+    for shape in outfitted:
+        assert shape["rows"] == [3] and shape["factors"][0] == pytest.approx(0.9, abs=0.01)
+        assert shape["chi2"] < shape["named_chi2"]
