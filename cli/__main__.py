@@ -10,12 +10,7 @@ or printed as "Exception ignored" (importlib's module locks). Everything else is
 
 from __future__ import annotations
 
-import os
 import signal
-import sys
-from typing import NoReturn
-
-INTERRUPTED = 130
 
 
 class _Interrupt:
@@ -31,11 +26,27 @@ class _Interrupt:
             raise KeyboardInterrupt
 
 
+def _noting() -> _Interrupt:
+    """The handler that notes SIGINT, installed unless the process was started with SIGINT ignored."""
+    interrupt = _Interrupt()
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, interrupt)
+    return interrupt
+
+
+_EARLY = _noting()  # first of all: even the standard library's imports below take tens of ms on a loaded machine
+
+import os  # noqa: E402
+import sys  # noqa: E402
+from typing import NoReturn  # noqa: E402
+
+INTERRUPTED = 130
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run ``massline`` with ``argv`` (default: the command line); return the exit code."""
-    interrupt = _Interrupt()
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # not when started with SIGINT ignored
-        signal.signal(signal.SIGINT, interrupt)
+    global _EARLY
+    interrupt, _EARLY = (_EARLY or _noting()), None  # the one installed at import serves the first run
     try:
         from massline.app import run
 
