@@ -123,3 +123,5 @@ def test_with_only_the_gain_out_of_the_library_no_other_name_takes_it(structure,
     for shape in outfitted:
         assert shape["rows"] == [3] and shape["factors"][0] == pytest.approx(0.9, abs=0.01)
         assert shape["chi2"] < shape["named_chi2"]
+    note = finding_note(left[0], found.sensors, found.hits)
+    assert "one factor on sensor" in note and "cannot tell these apart, so none is named" in note

@@ -151,16 +151,20 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     tried = [t for t in e.get("withdrawn") or [] if t not in {f["effect"] for f in factors}]
     unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
     unproven += "".join(f"; {factor_phrase(f, sensors, hits)}" for f in factors)
+    none = (
+        "the data place it but cannot tell these apart, so none is named"
+        if factors
+        else "no effect of the library explains it, so none is named"
+    )
     if p["shape"] == "off_axis":
         return (
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
-            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}; no "
-            "effect of the library explains it, so none is named"
+            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}; {none}"
         )
     return (
         f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
         f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}; "
-        "no effect of the library explains it, so none is named"
+        f"{none}"
     )
 
 
