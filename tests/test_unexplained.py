@@ -125,3 +125,17 @@ def test_with_only_the_gain_out_of_the_library_no_other_name_takes_it(structure,
         assert shape["chi2"] < shape["named_chi2"]
     note = finding_note(left[0], found.sensors, found.hits)
     assert "one factor on sensor" in note and "cannot tell these apart, so none is named" in note
+
+
+def test_a_gauge_is_no_stand_in_for_one_channels_misfit():
+    """A gauge's mass (no place: every drive point) is withdrawn when leaving one channel out explains the file's
+    misfit, kept when leaving one hit out does; a fault at the misfit's channel stays."""
+    from massline.identify.diagnose.finding import Finding
+    from massline.identify.diagnose.pipeline import where_the_misfit_is
+
+    gauge = Finding("excitation_mass_loading", (), None, {"mass_kg": 0.02}, {})
+    here = Finding("sensor_location", (3,), None, {}, {})
+    channel = Finding("unexplained", (3,), None, {"shape": "one_channel", "hits": []}, {})
+    hit = Finding("unexplained", (), None, {"shape": "one_hit", "hits": [2]}, {})
+    assert where_the_misfit_is([gauge, here], channel) == ([here], [gauge])
+    assert where_the_misfit_is([gauge], hit) == ([gauge], [])

@@ -27,6 +27,7 @@ from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, w
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
 from massline.identify.diagnose.undone import best_undone, identified_after
+from massline.identify.suspicions import beyond_chance
 from massline.identify.diagnose.unexplained import unexplained
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
@@ -292,7 +293,7 @@ def diagnose_recording(
             tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
             if any(same_place(f, placed[0]) for f in tried[1]):
                 found, (after, findings, withdrawn) = found + placed, tried
-    loading = None if nominal is None or after is None else weighed_loading(after, result, nominal, transverse)
+    loading = None if not measures_a_body(after, nominal) else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
         loaded = found + [loading.finding()]
         after, findings, withdrawn = identified_after(recording, loaded, identify_band, transverse, before, known)
@@ -323,6 +324,13 @@ def diagnose_recording(
     )
 
 
+def measures_a_body(after: Identification | None, nominal: RigidBody | None) -> bool:
+    """Whether identify's body after can be weighed against the mesh's: a mesh was given and the rigid model fits
+    the masslines within chance. Beyond it the body is the misfit's (an 8 mm sensor offset left χ² 150× the
+    noise and a body 3 % heavy, which the mesh would have called a gauge's mass at the drive points)."""
+    return nominal is not None and after is not None and not beyond_chance(after.best.chi2, after.best.dof)
+
+
 def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody, transverse: float):
     """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points."""
     excitation = None
@@ -338,14 +346,18 @@ def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
     """The findings, less the faults named away from the one channel or hit that holds identify's whole misfit
     (``misfit``: the file's :func:`.unexplained.unexplained`; the rest fit within chance without that place),
     and those faults: the data put the fault there, and a fault elsewhere is a stand-in for it (a hit moved to
-    absorb a channel's gain). Faults with no place (a gauge on every drive point) stay."""
+    absorb a channel's gain). Faults with no place (a gauge on every drive point) stay, unless the misfit is one
+    channel's: a gauge's mass is on the excitation side, and one channel's misfit is not (an 8 mm sensor offset
+    took a gauge's mass for 94 % of its χ² and left the rest 150× the noise)."""
     if misfit is None or misfit.parameters["shape"] == "spread":
         return found, []
     channels, hits = set(misfit.channels), set(misfit.parameters["hits"])
 
     def elsewhere(f) -> bool:
-        if f.kind != "fault" or (not f.channels and f.exciter is None):
+        if f.kind != "fault":
             return False
+        if not f.channels and f.exciter is None:
+            return misfit.parameters["shape"] == "one_channel"
         return not (set(f.channels) & channels or f.exciter in hits)
 
     return [f for f in found if not elsewhere(f)], [f for f in found if elsewhere(f)]
