@@ -185,7 +185,7 @@ def main() -> None:
                 continue
             rows.append(row)
             print(f"{body:>9} {row['fault']:>22} seed {seed} {' '.join(extra) if isinstance(extra, list) else extra:>20}: {row['outcome']} "
-                  f"χ² {row['before']} → {row['after']} ({row['seconds']:.0f} s)", flush=True)  # fmt: skip
+                  f"χ² {row['before']} → {row['after']}, after − before {row['worse']:+.2f} σ ({row['seconds']:.0f} s)", flush=True)  # fmt: skip
     print(summary(rows, args.without))
 
 

@@ -131,7 +131,7 @@ def test_a_gauge_is_no_stand_in_for_one_channels_misfit():
     """A gauge's mass (no place: every drive point) is withdrawn when leaving one channel out explains the file's
     misfit, kept when leaving one hit out does; a fault at the misfit's channel stays."""
     from massline.identify.diagnose.finding import Finding
-    from massline.identify.diagnose.pipeline import where_the_misfit_is
+    from massline.identify.diagnose.placed import where_the_misfit_is
 
     gauge = Finding("excitation_mass_loading", (), None, {"mass_kg": 0.02}, {})
     here = Finding("sensor_location", (3,), None, {}, {})

@@ -26,6 +26,7 @@ from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, left_ou
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
+from massline.identify.diagnose.placed import at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified_after
 from massline.identify.suspicions import beyond_chance
 from massline.identify.diagnose.unexplained import unexplained
@@ -293,6 +294,12 @@ def diagnose_recording(
             tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
             if any(same_place(f, placed[0]) for f in tried[1]):
                 found, (after, findings, withdrawn) = found + placed, tried
+    left = None if after is None else unexplained(after, withdrawn)
+    partial = at_the_misfit(findings, left)
+    if partial:  # named where the misfit still is: part of it fitted, the place's misfit not explained
+        rest = [f for f in found if not any(same_place(f, p) for p in partial)]
+        after, findings, more = identified_after(recording, rest, identify_band, transverse, before, known)
+        withdrawn = withdrawn + partial + more
     loading = None if not measures_a_body(after, nominal) else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
         loaded = found + [loading.finding()]
@@ -340,32 +347,6 @@ def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody
     theta, covariance, planar = weighed(after.best, result.after)
     bare = theta - after.housings.theta(planar)  # the housings the engineer gave are no loading
     return mass_loading(bare, covariance, planar, after.recording.sensors, nominal, excitation)
-
-
-def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
-    """The findings, less the faults named away from the one channel or hit that holds identify's whole misfit
-    (``misfit``: the file's :func:`.unexplained.unexplained`; the rest fit within chance without that place),
-    and those faults: the data put the fault there, and a fault elsewhere is a stand-in for it (a hit moved to
-    absorb a channel's gain). Faults with no place (a gauge on every drive point) stay, unless the misfit is one
-    channel's: a gauge's mass is on the excitation side, and one channel's misfit is not (an 8 mm sensor offset
-    took a gauge's mass for 94 % of its χ² and left the rest 150× the noise)."""
-    if misfit is None or misfit.parameters["shape"] == "spread":
-        return found, []
-    channels, hits = set(misfit.channels), set(misfit.parameters["hits"])
-
-    def elsewhere(f) -> bool:
-        if f.kind != "fault":
-            return False
-        if not f.channels and f.exciter is None:
-            return misfit.parameters["shape"] == "one_channel"
-        return not (set(f.channels) & channels or f.exciter in hits)
-
-    return [f for f in found if not elsewhere(f)], [f for f in found if elsewhere(f)]
-
-
-def same_place(a, b) -> bool:
-    """Whether two findings name one effect at one place (a finding and the one identify's proof returned)."""
-    return (a.effect, a.channels, a.exciter) == (b.effect, b.channels, b.exciter)
 
 
 def shifted(recording: Recording, gauge: GaugeMass) -> Recording:

@@ -1,0 +1,50 @@
+"""Where the data put a fault: findings kept only at the place that holds identify's misfit.
+
+identify's estimate with each channel, and each hit, left out (:mod:`.unexplained`) says where a file's misfit
+sits. A fault the line-level search names elsewhere is a stand-in for it (a hit moved to absorb a channel's
+gain); a fault named there that leaves its place's misfit beyond chance explained only part of it. Either way
+the name is not what the data prove, and the findings' proof on identify's χ² (:mod:`.undone`) runs without it.
+"""
+
+from __future__ import annotations
+
+from massline.identify.diagnose.undone import proven_by_mesh, undoable
+
+
+def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
+    """The findings, less the faults named away from the one channel or hit that holds identify's whole misfit
+    (``misfit``: the file's :func:`.unexplained.unexplained`; the rest fit within chance without that place),
+    and those faults: the data put the fault there, and a fault elsewhere is a stand-in for it (a hit moved to
+    absorb a channel's gain). Faults with no place (a gauge on every drive point) stay, unless the misfit is one
+    channel's: a gauge's mass is on the excitation side, and one channel's misfit is not (an 8 mm sensor offset
+    took a gauge's mass for 94 % of its χ² and left the rest 150× the noise)."""
+    if misfit is None or misfit.parameters["shape"] == "spread":
+        return found, []
+    channels, hits = set(misfit.channels), set(misfit.parameters["hits"])
+
+    def elsewhere(f) -> bool:
+        if f.kind != "fault":
+            return False
+        if not f.channels and f.exciter is None:
+            return misfit.parameters["shape"] == "one_channel"
+        return not (set(f.channels) & channels or f.exciter in hits)
+
+    return [f for f in found if not elsewhere(f)], [f for f in found if elsewhere(f)]
+
+
+def at_the_misfit(findings: list, left) -> list:
+    """The faults named at the one channel or hit that still holds identify's misfit with every fault undone
+    (``left``: :func:`.unexplained.unexplained` of that; None or spread: none). The effect fitted part of its
+    place's misfit and left the rest beyond chance there: the name is not what the data prove (with the offsets
+    out of the library, a sensor offset on the bracket was named a gain and left 9.7× the noise at its
+    channel)."""
+    if left is None or left.parameters["shape"] not in ("one_channel", "one_hit", "one_frf"):
+        return []
+    channels, hits = set(left.channels), set(left.parameters["hits"])
+    here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
+    return [f for f in here if not proven_by_mesh(f)]
+
+
+def same_place(a, b) -> bool:
+    """Whether two findings name one effect at one place (a finding and the one identify's proof returned)."""
+    return (a.effect, a.channels, a.exciter) == (b.effect, b.channels, b.exciter)
