@@ -139,3 +139,19 @@ def test_a_gauge_is_no_stand_in_for_one_channels_misfit():
     hit = Finding("unexplained", (), None, {"shape": "one_hit", "hits": [2]}, {})
     assert where_the_misfit_is([gauge, here], channel) == ([here], [gauge])
     assert where_the_misfit_is([gauge], hit) == ([gauge], [])
+
+
+def test_a_fault_named_where_the_misfit_still_is_explained_only_part_of_it():
+    """The faults at the one channel or hit that still holds identify's misfit after every fault is undone are
+    the ones withdrawn; a spread misfit, or one elsewhere, withdraws none."""
+    from massline.identify.diagnose.finding import Finding
+    from massline.identify.diagnose.placed import at_the_misfit
+
+    gain = Finding("sensor_gain", (3,), None, {"gain": 0.9}, {})
+    hit = Finding("excitation_location", (), 2, {}, {})
+    at_channel = Finding("unexplained", (3,), None, {"shape": "one_channel", "hits": []}, {})
+    spread = Finding("unexplained", (3,), None, {"shape": "spread", "hits": [2]}, {})
+    at_hit = Finding("unexplained", (), None, {"shape": "one_hit", "hits": [2]}, {})
+    assert at_the_misfit([gain, hit], at_channel) == [gain]
+    assert at_the_misfit([gain, hit], at_hit) == [hit]
+    assert at_the_misfit([gain, hit], spread) == [] and at_the_misfit([gain], None) == []
