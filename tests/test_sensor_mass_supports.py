@@ -6,6 +6,7 @@ measures: every case records, with a band.
 """
 
 import json
+import re
 
 import pytest
 from conftest import FIXTURE_MESHES
@@ -40,6 +41,12 @@ def plans(tmp_path_factory) -> dict:
     return paths
 
 
+def said(err: str) -> list:
+    """What stderr says besides progress lines ("[  3.0 s] assembling mass (50 %)", written while the FE modes
+    are solved when no earlier test left them in the cache)."""
+    return [line for line in err.splitlines() if not re.fullmatch(r"\[\s*[\d.]+ s\] .* \(\d+ %\)", line)]
+
+
 @pytest.mark.parametrize("support", ["cord", "foam", "none"])
 @pytest.mark.parametrize("name", list(BODIES))
 def test_sensor_mass_records_on_every_support(plans, name, support, tmp_path, capsys):
@@ -48,7 +55,7 @@ def test_sensor_mass_records_on_every_support(plans, name, support, tmp_path, ca
     argv = ["simulate", str(plans[name]), "--rigid", "--sensor-mass", str(mass), "--suspension", support]
     code = run([*argv, "--lines", "400", "--out", str(out)], show_warnings=True)
     printed, err = capsys.readouterr()
-    assert code == 0 and err == "", err
+    assert code == 0 and not said(err), err
     assert "no band" not in printed and out.exists()
     truth = json.loads(out.with_suffix(".truth.json").read_text())
     assert truth["sensor_mass"] == mass and truth["loaded"]["mass"] > truth["nominal"]["mass"]
@@ -59,4 +66,4 @@ def test_the_idler_riser_with_fe_modes_on_a_cord(plans, tmp_path, capsys):
     out = tmp_path / "t.uff"
     code = run(["simulate", str(plans["idler riser"]), "--sensor-mass", "0.001", "--out", str(out)], show_warnings=True)
     printed, err = capsys.readouterr()
-    assert code == 0 and err == "" and "no band" not in printed and out.exists()
+    assert code == 0 and not said(err) and "no band" not in printed and out.exists(), err
