@@ -22,7 +22,6 @@ from scipy.optimize import minimize
 
 from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
-from massline.identify.diagnose.unexplained import tilts
 from massline.identify.estimator import Estimate, estimate
 
 MAX_TRIALS = 200  # estimates Nelder–Mead may try (one factor settles to 1e-6 in about 40)
