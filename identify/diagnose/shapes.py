@@ -5,13 +5,13 @@ simplest shapes need no effect at all: every FRF of channel i off by one factor 
 flipped sign, a cable), or every FRF of hit j by one factor (the force's calibration, a hit's direction on a
 plate). identify's rigid model with the place's row (or column) scaled by its best factor,
 
-    A_ij ≈ g_i Â_ij(θ),   g_i = Σ_j A_ij Â_ij / σ_ij²  /  Σ_j Â_ij² / σ_ij²   (θ fixed; then θ again),
+    A_ij ≈ g_i Â_ij(θ),   g_i = Σ_j A_ij Â_ij / σ_ij²  /  Σ_j Â_ij² / σ_ij²   (θ fixed),
 
-(closed form for g_i with θ fixed, then polished with θ estimated again: :func:`scaled`) is the library-free
-account of a misfit at one place. A named effect with more free values that fits no better
-than it is not proven by the data: on the bracket's channel 9 a 10 % gain is fitted to 0.70× the noise by a
-9.0 ± 0.6 mm sensor offset as well, so with the gain out of the library the offset would be named. The
-comparison is Schwarz's (BIC): χ² + k ln n, k the free values, n the masslines (:func:`outfits`).
+then polished with θ estimated again (:func:`scaled`), is the library-free account of a misfit at one place.
+A named effect that fits no better than it, counting the values each is fitted with, is not proven by the
+data: on the bracket's channel 9 a 10 % gain is fitted to 0.70× the noise by a 9.0 ± 0.6 mm sensor offset as
+well, so with the gain out of the library the offset would be named. The comparison is Schwarz's (BIC):
+χ² + k ln n, k the free values, n the masslines (:func:`outfits`).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
 from massline.identify.estimator import Estimate, estimate
 
-MAX_TRIALS = 200  # estimates Nelder–Mead may try (one factor settles to 1e-6 in about 40)
+MAX_TRIALS = 200  # estimates Nelder–Mead may try (each trial is one estimate of θ)
 
 
 def objective(best: Estimate) -> float:
