@@ -143,7 +143,8 @@ def test_a_gauge_is_no_stand_in_for_one_channels_misfit():
 
 def test_a_fault_named_where_the_misfit_still_is_explained_only_part_of_it():
     """The faults at the one channel or hit that still holds identify's misfit after every fault is undone are
-    the ones withdrawn; a spread misfit, or one elsewhere, withdraws none."""
+    the ones withdrawn, a gain (the misfit's own shape) excepted; a spread misfit, or one elsewhere, withdraws
+    none."""
     from massline.identify.diagnose.finding import Finding
     from massline.identify.diagnose.placed import at_the_misfit
 
@@ -152,6 +153,7 @@ def test_a_fault_named_where_the_misfit_still_is_explained_only_part_of_it():
     at_channel = Finding("unexplained", (3,), None, {"shape": "one_channel", "hits": []}, {})
     spread = Finding("unexplained", (3,), None, {"shape": "spread", "hits": [2]}, {})
     at_hit = Finding("unexplained", (), None, {"shape": "one_hit", "hits": [2]}, {})
-    assert at_the_misfit([gain, hit], at_channel) == [gain]
-    assert at_the_misfit([gain, hit], at_hit) == [hit]
-    assert at_the_misfit([gain, hit], spread) == [] and at_the_misfit([gain], None) == []
+    location = Finding("sensor_location", (3,), None, {}, {})
+    assert at_the_misfit([location, gain, hit], at_channel) == [location]
+    assert at_the_misfit([location, hit], at_hit) == [hit]
+    assert at_the_misfit([location, hit], spread) == [] and at_the_misfit([location], None) == []

@@ -8,6 +8,7 @@ the name is not what the data prove, and the findings' proof on identify's χ² 
 
 from __future__ import annotations
 
+from massline.identify.diagnose.shapes import SCALE_EFFECTS
 from massline.identify.diagnose.undone import proven_by_mesh, undoable
 
 
@@ -35,14 +36,16 @@ def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
 def at_the_misfit(findings: list, left) -> list:
     """The faults named at the one channel or hit that still holds identify's misfit with every fault undone
     (``left``: :func:`.unexplained.unexplained` of that; None or spread: none). The effect fitted part of its
-    place's misfit and left the rest beyond chance there: the name is not what the data prove (with the offsets
-    out of the library, a sensor offset on the bracket was named a gain and left 9.7× the noise at its
-    channel)."""
+    place's misfit and left the rest beyond chance there: the name is not what the data prove (the bracket's
+    8 mm sensor offset on channel 5 was named an offset that left χ² 229 on 10 degrees of freedom). A factor's
+    own effects (a gain, a sign) are the misfit's library-free shape (:mod:`.shapes`) and stay: what they leave
+    at their place is another misfit, reported beside them (a −11.7 % gain on the structure's channel 1, read
+    as ×0.881, left 3.5× χ²'s dof at that channel's one FRF with one hit, which one more factor did not lower)."""
     if left is None or left.parameters["shape"] not in ("one_channel", "one_hit", "one_frf"):
         return []
     channels, hits = set(left.channels), set(left.parameters["hits"])
     here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
-    return [f for f in here if not proven_by_mesh(f)]
+    return [f for f in here if not proven_by_mesh(f) and f.effect not in SCALE_EFFECTS]
 
 
 def same_place(a, b) -> bool:
