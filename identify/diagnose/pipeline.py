@@ -283,33 +283,36 @@ def diagnose_recording(
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
     found = ([] if gauge is None else [gauge.finding()]) + result.findings
-    found, elsewhere = where_the_misfit_is(found, None if before is None else unexplained(before))
-    after, findings, withdrawn = identified_after(recording, found, identify_band, transverse, before, known)
-    withdrawn = elsewhere + withdrawn
-    left = None if after is None else unexplained(after, withdrawn)
+    found, set_aside = where_the_misfit_is(found, None if before is None else unexplained(before))
+
+    def proven(faults: list) -> tuple:
+        """identify with ``faults`` undone, the findings it keeps, the faults withdrawn (with those set aside) and
+        what it leaves unexplained."""
+        after, findings, withdrawn = identified_after(recording, faults, identify_band, transverse, before, known)
+        withdrawn = set_aside + withdrawn
+        return after, findings, withdrawn, None if after is None else unexplained(after, withdrawn)
+
+    after, findings, withdrawn, left = proven(found)
     if left is not None and left.parameters["shape"] != "spread":  # the place is known: the library tried there
         candidates = at_place(result, left.channels, left.parameters["hits"])
         placed = best_undone(recording, found, candidates, identify_band, transverse, known)
         if placed:
-            tried = identified_after(recording, found + placed, identify_band, transverse, before, known)
+            tried = proven(found + placed)
             if any(same_place(f, placed[0]) for f in tried[1]):
-                found, (after, findings, withdrawn) = found + placed, tried
-    left = None if after is None else unexplained(after, withdrawn)
+                found, (after, findings, withdrawn, left) = found + placed, tried
     partial = at_the_misfit(findings, left)
     if partial:  # named where the misfit still is: part of it fitted, the place's misfit not explained
-        rest = [f for f in found if not any(same_place(f, p) for p in partial)]
-        after, findings, more = identified_after(recording, rest, identify_band, transverse, before, known)
-        withdrawn = withdrawn + partial + more
+        found = [f for f in found if not any(same_place(f, p) for p in partial)]
+        set_aside = set_aside + partial
+        after, findings, withdrawn, left = proven(found)
     loading = None if not measures_a_body(after, nominal) else weighed_loading(after, result, nominal, transverse)
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
-        loaded = found + [loading.finding()]
-        after, findings, withdrawn = identified_after(recording, loaded, identify_band, transverse, before, known)
+        after, findings, withdrawn, left = proven(found + [loading.finding()])
         findings, loading = faults_first(findings), None
     elif loading is not None:
         findings = faults_first(findings + [loading.finding()])
     if mains is not None:
         findings = findings + [mains_finding(mains)]
-    left = None if after is None else unexplained(after, withdrawn)
     findings = faults_first(findings + ([] if left is None else [left]))
     return DiagnosisRun(
         recording=recording,
