@@ -17,20 +17,18 @@ well, so with the gain out of the library the offset would be named. The compari
 from __future__ import annotations
 
 import numpy as np
-from cvxpy.error import SolverError
 from scipy.optimize import minimize
 
-from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
-from massline.identify.estimator import Estimate, estimate
+from massline.identify.diagnose.unexplained import estimated, tilts
+from massline.identify.estimator import Estimate
 
 MAX_TRIALS = 200  # estimates Nelder–Mead may try (each trial is one estimate of θ)
 
 
 def objective(best: Estimate) -> float:
     """identify's objective of an estimate: Σ z² of the masslines plus its transverse prior's Σ |τ_i|²/t²."""
-    prior = np.sum(best.transverse**2) / best.prior**2 if best.prior > 0 else 0.0
-    return float(best.chi2 * best.dof + prior)
+    return float(best.chi2 * best.dof + np.sum(tilts(best)))
 
 
 def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndarray]:
@@ -57,15 +55,9 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
         scale = scale_of(factors)
         if not np.all(np.isfinite(scale)) or np.any(scale == 0):
             return np.inf
-        try:
-            with np.errstate(invalid="ignore", divide="ignore"):
-                fit = estimate(
-                    Masslines(data.values / scale, data.sensors, data.exciters), sigma / np.abs(scale),
-                    found.planar, best.prior, riding=best.riding,
-                )  # fmt: skip
-        except (np.linalg.LinAlgError, SolverError, MasslineError, ValueError):
-            return np.inf
-        return objective(fit)
+        fit = estimated(found, Masslines(data.values / scale, data.sensors, data.exciters), sigma / np.abs(scale),
+                        best.riding)  # fmt: skip
+        return np.inf if fit is None else objective(fit)
 
     model = data.values - best.residual
     start = []

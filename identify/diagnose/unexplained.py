@@ -31,7 +31,7 @@ from scipy.stats import chi2 as chi2_distribution
 from cvxpy.error import SolverError
 
 from massline.identify.diagnose.finding import Finding
-from massline.identify.estimator import estimate
+from massline.identify.estimator import Estimate, estimate
 from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
 from massline.identify.suspicions import CHANCE, beyond_chance
@@ -56,9 +56,15 @@ def left_out(found, axis: int, k: int):
     columns = [j for j in range(data.values.shape[1]) if not (axis == 1 and j == k)]
     sub = Masslines(data.values[np.ix_(rows, columns)], data.sensors[rows], data.exciters[columns])
     riding = None if best.riding is None else best.riding[columns]
+    return estimated(found, sub, found.sigma[np.ix_(rows, columns)], riding)
+
+
+def estimated(found, data: Masslines, sigma: np.ndarray, riding: np.ndarray | None) -> Estimate | None:
+    """identify's estimate of ``data`` (1-σ ``sigma``, ``riding`` masses) with ``found``'s planarity and
+    transverse prior; None when it cannot be estimated."""
     try:
         with np.errstate(invalid="ignore", divide="ignore"):
-            return estimate(sub, found.sigma[np.ix_(rows, columns)], found.planar, best.prior, riding=riding)
+            return estimate(data, sigma, found.planar, found.best.prior, riding=riding)
     except (np.linalg.LinAlgError, SolverError, MasslineError, ValueError):
         return None
 
@@ -120,9 +126,9 @@ def outfitted(withdrawn: list) -> list[dict]:
     return [{"effect": f.effect, **f.evidence["outfitted_by"]} for f in withdrawn if "outfitted_by" in f.evidence]
 
 
-def tilts(found) -> np.ndarray:
-    """|τ_i|²/t² per channel: identify's transverse reading of each against its datasheet prior t (0 on a plate)."""
-    best = found.best
+def tilts(best: Estimate) -> np.ndarray:
+    """|τ_i|²/t² per channel: an estimate's transverse reading of each against its datasheet prior t (0 on a
+    plate)."""
     return np.sum(best.transverse**2, axis=1) / best.prior**2 if best.prior > 0 else np.zeros(len(best.transverse))
 
 
@@ -130,7 +136,7 @@ def off_axis(found, withdrawn: list = ()) -> Finding | None:
     """The ``unexplained`` finding of a channel identify reads along an axis further off its label than the
     datasheet's cross-axis reading allows by chance (|τ|²/t² beyond χ²(2) at ``CHANCE``): the masslines fit,
     because identify took the tilt up; None when every channel is within its prior."""
-    z2 = tilts(found)
+    z2 = tilts(found.best)
     channel = int(np.argmax(z2)) if z2.size else 0
     if not z2.size or z2[channel] <= chi2_distribution.isf(CHANCE, 2):
         return None
