@@ -74,13 +74,14 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                 gain = total_chi2(without) - total_chi2(after)
                 evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
                 finding = replace(finding, evidence=evidence)
-                if gain < EVIDENCE and not proven_by_mesh(finding):  # nan (no redundancy): nothing can check it
-                    withdrawn.append(finding)
-                    continue
-                shape = None if proven_by_mesh(finding) else outfits(without, after, finding)
-                if shape is not None:  # a factor at its place explains as much: the name is not proven
-                    withdrawn.append(replace(finding, evidence={**evidence, "outfitted_by": shape}))
-                    continue
+                if not proven_by_mesh(finding):
+                    if gain < EVIDENCE:  # nan (no redundancy): nothing can check it
+                        withdrawn.append(finding)
+                        continue
+                    shape = outfits(without, after, finding)
+                    if shape is not None:  # a factor at its place explains as much: the name is not proven
+                        withdrawn.append(replace(finding, evidence={**evidence, "outfitted_by": shape}))
+                        continue
         marked.append(finding)
     if withdrawn:
         again, kept, more = identified_after(recording, marked, band, transverse, before, known)
