@@ -30,14 +30,8 @@ from massline.meshes import BUNDLED
 
 ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "tests" / "fixtures" / "meshes"
-CAD = {  # file: units (tests/fixtures/meshes/SOURCES.md)
-    "plate_holes.STL": "mm",
-    "1002_tray_bottom.STL": "mm",
-    "featuretype.STL": "in",
-    "idler_riser.STL": "in",
-    "angle_block.STL": "in",
-    "ADIS16480.STL": "m",
-}
+BROKEN = ("busted.STL", "soup.stl")  # refused on purpose
+CAD = {f: u for f, u in json.loads((FIXTURES / "units.json").read_text()).items() if f not in BROKEN}  # SOURCES.md
 OPTIONS = {
     "default": [],
     "minimal": ["--minimal"],

@@ -92,7 +92,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     recording = to_recording(read_uff(args.uff))
     check_exportable(args.export, recording)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
-        known = {"sensor_mass": HousingMasses.parse(args.sensor_mass or ["0"]), "exciter_mass": args.exciter_mass}
+        known = {"sensor_mass": HousingMasses.parse(args.sensor_mass), "exciter_mass": args.exciter_mass}
         found = diagnose_recording(recording, args.band, nominal, args.transverse, **known)
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
     for note in found.notes:

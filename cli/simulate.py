@@ -198,7 +198,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters), args.fmax, args.lines)
     body = plan_mesh(doc, plan_path)
-    options = {"suspension": args.suspension, "sensor_mass": housing_masses(args), "rigid": args.rigid}
+    options = {"suspension": args.suspension, "sensor_mass": HousingMasses.parse(args.sensor_mass), "rigid": args.rigid}
     options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}
     with progress_bar(console) as progress:
         setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
@@ -235,11 +235,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
     )
 
 
-def housing_masses(args: argparse.Namespace) -> HousingMasses:
-    """``--sensor-mass``'s housing masses (none: 0 kg)."""
-    return HousingMasses.parse(args.sensor_mass or ["0"])
-
-
 def gauge_effects(args: argparse.Namespace) -> tuple:
     """``--gauge-mass``'s effect (the gauge at every drive point), refused with ``--impact`` (a hammer has none)."""
     if not args.gauge_mass:
@@ -259,7 +254,7 @@ def acquisition(args: argparse.Namespace) -> Acquisition:
         lines=args.lines,
         noise=Noise(args.noise, args.noise_floor),
         impact=impact,
-        sensor_mass=housing_masses(args),
+        sensor_mass=HousingMasses.parse(args.sensor_mass),
         dc_line=not args.no_dc,
     )
 

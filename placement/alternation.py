@@ -12,7 +12,7 @@ import numpy as np
 from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import CandidateLines
 from massline.placement.criteria import Criterion, D
-from massline.placement.diagnosability import excesses
+from massline.placement.diagnosability import H_MAX, R_MAX, confusion, excesses, hat_matrix
 from massline.placement.footprints import Footprints, conflicts, hits_blocked, sensors_blocked
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, weighted_sensitivities
@@ -23,6 +23,7 @@ from massline.placement.selection import BlockProblem, best_gains, compress, des
 from massline.placement.work import Work
 
 WORKING_SET = 2000  # candidates per side the combinatorial search runs on
+RELIEF = 20  # sensor lines tried for the channels that cannot be checked, beside the most informative exchanges
 EVALUATIONS = 1_000_000  # diagnosability evaluations a planner may spend when not given a budget of its own
 
 
@@ -183,11 +184,34 @@ class Planner:
             if len(s) == rows.shape[1] and s[-1] > 1e-10 * s[0]:
                 weak = weakly_seen(self.model, rows, self.s_coords) if conditioning else None
                 return None if weak is None else self.s.any_line(weak)  # else no cut known
-            q0 = Vt[-1]
-            sees = np.abs(self.s_coords @ q0) > 1e-9 * np.linalg.norm(self.s_coords, axis=1)
-            return self.s.any_line(sees)
+            return self.seeing(Vt[-1])
 
         return cover_for
+
+    def seeing(self, motion: np.ndarray) -> np.ndarray:
+        """Per sensor candidate: does any of its lines see the rigid motion ``motion`` (q,)?"""
+        return self.s.any_line(np.abs(self.s_coords @ motion) > 1e-9 * np.linalg.norm(self.s_coords, axis=1))
+
+    def sensor_relief(self, sensors: list) -> np.ndarray:
+        """Per sensor candidate: is it among the ``RELIEF`` lines that most lower the leverage of the selection's
+        channels that cannot be checked (:mod:`.diagnosability`)? Adding line c to rows R lowers channel i's
+        leverage by (c G r_iᵀ)² / (1 + c G cᵀ), G = (RᵀR)⁻¹; where R sees too few motions, the lines that see one
+        it leaves unseen. The lines a diagnosable layout lacks (on a thick plate's thin sides) rarely add much
+        information, so the exchanges that weigh information first never try them."""
+        rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
+        _, s, Vt = np.linalg.svd(rows)
+        if len(s) < rows.shape[1] or s[-1] <= 1e-10 * s[0]:
+            return self.seeing(Vt[-1])
+        P = hat_matrix(rows, rows.shape[1])
+        weak = np.flatnonzero((np.diagonal(P) > H_MAX) | (confusion(P) > R_MAX))
+        if not len(weak):
+            return np.zeros(len(self.s), bool)
+        G = np.linalg.inv(rows.T @ rows)
+        C = self.s_coords @ G
+        relief = ((C @ rows[weak].T) ** 2).sum(axis=1) / (1 + np.einsum("lq,lq->l", C, self.s_coords))
+        best = np.zeros(len(relief), bool)
+        best[np.argsort(-relief)[:RELIEF]] = True
+        return self.s.any_line(best & (relief > 0))
 
     def exciter_cover(self, exciters: list):
         """Cover set for the exciter side: when all hits are parallel, the hits that are not."""
@@ -257,17 +281,17 @@ class Planner:
             chosen[position] = int(best[0]) if len(best) else chosen[position]
         return chosen
 
-    def settled(self, problem: BlockProblem, start: list, side, cover) -> list:
+    def settled(self, problem: BlockProblem, start: list, side, cover, relief=None) -> list:
         """``settle`` with the other side fixed (``side(c)`` → (sensors, exciters)); when diagnosability is asked,
-        an inadmissible result is walked towards it by ``descend`` among regular layouts and settled again, the
-        trials of a walk's pass and of a repair evaluated together."""
+        an inadmissible result is walked towards it by ``descend`` (trying the candidates
+        ``relief(c)`` too) and settled again, the trials of a walk's pass and of a repair evaluated together."""
         admissible = lambda c: self.admits(*side(c))  # noqa: E731
         violations = lambda cs: self.violations([side(c) for c in cs])  # noqa: E731
         screen = (lambda cs: violations(cs) == 0) if self.diagnosable else None
         chosen = settle(problem, start, admissible, cover, screen)
         if admissible(chosen) or not self.diagnosable:
             return chosen
-        walked = descend(problem, chosen, violations, lambda c: self.regular(*self.layout(*side(c))))
+        walked = descend(problem, chosen, violations, relief)
         return settle(problem, walked, admissible, cover, screen)
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
@@ -290,6 +314,7 @@ class Planner:
                 self.separated(sp, sensors if sensors else greedy(sp)),
                 lambda c: (c, exciters),
                 self.sensor_cover(exciters, conditioning=True),
+                self.sensor_relief,
             )
             if sorted(sensors) == settled_for:  # the exciters were settled against these very sensors
                 break

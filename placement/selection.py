@@ -256,27 +256,37 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for, screen=No
     return chosen
 
 
-def descend(problem: BlockProblem, chosen: list, violations, valid, tries: int = 50, max_passes: int = 30) -> list:
-    """Single exchanges that lower the violation (≥ 0; 0 when the selection is admissible) among ``valid``
-    selections, the most informative of equal violation first, until it is 0 or no exchange among each chosen
-    block's ``tries`` best lowers it. ``violations(selections)`` evaluates a pass's trials together (an array)."""
+def descend(problem: BlockProblem, chosen: list, violations, relief=None, tries: int = 50, max_passes: int = 30) -> list:
+    """Single exchanges that lower the violation (≥ 0; 0 when the selection is admissible), the most informative
+    of equal violation first, until it is 0 or no exchange among each chosen block's ``tries`` best lowers it.
+    The walk may pass through layouts the paper's equations cannot solve (a motion seen again may take two
+    exchanges): its end is settled among admissible ones. ``violations(selections)`` evaluates a pass's trials
+    together (an array); ``relief(selection)``, when given, marks candidates tried as well (their ``tries`` most
+    informative): those the violation needs though they add little information."""
     chosen, now = list(chosen), float(violations([chosen])[0])
     eps = problem.regulariser()
     for _ in range(max_passes):
         if now <= 0:
             break
         M = problem.information(chosen) + eps
+        extra = None if relief is None else relief(chosen)
         trials, information = [], []
         for position, out in enumerate(chosen):
             reduced = M - problem.blocks[out].T @ problem.blocks[out]
             open_ = (problem.group == problem.group[out]) & problem.free(chosen, position)
-            base = log_det(reduced)
-            for candidate, gain in zip(*best_gains(problem.blocks, np.linalg.inv(reduced), open_, tries)):
-                trials.append(chosen[:position] + [int(candidate)] + chosen[position + 1 :])
-                information.append(base + gain)
+            base, inverse = log_det(reduced), np.linalg.inv(reduced)
+            found = [best_gains(problem.blocks, inverse, open_, tries)]
+            if extra is not None:
+                found.append(best_gains(problem.blocks, inverse, open_ & extra, tries))
+            tried = set()
+            for candidate, gain in zip(*map(np.concatenate, zip(*found))):
+                if int(candidate) not in tried:
+                    tried.add(int(candidate))
+                    trials.append(chosen[:position] + [int(candidate)] + chosen[position + 1 :])
+                    information.append(base + gain)
         values = violations(trials)
         order = np.lexsort((-np.asarray(information), values))
-        step = next((k for k in order if values[k] < now and valid(trials[k])), None)
+        step = next((k for k in order if values[k] < now), None)
         if step is None:
             break
         now, chosen = float(values[step]), trials[step]

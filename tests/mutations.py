@@ -11,6 +11,7 @@ mesh's line.
 
 from __future__ import annotations
 
+import json
 import random
 import re
 import struct
@@ -239,13 +240,4 @@ def own_meshes(folder: Path) -> list[tuple[Path, str]]:
     return paths
 
 
-FIXTURE_MESH_UNITS = {
-    "plate_holes.STL": "mm",
-    "1002_tray_bottom.STL": "mm",
-    "featuretype.STL": "in",
-    "idler_riser.STL": "in",
-    "angle_block.STL": "in",
-    "ADIS16480.STL": "m",
-    "busted.STL": "mm",
-    "soup.stl": "m",
-}
+FIXTURE_MESH_UNITS = json.loads((FIXTURE_MESHES / "units.json").read_text())  # file: units (SOURCES.md)

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import trimesh
 from blind_measures import placed
 from test_diagnose_blind import BENCHES
 
@@ -28,7 +29,9 @@ from massline.placement.diagnosability import diagnosability, excesses, of_coord
 from massline.placement.diagnosable_plan import budgets, cheapest_diagnosable
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
-from massline.meshes.loader import load_body
+from massline.meshes.loader import BodyMesh, load_body
+from massline.placement.on_surface import plan
+from massline.placement.planner import Budget
 from massline.core.model import RigidModel
 from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
@@ -185,6 +188,19 @@ def test_a_stack_of_layouts_is_judged_as_each_one_alone():
     alone = [of_coordinates(model, s, w, NoiseModel()).excess for s, w in zip(S, W)]
     np.testing.assert_allclose(excesses(model, S, W, NoiseModel()), alone, rtol=1e-9, atol=1e-12)
     assert alone[3] >= 6 * (1 - 0.9) and alone[7] >= 5 * (1 - 0.9)
+
+
+def test_a_thick_plate_gets_its_side_channels_from_the_walk_towards_diagnosable():
+    """A 200 × 300 × 12.7 mm plate off z = 0 (a body, not the paper's plate): its in-plane motions are seen only
+    by the few lines on its thin sides, which add little information, so the walk's most informative exchanges
+    never tried them and no 12 × 8 layout was found; the lines that relieve the channels that cannot be checked
+    (``Planner.sensor_relief``) are tried as well."""
+    box = trimesh.creation.box(extents=(0.2, 0.3, 0.0127))
+    box.apply_translation((0.1, 0.15, 0.00635))
+    p = plan(BodyMesh(box, 2700.0, "thick plate", "m"), Budget(12, 8), diagnosable=True, certify_steps=0)
+    assert p.diagnosability.diagnosable
+    in_plane = np.abs(p.sensors.directions[:, 2]) < 0.5
+    assert in_plane.sum() >= 5  # three in-plane motions, each channel checked by the others
 
 
 def test_a_search_out_of_evaluations_plans_the_minimal_layout_and_says_what_it_reached():
