@@ -30,7 +30,7 @@ from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from massline.core.errors import MasslineError, param
 from massline.core.numbers import number, vector_text
-from massline.virtual.tetmesh import default_size, tetrahedralise
+from massline.virtual.tetmesh import default_tetrahedra, tetrahedralise
 
 N_RIGID = 6
 INTORDER = 2  # the basis's quadrature, exact for the stiffness: strains are linear (degree 1 + 1)
@@ -258,14 +258,16 @@ class ElasticBody:
         name: str = "the surface",
         progress=None,
     ) -> "ElasticBody":
-        """Mesh a closed surface (m, frame O xyz) with element size ``size`` (m; default :func:`default_size`).
+        """Mesh a closed surface (m, frame O xyz) with element size ``size`` (m; default :func:`.default_tetrahedra`).
 
         ``progress(stage)``, when given, is called with "meshing" before the work starts.
         """
-        size = default_size(mesh) if size is None else float(size)
         if progress is not None:
             progress("meshing")
-        return cls(*tetrahedralise(mesh, size, name), material, size)
+        if size is None:
+            size, points, tets = default_tetrahedra(mesh, name)
+            return cls(points, tets, material, size)
+        return cls(*tetrahedralise(mesh, float(size), name), material, float(size))
 
     @cached_property
     def element_size(self) -> float:

@@ -41,12 +41,13 @@ def cache_folder() -> Path | None:
     return Path(base) / "massline"
 
 
-def model_key(mesh: trimesh.Trimesh, material: Material, size: float, n: int) -> str:
-    """SHA-256 (hex) of the surface, material, element size (m), mode count and the FE code."""
+def model_key(mesh: trimesh.Trimesh, material: Material, size: float | None, n: int) -> str:
+    """SHA-256 (hex) of the surface, material, element size (m; None: the default mesh,
+    :func:`.default_tetrahedra`), mode count and the FE code."""
     digest = hashlib.sha256(f"massline FE modes {FORMAT}".encode())
     digest.update(np.ascontiguousarray(mesh.vertices, dtype=np.float64).tobytes())
     digest.update(np.ascontiguousarray(mesh.faces, dtype=np.int64).tobytes())
-    digest.update(np.array([material.youngs, material.poisson, material.density, size, n], dtype=float).tobytes())
+    digest.update(np.array([material.youngs, material.poisson, material.density, -1.0 if size is None else size, n], dtype=float).tobytes())
     for module in (elastic, tetmesh):
         digest.update(Path(module.__file__).read_bytes())
     return digest.hexdigest()
@@ -96,7 +97,7 @@ def store(path: Path, modes: ElasticModes) -> None:
         Path(temporary).unlink(missing_ok=True)
 
 
-def cached_modes(mesh: trimesh.Trimesh, material: Material, size: float, n: int, solve) -> tuple[ElasticModes, bool]:
+def cached_modes(mesh: trimesh.Trimesh, material: Material, size: float | None, n: int, solve) -> tuple[ElasticModes, bool]:
     """The modes of the model (``solve()`` when not kept, then kept), and whether they came from the cache."""
     folder = cache_folder()
     if folder is None:

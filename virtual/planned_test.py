@@ -27,7 +27,6 @@ from massline.virtual.elastic import ElasticBody, ElasticModes, Material
 from massline.virtual.fe_cache import cached_modes
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
-from massline.virtual.tetmesh import default_size
 
 MODES = 20  # elastic modes of the FE model (simulate's default --modes)
 MESH_MATCH = 1e-6  # relative mass and CoG (of the body's size) within which a mesh is the plan's body
@@ -80,10 +79,9 @@ def fe_model(
     progress=None,
     assumed: str | None = None,
 ) -> FEModel:
-    """The FE model of ``body`` (quadratic tetrahedra of ``size`` m, default :func:`default_size`) and its ``n``
+    """The FE model of ``body`` (quadratic tetrahedra of ``size`` m, default :func:`.default_tetrahedra`) and its ``n``
     lowest elastic modes, read from the cache when an earlier run solved the same model, else solved (reporting
     each stage to ``progress(stage, done, total)``) and kept there."""
-    size = default_size(body.mesh) if size is None else float(size)
 
     def solve() -> ElasticModes:
         stages = iter(range(FE_STAGES))

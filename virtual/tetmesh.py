@@ -20,6 +20,9 @@ from massline.meshes.loader import validate_solid
 SIZE_PER_THICKNESS = 4.0  # element size / mean thickness 2V/A
 SPANS = 16  # elements, at least, along the largest extent
 MAX_DOFS = 25_000  # quadratic-tetrahedron DOFs the default size stays under (the estimate runs ~30 % low)
+GRADING = 0.3  # netgen's default: how fast elements may grow away from a small feature
+FEATURE_DOFS = 2 * MAX_DOFS  # a default mesh beyond this was refined by small features: meshed again, graded faster
+FEATURE_GRADING = 0.6  # featuretype.STL: 78 400 → 42 300 DOF, its first 3 modes +0.36 %, +0.29 %, +0.56 %
 DOFS_PER_VOLUME, DOFS_PER_AREA = 4.8, 21.0  # fitted n_dofs ≈ 4.8 V/h³ + 21 A/h² (netgen, P2; ±30 %)
 FACET = "facet normal 0 0 0\nouter loop\n" + "vertex %.17g %.17g %.17g\n" * 3 + "endloop\nendfacet\n"  # ASCII STL facet
 
@@ -81,8 +84,9 @@ def _positively_oriented(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     return tets
 
 
-def _netgen_mesh(mesh: trimesh.Trimesh, size: float):
-    """netgen's volume mesh of the surface (m) with largest edge ``size`` (m), silently."""
+def _netgen_mesh(mesh: trimesh.Trimesh, size: float, grading: float):
+    """netgen's volume mesh of the surface (m) with largest edge ``size`` (m), elements growing away from small
+    features at ``grading``, silently."""
     import netgen.meshing
     from netgen.stl import STLGeometry
 
@@ -90,10 +94,12 @@ def _netgen_mesh(mesh: trimesh.Trimesh, size: float):
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "surface.stl"
         _write_ascii_stl(mesh, path)
-        return STLGeometry(str(path)).GenerateMesh(maxh=size)
+        return STLGeometry(str(path)).GenerateMesh(maxh=size, grading=grading)
 
 
-def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface") -> tuple[np.ndarray, np.ndarray]:
+def tetrahedralise(
+    mesh: trimesh.Trimesh, size: float, name: str = "the surface", grading: float = GRADING
+) -> tuple[np.ndarray, np.ndarray]:
     """Positively oriented tetrahedra filling a closed surface.
 
     Parameters
@@ -104,6 +110,8 @@ def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface"
         Largest element edge length (m), netgen's ``maxh``.
     name
         What to call the surface in error messages.
+    grading
+        netgen's grading, 0 to 1: how fast elements grow away from features smaller than ``size``.
 
     Returns
     -------
@@ -116,7 +124,7 @@ def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface"
         raise MasslineError(f"element size {size} m is not positive: give a positive {param('size')}")
     validate_solid(mesh, name)  # netgen loops forever on some open surfaces
     try:
-        result = _netgen_mesh(mesh, size)
+        result = _netgen_mesh(mesh, size, grading)
         points = np.array(result.Coordinates(), dtype=float)
         tets = result.Elements3D().NumPy()["nodes"][:, :4].astype(np.int64) - 1
     except Exception as err:  # netgen raises plain Exceptions with C++ messages
@@ -130,3 +138,20 @@ def tetrahedralise(mesh: trimesh.Trimesh, size: float, name: str = "the surface"
             f"or try a different {param('size')}"
         )
     return points, _positively_oriented(points, tets)
+
+
+def quadratic_dofs(points: np.ndarray, tets: np.ndarray) -> int:
+    """The DOFs of quadratic tetrahedra on the mesh: three per vertex and per edge."""
+    edges = np.sort(tets[:, [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]], axis=2).reshape(-1, 2)
+    return 3 * (len(points) + len(np.unique(edges, axis=0)))
+
+
+def default_tetrahedra(mesh: trimesh.Trimesh, name: str = "the surface") -> tuple[float, np.ndarray, np.ndarray]:
+    """The default size (:func:`default_size`) and its tetrahedra; where features smaller than the size refine
+    them past ``FEATURE_DOFS`` (a machined part's small holes and chamfers), meshed again at ``FEATURE_GRADING``:
+    the solve's time grows faster than the DOFs, its frequencies change by a fraction of a percent."""
+    size = default_size(mesh)
+    points, tets = tetrahedralise(mesh, size, name)
+    if quadratic_dofs(points, tets) > FEATURE_DOFS:
+        points, tets = tetrahedralise(mesh, size, name, FEATURE_GRADING)
+    return size, points, tets
