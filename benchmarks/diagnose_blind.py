@@ -8,6 +8,8 @@ fault named (effect and channel or hit), ``unexplained`` at the place it locates
     python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--first-seed 0] [--faults A,B] [--without EFFECT]
         [--no-clean] [--out DIR]
 
+``--faults ''`` runs the clean files alone: the false-alarm rate, over as many seeds as it needs.
+
 ``--without EFFECT`` takes the effect out of the diagnosis's registry (the simulator still conceals it): the
 files carrying it should get ``unexplained`` at the right place, not a wrong name (issue 26's
 leave-one-effect-out). The table prints n per cell; the rates are over the cases run.
@@ -160,7 +162,7 @@ def main() -> None:
     parser.add_argument("--bodies", default="bracket,structure,plate")
     parser.add_argument("--seeds", type=int, default=1)
     parser.add_argument("--first-seed", type=int, default=0)
-    parser.add_argument("--faults", default=",".join(FAULTS))
+    parser.add_argument("--faults", default=",".join(FAULTS), help="concealed faults, comma-separated ('': clean only)")
     parser.add_argument("--without", default=None, help="an effect taken out of the diagnosis's registry")
     parser.add_argument("--no-clean", action="store_true", help="faulty cases only")
     parser.add_argument("--out", default=None, help="folder for the plans and files (default: a temporary one)")
@@ -175,7 +177,7 @@ def main() -> None:
         planar = body == "plate"
         seeds = range(args.first_seed, args.first_seed + args.seeds)
         cases = [] if args.no_clean else [(None, s, extra) for s in seeds for extra in CLEAN.values()]
-        faults = [f for f in args.faults.split(",") if not (planar and f in ("sensor_direction",))]
+        faults = [f for f in args.faults.split(",") if f and not (planar and f in ("sensor_direction",))]
         cases += [(f, s, []) for f in faults for s in seeds]
         for fault, seed, extra in cases:
             try:

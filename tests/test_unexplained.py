@@ -8,6 +8,8 @@ identify's χ² of the masslines.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from conftest import bundled
@@ -16,6 +18,7 @@ from test_diagnose import twelve_lines
 import massline.identify.diagnose.effects as registry
 from massline.identify.diagnose.notes import finding_note, verdict
 from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.diagnose.shapes import channel_factor, objective
 from massline.identify.diagnose.unexplained import unexplained
 from massline.identify.diagnose.effects import parse_effect
 from massline.identify.pipeline import identify_recording
@@ -80,6 +83,23 @@ def test_a_named_fault_is_proven_on_identifys_chi2(structure):
     assert fault.evidence["chi2_explained"] > 10
     assert found.chi2["after"] < 2 and not [f for f in found.findings if f.kind == "unexplained"]
     assert np.isfinite(found.chi2["dof"])
+
+
+def test_the_gain_named_is_identifys_factor_and_its_undoing_gives_the_properties_after(structure):
+    """One estimator, one number: the −10 % gain named is the factor on identify's objective (θ estimated again)
+    on the same file, not the line-level fit's; its ± covers the truth; the channel divided by it is what identify
+    identifies after."""
+    rec = recorded(structure, "sensor_gain=-0.1@4")
+    found = diagnose_recording(rec, None, structure)
+    fault = next(f for f in found.findings if f.kind == "fault")
+    gain, std = channel_factor(identify_recording(rec, draws=0), 3)
+    assert fault.parameters["gain"] == pytest.approx(gain, rel=1e-9)
+    assert fault.parameters["gain_std"] == pytest.approx(std, rel=1e-9)
+    assert abs(gain - 0.9) < 3 * std < 0.01
+    mended = replace(rec, frf=rec.frf.copy())
+    mended.frf[3] /= gain
+    again = identify_recording(mended)
+    assert objective(again.best) == pytest.approx(objective(found.after.best), rel=1e-6)
 
 
 def test_a_tilted_channel_identify_took_up_is_found_off_its_axis(structure):

@@ -24,11 +24,33 @@ from massline.identify.diagnose.unexplained import estimated, tilts
 from massline.identify.estimator import Estimate
 
 MAX_TRIALS = 200  # estimates Nelder–Mead may try (each trial is one estimate of θ)
+CURVATURE_STEP = 1e-3  # relative step of the factor's second difference
 
 
 def objective(best: Estimate) -> float:
     """identify's objective of an estimate: Σ z² of the masslines plus its transverse prior's Σ |τ_i|²/t²."""
     return float(best.chi2 * best.dof + np.sum(tilts(best)))
+
+
+def _scaling(found, places: list):
+    """identify's objective on ``found``'s masslines with each place ((0, channel) or (1, hit)) scaled by its
+    factor: a function of the factors (inf where the rest cannot be estimated)."""
+    data, sigma, best = found.data, found.sigma, found.best
+
+    def cost(factors: np.ndarray) -> float:
+        scale = np.ones_like(data.values)
+        for (axis, k), g in zip(places, factors):
+            if axis == 0:
+                scale[k] *= g
+            else:
+                scale[:, k] *= g
+        if not np.all(np.isfinite(scale)) or np.any(scale == 0):
+            return np.inf
+        fit = estimated(found, Masslines(data.values / scale, data.sensors, data.exciters), sigma / np.abs(scale),
+                        best.riding)  # fmt: skip
+        return np.inf if fit is None else objective(fit)
+
+    return cost
 
 
 def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndarray]:
@@ -41,24 +63,7 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
     alternating the two creeps (a 10 % gain read as 5 % after twelve rounds)."""
     data, sigma, best = found.data, found.sigma, found.best
     places = [(0, i) for i in rows] + [(1, j) for j in columns]
-
-    def scale_of(factors: np.ndarray) -> np.ndarray:
-        scale = np.ones_like(data.values)
-        for (axis, k), g in zip(places, factors):
-            if axis == 0:
-                scale[k] *= g
-            else:
-                scale[:, k] *= g
-        return scale
-
-    def cost(factors: np.ndarray) -> float:
-        scale = scale_of(factors)
-        if not np.all(np.isfinite(scale)) or np.any(scale == 0):
-            return np.inf
-        fit = estimated(found, Masslines(data.values / scale, data.sensors, data.exciters), sigma / np.abs(scale),
-                        best.riding)  # fmt: skip
-        return np.inf if fit is None else objective(fit)
-
+    cost = _scaling(found, places)
     model = data.values - best.residual
     start = []
     for axis, k in places:
@@ -72,6 +77,20 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
     if not np.isfinite(found_min.fun):
         return np.inf, np.full(len(places), np.nan)
     return float(found_min.fun), np.asarray(found_min.x)
+
+
+def channel_factor(found, channel: int) -> tuple[float, float]:
+    """One channel's factor by identify's objective (:func:`scaled`) and its 1-σ from the objective's curvature
+    along it, θ estimated again at each point (a profile: σ² = 2 / ∂²f/∂g²), scaled by √(χ²/dof) where the
+    fit leaves more than the noise; (nan, nan) where the rest cannot be estimated."""
+    least, (g,) = scaled(found, (channel,))
+    if not np.isfinite(least):
+        return np.nan, np.nan
+    cost, h = _scaling(found, [(0, channel)]), CURVATURE_STEP * max(abs(g), 1e-3)
+    curvature = (cost(np.array([g + h])) - 2 * least + cost(np.array([g - h]))) / h**2
+    dof = found.best.dof
+    spread = np.sqrt(max(least / dof, 1.0)) if dof > 0 else 1.0
+    return float(g), float(np.sqrt(2 / curvature) * spread) if curvature > 0 else np.nan
 
 
 def place_of(finding) -> tuple[tuple, tuple]:

@@ -18,7 +18,7 @@ import numpy as np
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import named
-from massline.identify.diagnose.shapes import objective, outfits
+from massline.identify.diagnose.shapes import channel_factor, objective, outfits
 from massline.identify.pipeline import Identification, identify_recording
 from massline.identify.suspicions import beyond_chance
 from massline.core.errors import MasslineError
@@ -62,14 +62,19 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     faults = undoable(findings)
     if not faults:
         return before, findings, []
+    withouts = {}
+    for k, finding in enumerate(faults if before is not None else ()):
+        rest = faults[:k] + faults[k + 1 :]
+        withouts[k] = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
+    valued = {id(f): by_identify(f, withouts.get(k)) for k, f in enumerate(faults)}
+    findings, faults = [valued.get(id(f), f) for f in findings], [valued[id(f)] for f in faults]
     after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
     if after is None:
         return before, findings, []
     marked, withdrawn = [], []
     for finding in findings:
         if finding in faults and before is not None:
-            rest = [f for f in faults if f is not finding]
-            without = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
+            without = withouts[faults.index(finding)]
             if without is not None:
                 gain = total_chi2(without) - total_chi2(after)
                 evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
@@ -92,6 +97,18 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                                           before, known)  # fmt: skip
         return again, kept, stand_ins
     return after, marked, []
+
+
+def by_identify(finding, without: Identification | None):
+    """A gain as identify's estimator reads it: the channel's factor on identify's objective with the other faults
+    undone (``without``), θ estimated again (:func:`.shapes.channel_factor`), in place of the line-level fit's, so
+    that the gain stated is the one whose undoing gives the properties after; other findings as they are."""
+    if finding.effect != "sensor_gain" or without is None:
+        return finding
+    gain, std = channel_factor(without, finding.channels[0])
+    if not np.isfinite(gain):
+        return finding
+    return replace(finding, parameters={**finding.parameters, "gain": gain, "gain_std": std})
 
 
 def explains_the_misfit(before: Identification, after: Identification) -> bool:
