@@ -59,3 +59,13 @@ def test_a_failed_solve_is_raised_by_check_while_the_search_runs(monkeypatch):
             time.sleep(0.05)
     assert not solving._process.is_alive()
     solving.close()
+
+
+def test_a_process_that_ends_without_a_word_is_raised_by_check():
+    """Killed (as the system kills a process out of memory): ``check`` says so at the search's next step."""
+    solving = FEInProcess(bundled("bracket"), "bracket")
+    solving._process.kill()
+    solving._process.join()
+    with pytest.raises(RuntimeError, match="ended with exit code -9"):
+        solving.check()
+    assert solving._pipe.closed

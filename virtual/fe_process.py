@@ -46,20 +46,30 @@ class FEInProcess:
     def _read(self, wait: float) -> bool:
         """Read one message if one comes within ``wait`` s; whether the last one (modes or error) has come."""
         if self._last is None and self._pipe.poll(wait):
-            kind, *got = self._pipe.recv()
+            try:
+                kind, *got = self._pipe.recv()
+            except EOFError:  # its end closed without a last message: the process was killed
+                self._ended()
             if kind == "stage":
                 self._stages.append(tuple(got))
             else:
                 self._last = (kind, *got)
         elif self._last is None and not self._process.is_alive() and not self._pipe.poll():
-            self.close()
-            raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}")
+            self._ended()
         return self._last is not None
 
+    def _ended(self) -> None:
+        """Raise that the process ended without a result (killed: out of memory, a signal)."""
+        self.close()
+        raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}, without a result")
+
     def check(self) -> None:
-        """Raise, at once, the error the solve met if it has already failed (without waiting for it)."""
+        """Raise, at once, the error the solve met if it has already failed, or a RuntimeError if its process has
+        ended without a result (without waiting for it)."""
         while self._last is None and self._pipe.poll():
             self._read(0.0)
+        if self._last is None:
+            self._read(0.0)  # a process that ended without a word (killed: out of memory) is raised now
         if self._last is not None and self._last[0] == "error":
             self.close()
             raise self._last[1]
