@@ -21,7 +21,7 @@ import numpy as np
 
 from massline.identify.consistency import is_consistent
 from massline.identify.estimator import Estimate
-from massline.core.errors import MasslineError, param
+from massline.core.errors import MasslineError
 from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
 from massline.core.model import RigidModel

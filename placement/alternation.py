@@ -199,16 +199,16 @@ class Planner:
         it leaves unseen. The lines a diagnosable layout lacks (on a thick plate's thin sides) rarely add much
         information, so the exchanges that weigh information first never try them."""
         rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
-        _, s, Vt = np.linalg.svd(rows)
+        _, s, Vt = np.linalg.svd(rows, full_matrices=False)
         if len(s) < rows.shape[1] or s[-1] <= 1e-10 * s[0]:
             return self.seeing(Vt[-1])
         P = hat_matrix(rows, rows.shape[1])
         weak = np.flatnonzero((np.diagonal(P) > H_MAX) | (confusion(P) > R_MAX))
         if not len(weak):
             return np.zeros(len(self.s), bool)
-        G = np.linalg.inv(rows.T @ rows)
-        C = self.s_coords @ G
+        C = (self.s_coords @ Vt.T) / s**2 @ Vt  # c G, G = (RᵀR)⁻¹ = V S⁻² Vᵀ
         relief = ((C @ rows[weak].T) ** 2).sum(axis=1) / (1 + np.einsum("lq,lq->l", C, self.s_coords))
+        relief[self.s.line_index(sensors)] = 0.0  # the selection's own lines are no exchange
         best = np.zeros(len(relief), bool)
         best[np.argsort(-relief)[:RELIEF]] = True
         return self.s.any_line(best & (relief > 0))
@@ -291,8 +291,9 @@ class Planner:
         chosen = settle(problem, start, admissible, cover, screen)
         if admissible(chosen) or not self.diagnosable:
             return chosen
-        walked = descend(problem, chosen, violations, relief)
-        return settle(problem, walked, admissible, cover, screen)
+        walked = settle(problem, descend(problem, chosen, violations, relief), admissible, cover, screen)
+        solvable = admissible(walked) or self.regular(*self.layout(*side(walked)))
+        return walked if solvable else chosen  # a walk that ends where the equations cannot solve: not taken
 
     def layout(self, sensors, exciters) -> tuple[Lines, Lines]:
         """All sensor and exciter lines of a selection, fixed ones first."""

@@ -256,7 +256,9 @@ def settle(problem: BlockProblem, chosen: list, admissible, cover_for, screen=No
     return chosen
 
 
-def descend(problem: BlockProblem, chosen: list, violations, relief=None, tries: int = 50, max_passes: int = 30) -> list:
+def descend(
+    problem: BlockProblem, chosen: list, violations, relief=None, tries: int = 50, max_passes: int = 30
+) -> list:
     """Single exchanges that lower the violation (≥ 0; 0 when the selection is admissible), the most informative
     of equal violation first, until it is 0 or no exchange among each chosen block's ``tries`` best lowers it.
     The walk may pass through layouts the paper's equations cannot solve (a motion seen again may take two

@@ -47,7 +47,8 @@ def model_key(mesh: trimesh.Trimesh, material: Material, size: float | None, n: 
     digest = hashlib.sha256(f"massline FE modes {FORMAT}".encode())
     digest.update(np.ascontiguousarray(mesh.vertices, dtype=np.float64).tobytes())
     digest.update(np.ascontiguousarray(mesh.faces, dtype=np.int64).tobytes())
-    digest.update(np.array([material.youngs, material.poisson, material.density, -1.0 if size is None else size, n], dtype=float).tobytes())
+    size_key = -1.0 if size is None else size  # sizes are positive: −1 is the default mesh
+    digest.update(np.array([material.youngs, material.poisson, material.density, size_key, n], dtype=float).tobytes())
     for module in (elastic, tetmesh):
         digest.update(Path(module.__file__).read_bytes())
     return digest.hexdigest()
@@ -97,7 +98,9 @@ def store(path: Path, modes: ElasticModes) -> None:
         Path(temporary).unlink(missing_ok=True)
 
 
-def cached_modes(mesh: trimesh.Trimesh, material: Material, size: float | None, n: int, solve) -> tuple[ElasticModes, bool]:
+def cached_modes(
+    mesh: trimesh.Trimesh, material: Material, size: float | None, n: int, solve
+) -> tuple[ElasticModes, bool]:
     """The modes of the model (``solve()`` when not kept, then kept), and whether they came from the cache."""
     folder = cache_folder()
     if folder is None:

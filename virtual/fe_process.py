@@ -26,7 +26,10 @@ def _solve(body: BodyMesh, mesh_name: str | None, pipe) -> None:
         fe = plan_fe_model(body, mesh_name, lambda *stage: pipe.send(("stage", *stage)))
         pipe.send(("modes", as_arrays(fe.modes), fe.material, fe.kept, fe.assumed))
     except BaseException as error:  # noqa: BLE001 — handed to the first process, which raises it
-        pipe.send(("error", error))
+        try:
+            pipe.send(("error", error))
+        except Exception:  # noqa: BLE001 — an error that cannot be pickled goes as its words
+            pipe.send(("error", RuntimeError(f"the FE solve failed: {type(error).__name__}: {error}")))
     finally:
         pipe.close()
 
@@ -49,19 +52,22 @@ class FEInProcess:
             try:
                 kind, *got = self._pipe.recv()
             except EOFError:  # its end closed without a last message: the process was killed
-                self._ended()
+                raise self._ended() from None
             if kind == "stage":
                 self._stages.append(tuple(got))
             else:
                 self._last = (kind, *got)
         elif self._last is None and not self._process.is_alive() and not self._pipe.poll():
-            self._ended()
+            raise self._ended()
         return self._last is not None
 
-    def _ended(self) -> None:
-        """Raise that the process ended without a result (killed: out of memory, a signal)."""
+    def _ended(self) -> RuntimeError:
+        """The error of a process that ended without a result (killed: out of memory, a signal), kept as its last
+        message (a later look raises it again) once the process is closed."""
         self.close()
-        raise RuntimeError(f"the FE process ended with exit code {self._process.exitcode}, without a result")
+        error = RuntimeError(f"the FE process ended with exit code {self._process.exitcode}, without a result")
+        self._last = ("error", error)
+        return error
 
     def check(self) -> None:
         """Raise, at once, the error the solve met if it has already failed, or a RuntimeError if its process has

@@ -47,8 +47,9 @@ def default_size(mesh: trimesh.Trimesh) -> float:
     across a bar, enough for their bending; ``L/16`` (L: largest extent) keeps
     sixteen elements along chunky bodies, whose walls are not thin against their
     span. The size never goes below ``size_for_dofs(mesh, 25 000)``, which keeps
-    the model near 25 000 DOF (a CAD part's 78 000-DOF solve took minutes of a plan's
-    time; the plate row below shows what 29 000 DOF already resolve).
+    the model near 25 000 DOF where the surface's features are not smaller than the
+    size (where they are, :func:`default_tetrahedra` grades the mesh faster; the plate
+    row below shows what 29 000 DOF already resolve).
 
     Measured with quadratic tetrahedra (scikit-fem, :mod:`.elastic`), first
     elastic frequencies against closed forms or much finer meshes:

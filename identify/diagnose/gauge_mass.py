@@ -25,7 +25,6 @@ from scipy.optimize import minimize_scalar
 from scipy.stats import chi2 as chi2_distribution
 
 from massline.core.information import sensitivities
-from massline.core.model import RigidModel
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate, estimate
@@ -104,7 +103,7 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
     return GaugeMass(mass=m, std=float(std), chi2_before=before, chi2_after=after, fit=fit)
 
 
-def left_out(data, sigma: np.ndarray, planar: bool, transverse: float, without: Estimate) -> np.ndarray:
+def gauge_pattern(data, sigma: np.ndarray, planar: bool, transverse: float, without: Estimate) -> np.ndarray:
     """ψ (p,), SI per kg: how identify's θ̂ moves per kg of a gauge at every drive point that it left out,
     (θ̂ − θ̂_δ)/δ with θ̂_δ fitted with δ kg riding at each (δ a thousandth of the body per drive point)."""
     delta = 1e-3 * without.body.mass / len(data.exciters)

@@ -22,7 +22,7 @@ from massline.identify.band_choice import choose_band
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
-from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, left_out
+from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_pattern
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
@@ -345,7 +345,7 @@ def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody
     """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points."""
     excitation = None
     if not after.exciter_mass and len(after.recording.exciters) > 1:
-        pattern = left_out(after.data, after.sigma, after.planar, transverse, after.best)  # a difference
+        pattern = gauge_pattern(after.data, after.sigma, after.planar, transverse, after.best)  # a difference
         excitation = (after.recording.exciters.points, pattern)
     theta, covariance, planar = weighed(after.best, result.after)
     bare = theta - after.housings.theta(planar)  # the housings the engineer gave are no loading

@@ -38,14 +38,18 @@ def at_the_misfit(findings: list, left) -> list:
     (``left``: :func:`.unexplained.unexplained` of that; None or spread: none). The effect fitted part of its
     place's misfit and left the rest beyond chance there: the name is not what the data prove (the bracket's
     8 mm sensor offset on channel 5 was named an offset that left χ² 229 on 10 degrees of freedom). A factor's
-    own effects (a gain, a sign) are the misfit's library-free shape (:mod:`.shapes`) and stay: what they leave
-    at their place is another misfit, reported beside them (a −11.7 % gain on the structure's channel 1, read
-    as ×0.881, left 3.5× χ²'s dof at that channel's one FRF with one hit, which one more factor did not lower)."""
+    own effects (a gain, a sign) are the misfit's library-free shape (:mod:`.shapes`) and stay where what they
+    leave is another misfit, reported beside them (a −11.7 % gain on the structure's channel 1, read as ×0.881,
+    left 3.5× χ²'s dof at that channel's one FRF with one hit, which one more factor did not lower); a gain that
+    leaves its whole row beyond chance is no factor on that row, and goes (with the sensor offset out of the
+    library, an offset was named a gain that left χ² 9.7× its dof at its channel)."""
     if left is None or left.parameters["shape"] not in ("one_channel", "one_hit", "one_frf"):
         return []
     channels, hits = set(left.channels), set(left.parameters["hits"])
     here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
-    return [f for f in here if not proven_by_mesh(f) and f.effect not in SCALE_EFFECTS]
+    row_left = left.parameters["shape"] == "one_channel"
+    kept = tuple(e for e in SCALE_EFFECTS if e != "sensor_gain") if row_left else SCALE_EFFECTS
+    return [f for f in here if not proven_by_mesh(f) and f.effect not in kept]
 
 
 def same_place(a, b) -> bool:

@@ -79,18 +79,22 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
     return float(found_min.fun), np.asarray(found_min.x)
 
 
-def channel_factor(found, channel: int) -> tuple[float, float]:
+def channel_factor(found, channel: int, step: float | None = None) -> tuple[float, float]:
     """One channel's factor by identify's objective (:func:`scaled`) and its 1-σ from the objective's curvature
-    along it, θ estimated again at each point (a profile: σ² = 2 / ∂²f/∂g²), scaled by √(χ²/dof) where the
-    fit leaves more than the noise; (nan, nan) where the rest cannot be estimated."""
+    along it, θ estimated again at each point (a profile: σ² = 2 / ∂²f/∂g²), scaled by √(χ²/dof) where the fit
+    leaves more than the noise; the second difference steps by ``step`` (about the factor's 1-σ, so that the
+    estimate's tolerance does not swamp it; default a thousandth of the factor). (nan, nan) where the rest
+    cannot be estimated, (g, nan) where the objective is not convex along the factor."""
     least, (g,) = scaled(found, (channel,))
     if not np.isfinite(least):
         return np.nan, np.nan
-    cost, h = _scaling(found, [(0, channel)]), CURVATURE_STEP * max(abs(g), 1e-3)
+    h = max(CURVATURE_STEP * max(abs(g), 1e-3), step or 0.0)
+    cost = _scaling(found, [(0, channel)])
     curvature = (cost(np.array([g + h])) - 2 * least + cost(np.array([g - h]))) / h**2
-    dof = found.best.dof
+    dof = found.best.dof - 1  # the factor is fitted too
     spread = np.sqrt(max(least / dof, 1.0)) if dof > 0 else 1.0
-    return float(g), float(np.sqrt(2 / curvature) * spread) if curvature > 0 else np.nan
+    convex = np.isfinite(curvature) and curvature > 0
+    return float(g), float(np.sqrt(2 / curvature) * spread) if convex else np.nan
 
 
 def place_of(finding) -> tuple[tuple, tuple]:

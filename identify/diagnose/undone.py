@@ -55,26 +55,31 @@ def identified_after(recording, findings: list, band, transverse: float, before:
 
     A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again;
     so are all of them when together they leave identify's χ² beyond chance having explained less than ``MOST`` of
-    it (:func:`explains_the_misfit`).
-    When identify refuses the corrected recording, the properties stay ``before`` (and no finding says it moved
-    them). ``known``: identify's options for the masses the engineer gave (``sensor_mass``, ``exciter_mass``).
+    it (:func:`explains_the_misfit`). A gain is stated as identify reads it (:func:`by_identify`), and the other
+    faults are proven with it so stated.
+    When identify refuses the corrected recording, the properties stay ``before`` and the findings as they came
+    (no finding says it moved them). ``known``: identify's options for the masses the engineer gave
+    (``sensor_mass``, ``exciter_mass``).
     """
     faults = undoable(findings)
     if not faults:
         return before, findings, []
-    withouts = {}
-    for k, finding in enumerate(faults if before is not None else ()):
-        rest = faults[:k] + faults[k + 1 :]
-        withouts[k] = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
-    valued = {id(f): by_identify(f, withouts.get(k)) for k, f in enumerate(faults)}
-    findings, faults = [valued.get(id(f), f) for f in findings], [valued[id(f)] for f in faults]
+    withouts = each_left_out(recording, faults, band, transverse, before, known)
+    valued = {id(f): by_identify(f, without) for f, without in zip(faults, withouts)}
+    if any(valued[id(f)] is not f for f in faults):  # a gain read again: the others' leave-one-out with it
+        stated = [valued.get(id(f), f) for f in findings]
+        faults = [valued[id(f)] for f in faults]
+        withouts = each_left_out(recording, faults, band, transverse, before, known) if len(faults) > 1 else withouts
+    else:
+        stated = findings
     after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
     if after is None:
         return before, findings, []
+    findings, proof = stated, {id(f): without for f, without in zip(faults, withouts)}
     marked, withdrawn = [], []
     for finding in findings:
-        if finding in faults and before is not None:
-            without = withouts[faults.index(finding)]
+        if id(finding) in proof and before is not None:
+            without = proof[id(finding)]
             if without is not None:
                 gain = total_chi2(without) - total_chi2(after)
                 evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
@@ -99,15 +104,30 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     return after, marked, []
 
 
+def each_left_out(recording, faults: list, band, transverse: float, before: Identification | None,
+                  known: dict) -> list:  # fmt: skip
+    """identify (no bootstrap) with every fault but each one undone, in turn (None each where identify refuses,
+    and all where there is no ``before`` to prove against)."""
+    if before is None:
+        return [None] * len(faults)
+    out = []
+    for k in range(len(faults)):
+        rest = faults[:k] + faults[k + 1 :]
+        out.append(attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest)))
+    return out
+
+
 def by_identify(finding, without: Identification | None):
     """A gain as identify's estimator reads it: the channel's factor on identify's objective with the other faults
     undone (``without``), θ estimated again (:func:`.shapes.channel_factor`), in place of the line-level fit's, so
     that the gain stated is the one whose undoing gives the properties after; other findings as they are."""
     if finding.effect != "sensor_gain" or without is None:
         return finding
-    gain, std = channel_factor(without, finding.channels[0])
+    line_std = finding.parameters.get("gain_std", np.nan)
+    gain, std = channel_factor(without, finding.channels[0], line_std if np.isfinite(line_std) else None)
     if not np.isfinite(gain):
         return finding
+    std = std if np.isfinite(std) and std > 0 else line_std  # no curvature to read: the line-level fit's 1-σ
     return replace(finding, parameters={**finding.parameters, "gain": gain, "gain_std": std})
 
 

@@ -2,7 +2,7 @@
 
 Simulated: the channel's reading scaled by (1 + ``size``). Diagnosed: one value g per channel, s_i → (1 + g) s_i
 (mismatch notes §3 B); once named, the gain stated is the channel's factor on identify's objective
-(:func:`..undone.by_identify`), and the channel's FRFs are divided by it.
+(:func:`massline.identify.diagnose.undone.by_identify`), and the channel's FRFs are divided by it.
 """
 
 from __future__ import annotations
