@@ -107,8 +107,8 @@ def test_default_plans_are_diagnosable_and_minimal_ones_are_not(name):
     assert not p.minimal.diagnosability.diagnosable
     assert len(p.exciters) >= 4 and len(p.sensors) >= (5 if p.model.planar else 8)
     assert p.log_det >= p.minimal.log_det  # more lines and hits: more information (D), though its worst
-    # 1-σ may be larger: the bracket's diagnosable 10 × 4 is 1.8 % against the minimal 6 × 3's 1.4 % (the
-    # report states the cost; --criterion E plans for the worst 1-σ)
+    # 1-σ may be larger: the bracket's diagnosable 10 × 4 of an earlier search had 1.50 % against the minimal
+    # 6 × 3's 1.31 % (the report states the cost; --criterion E plans for the worst 1-σ)
 
 
 def bench(name: str, plan) -> Bench:
