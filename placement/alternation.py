@@ -12,7 +12,7 @@ import numpy as np
 from massline.placement.admissible import regular, weakly_seen
 from massline.placement.candidates import CandidateLines
 from massline.placement.criteria import Criterion, D
-from massline.placement.diagnosability import H_MAX, R_MAX, confusion, excesses, hat_matrix
+from massline.placement.diagnosability import H_MAX, R_MAX, confusion, excesses
 from massline.placement.footprints import Footprints, conflicts, hits_blocked, sensors_blocked
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, weighted_sensitivities
@@ -199,10 +199,10 @@ class Planner:
         it leaves unseen. The lines a diagnosable layout lacks (on a thick plate's thin sides) rarely add much
         information, so the exchanges that weigh information first never try them."""
         rows = np.vstack([self.fixed_s, self.sensor_rows(sensors)])
-        _, s, Vt = np.linalg.svd(rows, full_matrices=False)
+        U, s, Vt = np.linalg.svd(rows, full_matrices=False)
         if len(s) < rows.shape[1] or s[-1] <= 1e-10 * s[0]:
             return self.seeing(Vt[-1])
-        P = hat_matrix(rows, rows.shape[1])
+        P = U @ U.T  # the kinematic hat matrix S S⁺ of rows that see every motion
         weak = np.flatnonzero((np.diagonal(P) > H_MAX) | (confusion(P) > R_MAX))
         if not len(weak):
             return np.zeros(len(self.s), bool)

@@ -66,12 +66,10 @@ def identified_after(recording, findings: list, band, transverse: float, before:
         return before, findings, []
     withouts = each_left_out(recording, faults, band, transverse, before, known)
     valued = {id(f): by_identify(f, without) for f, without in zip(faults, withouts)}
-    if any(valued[id(f)] is not f for f in faults):  # a gain read again: the others' leave-one-out with it
-        stated = [valued.get(id(f), f) for f in findings]
-        faults = [valued[id(f)] for f in faults]
-        withouts = each_left_out(recording, faults, band, transverse, before, known) if len(faults) > 1 else withouts
-    else:
-        stated = findings
+    read_again = any(valued[id(f)] is not f for f in faults)
+    stated, faults = [valued.get(id(f), f) for f in findings], [valued[id(f)] for f in faults]
+    if read_again and len(faults) > 1:  # a gain read again: the others' leave-one-out with it
+        withouts = each_left_out(recording, faults, band, transverse, before, known)
     after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
     if after is None:
         return before, findings, []
