@@ -12,6 +12,7 @@ from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
+from massline.identify.pipeline import as_recording
 from massline.meshargs import add_nominal_arguments, nominal_mesh
 from massline.core.housing_masses import HousingMasses
 from massline.options import (
@@ -19,19 +20,19 @@ from massline.options import (
     TRANSVERSE_PRIOR,
     add_export_arguments,
     add_instrumentation_arguments,
+    add_recording_argument,
     check_band,
     claim_exports,
+    source_of,
 )
 from massline.output import check_exportable, write_exports, write_json, write_report
 from massline.core.files import write_atomic
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY
-from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
+    add_recording_argument(parser)
     parser.add_argument(
         "--band",
         type=BAND_EDGE,
@@ -89,7 +90,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report})
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
-    recording = to_recording(read_uff(args.uff))
+    recording = as_recording(args.uff)
     check_exportable(args.export, recording)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         known = {"sensor_mass": HousingMasses.parse(args.sensor_mass), "exciter_mass": args.exciter_mass}
@@ -127,5 +128,5 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if args.report:
         from massline.reports.diagnosis_report import diagnose_report
 
-        write_report(console, args.report, lambda: diagnose_report(found, args.uff, mesh), args.force)
+        write_report(console, args.report, lambda: diagnose_report(found, source_of(args.uff), mesh), args.force)
     write_exports(console, found, args)

@@ -9,7 +9,13 @@ from rich.console import Console
 from rich.table import Table
 
 from massline.identify.estimator import TRANSVERSE
-from massline.identify.pipeline import PAPER_METHODS, Identification, against_nominal, identify_recording
+from massline.identify.pipeline import (
+    PAPER_METHODS,
+    Identification,
+    against_nominal,
+    as_recording,
+    identify_recording,
+)
 from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.meshargs import add_nominal_arguments, nominal_mesh
@@ -19,21 +25,21 @@ from massline.options import (
     TRANSVERSE_PRIOR,
     add_export_arguments,
     add_instrumentation_arguments,
+    add_recording_argument,
     check_band,
     checked,
     claim_exports,
+    source_of,
     count,
 )
 from massline.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody
-from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("uff", metavar="FILE.uff", help="FRFs exported by the test software (UFF 58/58b)")
+    add_recording_argument(parser)
     parser.add_argument(
         "--band", type=BAND_EDGE, nargs=2, metavar=("LO", "HI"), help="massline band, Hz (default: found)"
     )
@@ -96,7 +102,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     check_band(args.band)
     sensor_mass, weighed = HousingMasses.parse(args.sensor_mass), args.weighed_mass
     mesh = nominal_mesh(args)
-    recording = to_recording(read_uff(args.uff))
+    recording = as_recording(args.uff)
     check_exportable(args.export, recording)
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
@@ -106,19 +112,21 @@ def run(args: argparse.Namespace, console: Console) -> None:
     band, fit = found.band, found.fit
     for note in found.notes:
         console.print(f"note: {note}")
+    if recording.runs:
+        console.print(f"runs: {', '.join(recording.runs)} ({len(recording.repeats)} pairs measured in several)")
     console.print(
         f"massline band {band.low:.1f}–{band.high:.1f} Hz ({band.rule}); band fits: median RMS residual "
-        f"{np.median(fit.quality):.2%} of the massline, worst {fit.quality.max():.2%}; suspension and "
-        f"residual-flexibility tails removed (a plain average would be off by up to {fit.bias.max():.1%})"
+        f"{np.nanmedian(fit.quality):.2%} of the massline, worst {np.nanmax(fit.quality):.2%}; suspension and "
+        f"residual-flexibility tails removed (a plain average would be off by up to {np.nanmax(fit.bias):.1%})"
     )
     for line in mass_lines(found):
         console.print(line)
     body = "bare body, accelerometers off" if found.housings.count else "frame of the file"
-    title = f"{args.uff}: identified properties ({args.method}; {body}; ± from the data)"
+    title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± from the data)"
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
     console.print(
-        f"reduced χ² {number(found.best.chi2, 3)} over {found.data.values.size} masslines"
+        f"reduced χ² {number(found.best.chi2, 3)} over {int(np.isfinite(found.sigma).sum())} masslines"
         + ("; physical-consistency constraint active" if found.best.constrained else "")
     )
     for warning in found.warnings:
@@ -128,7 +136,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if args.report:
         from massline.reports.identification_report import identify_report
 
-        write_report(console, args.report, lambda: identify_report(found, args.uff, mesh), args.force)
+        write_report(console, args.report, lambda: identify_report(found, source_of(args.uff), mesh), args.force)
     write_exports(console, found, args)
 
 

@@ -162,6 +162,22 @@ TRANSVERSE_PRIOR = fraction(0.5)  # a 1-σ beyond 50 % of the main axis' sensiti
 MAX_DRAWS = 10_000  # bootstrap draws: beyond this the ± no longer changes, the wait does
 
 
+def add_recording_argument(parser: argparse.ArgumentParser) -> None:
+    """The recording: one Universal File, or one per run (or a folder of them)."""
+    parser.add_argument(
+        "uff",
+        nargs="+",
+        metavar="FILE.uff",
+        help="FRFs exported by the test software (UFF 58/58b): one file, or one file per run, or a folder of "
+        "them (merged by node label; pairs measured in several runs are averaged, pairs not measured left out)",
+    )
+
+
+def source_of(paths: list[str]) -> str:
+    """How a recording given as ``paths`` is named in titles and notes: the file, or the first and how many."""
+    return paths[0] if len(paths) == 1 else f"{paths[0]} + {len(paths) - 1} more"
+
+
 def check_band(band: list[float] | None) -> None:
     """``--band LO HI``: LO below HI (each already a positive frequency in Hz)."""
     if band is not None and not band[0] < band[1]:

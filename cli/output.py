@@ -81,7 +81,7 @@ def write_exports(console, found, args) -> None:
     bare body or with ``--export-as-tested`` the body as tested, and say so."""
     for path in args.export:
         found.export(path, args.export_units, as_tested=args.export_as_tested, force=args.force,
-                     source=Path(args.uff).name)  # fmt: skip
+                     source=Path(args.uff[0]).name)  # fmt: skip
         console.print(f"wrote {path} ({format_of(path).name}, {args.export_units})")
 
 

@@ -30,7 +30,7 @@ from massline.meshes.loader import MAX_MASS_KG
 from massline.placement.plan_file import read_plan
 from massline.identify.diagnose.effects import effect_help, parse_effect
 from massline.uff.units import ACCELERATIONS, UNITS
-from massline.uff.writer import write_uff
+from massline.uff.writer import run_files, write_runs, write_uff
 from massline.virtual.effects import check_targets
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.measurement import ImpactTest, Noise
@@ -49,6 +49,12 @@ MAX_MODES = 100  # elastic modes of the FE model
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("plan", metavar="PLAN.json", help="a plan written by 'massline plan'")
     parser.add_argument("--out", metavar="FILE.uff", help="the recording to write (its truth goes to FILE.truth.json)")
+    parser.add_argument(
+        "--split-runs",
+        action="store_true",
+        help="write one file per exciter, FILE.run1.uff, FILE.run2.uff, … (a shaker moved between runs), each with "
+        "every node; identify and diagnose read them together",
+    )
     parser.add_argument("--check", action="store_true", help="only predict the massline band; write no recording")
     parser.add_argument(
         "--seed", type=SEED, default=0, metavar="N", help="seed of noise and effect placement (default 0)"
@@ -193,7 +199,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     sensors, exciters, doc = read_plan(plan_path)
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
-    named = {} if args.check else {"--out": args.out, "the truth file": Path(args.out).with_suffix(".truth.json")}
+    named = {} if args.check else recording_outputs(Path(args.out), len(exciters) if args.split_runs else 0)
     outputs = claim_outputs(named | {"--plot": args.plot}, args.force)
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters), args.fmax, args.lines)
@@ -226,13 +232,26 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for warning in truth["warnings"]:
         console.print(f"warning: {warning}", markup=False, soft_wrap=True)
     options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
-    write_uff(outputs[0], recording, acceleration=args.acceleration, force=args.force, **options)
-    write_atomic(outputs[1], to_json(truth), args.force)
+    options |= {"acceleration": args.acceleration, "force": args.force}
+    if args.split_runs:
+        written = write_runs(args.out, recording, **options)
+        files = f"{written[0]} … {written[-1].name} (one file per exciter: {len(sensors)} FRFs each"
+    else:
+        write_uff(outputs[0], recording, **options)
+        files = f"{outputs[0]} ({len(sensors)} × {len(exciters)} FRFs"
+    truth_file = named["the truth file"]
+    write_atomic(truth_file, to_json(truth), args.force)
     console.print(
-        f"wrote {outputs[0]} ({len(sensors)} × {len(exciters)} FRFs and their coherence, {recording_axis(truth)}, "
-        f"{frf_units(args)}) and {outputs[1]} (what was simulated, including "
-        f"{len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
+        f"wrote {files} and their coherence, {recording_axis(truth)}, {frf_units(args)}) and {truth_file} (what "
+        f"was simulated, including {len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
     )
+
+
+def recording_outputs(out: Path, runs: int) -> dict:
+    """The files ``simulate --out OUT`` writes, by what names them: the recording (or each run's file, ``runs`` of
+    them with ``--split-runs``), then the truth file."""
+    recordings = {f"run {j + 1} of --out": path for j, path in enumerate(run_files(out, runs))} if runs else {}
+    return (recordings or {"--out": out}) | {"the truth file": out.with_suffix(".truth.json")}
 
 
 def gauge_effects(args: argparse.Namespace) -> tuple:

@@ -15,6 +15,10 @@ each tail's next term may carry into it (:func:`.massline_fit.truncation_shift`)
 but reaches where the tails are large; a narrow one keeps clear of them but sees few: the score weighs both.
 The widest candidate gives the start body; the one farthest from both resonances is the fallback when
 that body cannot be found.
+
+Each FRF is fitted on the lines it has (:mod:`.missing_lines`): the criterion sums over the pairs a candidate
+fits (a pair with no FRF, or too few lines in it, weighs 0 in F and the bias), and the start body is found from
+the masslines present, the missing ones filled from a body that fits them (:func:`.missing_pairs.completed`).
 """
 
 from __future__ import annotations
@@ -26,11 +30,14 @@ from massline.identify.massline_fit import (
     LineSums,
     Solution,
     band_lines,
+    fitted,
     line_sums,
     line_weights,
     solve,
     truncation_shift,
 )
+from massline.identify.missing_lines import pair_norm, present
+from massline.identify.missing_pairs import completed
 from massline.identify.resonances import RIGID, rigid_misfit
 from massline.core.band import Band, GIVE_BAND
 from massline.core.errors import MasslineError
@@ -73,8 +80,8 @@ def candidate_sums(
     runs = []
     for lo, hi in zip(cuts[:-1], cuts[1:]):
         keep = (f >= lo) & (f < hi)
-        real, imag = band_lines(frf, keep)
-        runs.append(line_sums(omega2[keep] / reference, real, imag, line_weights(weights, keep, real.shape)))
+        real, imag, has = band_lines(frf, keep, weights)
+        runs.append(line_sums(omega2[keep] / reference, real, imag, line_weights(weights, keep, has), has))
     sums = {}
     for lo, hi in pairs:
         first, last = cuts.index(lo), cuts.index(np.nextafter(hi, np.inf))
@@ -88,17 +95,19 @@ def predicted_spread(fit: Solution, truncation: np.ndarray, G: np.ndarray) -> fl
 
     F = Σ g_ij g_ijᵀ / σ_ij² is the information of the band's masslines (their variance, trace F⁻¹), and
     δA_ij the shift the truncation of their tails may carry (``truncation``, :func:`.truncation_shift`): the
-    bias it moves the properties by. ``fit`` the band's fits of the n_fr FRFs, ``G`` (n_fr, p) the g_ij.
+    bias it moves the properties by. ``fit`` the band's fits of the n_fr FRFs, ``G`` (n_fr, p) the g_ij; the sums
+    run over the FRFs fitted (a pair with no FRF or too few lines, NaN in ``fit``, weighs 0).
     inf when F is singular.
     """
-    sigma = np.maximum(fit.std, 1e-12 * np.abs(fit.real[:, 0]).max())
-    weighted = G / sigma[:, None]
+    used = np.isfinite(fit.std)
+    sigma = np.maximum(fit.std[used], 1e-12 * np.abs(fit.real[used, 0]).max(initial=0.0))
+    weighted = G[used] / sigma[:, None]
     F = weighted.T @ weighted
     try:
         covariance = np.linalg.inv(F)
     except np.linalg.LinAlgError:
         return np.inf
-    bias = covariance @ (weighted.T @ (truncation / sigma))
+    bias = covariance @ (weighted.T @ (truncation[used] / sigma))
     return float(np.trace(covariance) + bias @ bias)
 
 
@@ -137,32 +146,38 @@ def closed_by_support(frequencies, frf, free: Band, sensors: Lines, exciters: Li
 
     At the strongest line of Im H within 1.5 × the top, a resonance stands out of the gap's massline level
     (‖Im H‖ above ‖Re H‖ at the gap's middle; a notch in the force spectrum does not), and one rigid motion
-    explains its shape at the sensors and at the hits (:func:`.resonances.rigid_misfit`). It can only tell
-    with more sensor lines than q.
+    explains its shape at the sensors and at the hits (:func:`.resonances.rigid_misfit`, on the pairs present at
+    that line). It can only tell with more sensor lines than q.
     """
     S = plate_coordinates(sensors) if planar else sensors.coordinates
     E = plate_coordinates(exciters) if planar else exciters.coordinates
     near = np.flatnonzero((frequencies >= free.high) & (frequencies <= 1.5 * free.high))
     if not np.isfinite(free.high) or len(sensors) <= S.shape[1] or not len(near):
         return False
-    peak = near[np.argmax(np.linalg.norm(frf[:, :, near].imag, axis=(0, 1)))]
+    has = present(frf)
+    imaginary = pair_norm(frf[:, :, near].imag, has[:, :, near])
+    peak = near[np.argmax(imaginary)]
     middle = np.argmin(np.abs(frequencies - np.sqrt(free.low * free.high)))
-    if np.linalg.norm(frf[:, :, peak].imag) < np.linalg.norm(frf[:, :, middle].real):
+    if imaginary.max() < pair_norm(frf[:, :, [middle]].real, has[:, :, [middle]])[0]:
         return False
     return rigid_misfit(frf[:, :, peak], S, E) < RIGID
 
 
 def best_candidate(frequencies, frf, pairs, sensors, exciters, *, planar, weights) -> tuple[float, float] | None:
-    """The candidate of least predicted error, scored at the widest candidate's body; None when that body
-    is none (no positive mass: the FRFs of the gap follow a spring, not a mass)."""
+    """The candidate of least predicted error, scored at the widest candidate's body (from the masslines it fits,
+    the missing ones filled); None when that body is none (no positive mass: the FRFs of the gap follow a
+    spring, not a mass)."""
     widest = pairs[0]  # every other candidate lies inside it
     sums = candidate_sums(frequencies, frf, weights, pairs)
     reference = solve(sums[widest])
     values = reference.real[:, 0].reshape(frf.shape[:2])
-    if not np.isfinite(values).all():
-        raise MasslineError(f"a band fit failed (NaN in the FRFs?): check the recording or give {GIVE_BAND}")
+    measured = fitted(sums[widest]).reshape(values.shape)
+    if not np.isfinite(values[measured]).all():
+        raise MasslineError(f"a band fit failed (overflow in the FRFs?): check the recording or give {GIVE_BAND}")
+    data = Masslines(np.where(measured, values, 0.0), sensors, exciters)
     try:
-        model = RigidModel(starting_body(Masslines(values, sensors, exciters), planar), planar)
+        start = data if measured.all() else completed(data, measured, planar)
+        model = RigidModel(starting_body(start, planar), planar)
     except (MasslineError, np.linalg.LinAlgError):
         return None
     if not model.nominal.mass > 0:

@@ -41,6 +41,7 @@ from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
 from massline.identify.consistency import constrained_step, is_consistent
+from massline.identify.missing_pairs import completed
 from massline.core.rigid_body import RigidBody
 
 DIVERGED = (
@@ -112,7 +113,8 @@ class WeightedSystem:
 
     ``A`` (n_s, n_e, p): ∂H_ij/∂θ̃ / σ_ij; ``D`` (n_s, n_e, 2) or None: ∂H_ij/∂τ_i / σ_ij;
     ``r`` (n_s, n_e): (H_ij − model) / σ_ij; ``prior`` (n_s, 2): the prior rows' residual −τ_i/t;
-    ``scale_row`` (p,) or None: the scale's row ∂m/∂θ̃ / σ_W, and ``scale_r`` its residual (m_W − m)/σ_W.
+    ``scale_row`` (p,) or None: the scale's row ∂m/∂θ̃ / σ_W, and ``scale_r`` its residual (m_W − m)/σ_W;
+    ``present``: how many masslines have a finite σ (a missing pair's σ is inf: a row of zeros), None for all.
     """
 
     A: np.ndarray
@@ -122,6 +124,13 @@ class WeightedSystem:
     transverse: float
     scale_row: np.ndarray | None = None
     scale_r: float = 0.0
+    present: int | None = None
+
+    @property
+    def count(self) -> int:
+        """How many measured rows carry weight: the masslines present (``present``; all when None), the scale's."""
+        masslines = self.r.size if self.present is None else self.present
+        return masslines + (self.scale_row is not None)
 
     @property
     def measured(self) -> np.ndarray:
@@ -238,7 +247,9 @@ def weighted_system(
         row = np.eye(model.p)[0] * model.scale[0] / weighed.sd
         scale = {"scale_row": row, "scale_r": (weighed.mass - model.theta[0]) / weighed.sd}
     prior = -tilt / max(transverse, 1e-300)
-    return WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, **scale), H
+    present = int(np.isfinite(sigma).sum())
+    system = WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, present=present, **scale)
+    return system, H
 
 
 def damped(trial, theta, dtheta, tilt, dtilt, before: float, halvings: int = 40):
@@ -280,7 +291,9 @@ def estimate(
     ``riding`` (n_e, p), SI: a mass riding at each exciter's point while it drives (force gauges; the body
     estimated is then the one without them, mass cancellation by the model).
     """
-    model = RigidModel(starting_body(data, planar), planar)
+    present = np.isfinite(sigma)
+    start = data if present.all() else completed(data, present, planar)  # a missing pair: σ = inf, no weight
+    model = RigidModel(starting_body(start, planar), planar)
     s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
     points, directions = data.sensors.points, data.sensors.directions
     T = None if planar or transverse <= 0 else perpendicular_bases(directions)
@@ -333,7 +346,7 @@ def estimate(
         covariance=covariance,
         chi2=chi2,
         dof=dof,
-        residual=data.values - H,
+        residual=np.where(present, data.values - H, np.nan),
         constrained=constrained,
         transverse=readings,
         prior=prior,
@@ -355,7 +368,7 @@ def reduced_chi2(system: WeightedSystem) -> tuple[float, float, float]:
     fit by (no redundancy).
     """
     measured = system.measured
-    n = measured.size
+    n = system.count
     try:
         paid, leverage = system.paid_parameters(), system.scale_leverage()
     except np.linalg.LinAlgError:

@@ -20,22 +20,37 @@ LONGEST = 40.0  # the factor is capped here: a residual smoother than this is a 
 LAGS = 0.25  # correlations are summed over at most this share of the lines
 
 
-def autocorrelation(residual: np.ndarray, lags: int) -> np.ndarray:
-    """ρ_k, k = 1 … ``lags``, of each series of ``residual`` (…, n) over its last axis (…, lags); 0 for a flat one."""
+def own_lines(series: np.ndarray, present: np.ndarray) -> np.ndarray:
+    """Each series (…, n) on its own lines: the values ``present`` (…, n) marks first, in their order, then 0
+    (``series`` itself when it marks every value)."""
+    if present.all():
+        return series
+    order = np.argsort(~present, axis=-1, kind="stable")
+    return np.where(np.take_along_axis(present, order, axis=-1), np.take_along_axis(series, order, axis=-1), 0.0)
+
+
+def autocorrelation(residual: np.ndarray, lags: np.ndarray, lines: np.ndarray) -> np.ndarray:
+    """ρ_k, k = 1 … the largest of ``lags``, of each series of ``residual`` (…, n) over its first ``lines`` (…,)
+    values (…, lags): 0 past its own ``lags`` (…,), and for a flat one."""
     n = residual.shape[-1]
-    centred = residual - residual.mean(axis=-1, keepdims=True)
+    mean = residual.sum(axis=-1, keepdims=True) / np.maximum(lines, 1)[..., None]
+    centred = np.where(np.arange(n) < lines[..., None], residual - mean, 0.0)
     spectrum = np.fft.rfft(centred, 2 * n, axis=-1)
-    covariance = np.fft.irfft(np.abs(spectrum) ** 2, axis=-1)[..., : lags + 1]
+    covariance = np.fft.irfft(np.abs(spectrum) ** 2, axis=-1)[..., : lags.max(initial=1) + 1]
     power = covariance[..., :1]
-    return np.divide(covariance[..., 1:], power, out=np.zeros_like(covariance[..., 1:]), where=power > 0)
+    within = np.arange(1, covariance.shape[-1]) <= lags[..., None]
+    return np.divide(covariance[..., 1:], power, out=np.zeros_like(covariance[..., 1:]), where=(power > 0) & within)
 
 
-def variance_inflation(*parts: np.ndarray) -> np.ndarray:
+def variance_inflation(*parts: np.ndarray, present: np.ndarray | None = None) -> np.ndarray:
     """τ = 1 + 2 Σ_k ρ_k for residual series (…, n) over lines: ρ_k the mean of ``parts``' lag-k correlations (the
     real and imaginary residuals of one FRF), summed while positive (the initial positive sequence: past it the
     estimates are noise; Geyer 1992), over at most ``LAGS`` of the lines, capped at ``LONGEST``: the factor a
-    massline's white-noise variance is short of (1 for white noise)."""
-    n = parts[0].shape[-1]
-    rho = np.mean([autocorrelation(p, max(int(LAGS * n), 1)) for p in parts], axis=0)
+    massline's white-noise variance is short of (1 for white noise). ``present`` (…, n): the lines each series
+    has (all when None); it is read on those alone, in their order (an FRF on a coarser axis, on its own)."""
+    present = np.ones(parts[0].shape, dtype=bool) if present is None else present
+    lines = np.count_nonzero(present, axis=-1)
+    lags = np.maximum((LAGS * lines).astype(int), 1)
+    rho = np.mean([autocorrelation(own_lines(p, present), lags, lines) for p in parts], axis=0)
     positive = np.cumprod(rho > 0, axis=-1)  # 1 up to the first lag that is not positive
     return np.minimum(1 + 2 * np.sum(rho * positive, axis=-1), LONGEST)

@@ -24,6 +24,10 @@ refined by least squares over the harmonics found (f_k = k f₀); the candidate 
 wins, the highest among equals (f₀/2 explains the same lines). Set aside are the lines within a line spacing
 of each harmonic found and the lines beside them that stand out as well (an exponential window's spread); a
 harmonic too faint to stand out is left in (it adds less than the noise to its lines).
+
+Each FRF is read on the lines it has (:mod:`.missing_lines`): its smooth fit is the median of its neighbours
+present, a line it lacks has no departure (NaN: not one that stands out), and the medians and sums over FRFs
+take those present at each line.
 """
 
 from __future__ import annotations
@@ -31,7 +35,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
+from numpy.lib.stride_tricks import sliding_window_view
+from scipy.ndimage import maximum_filter1d, minimum_filter1d
+
+from massline.identify.missing_lines import mean_present, median_present, missing_as_nan, present
 
 MAINS_HZ = (50.0, 60.0)  # the mains frequencies searched first
 WINDOW = 4  # lines on each side of the smooth local fit
@@ -57,7 +64,7 @@ class Departures:
     frequencies : (n,) array
         Hz.
     departure : (n_s, n_e, n) complex array
-        d = H − H̃, (m/s²)/N.
+        d = H − H̃, (m/s²)/N; NaN at a line the FRF does not have.
     level : (n_s, n_e, n) array
         |H̃|, the FRF's local level, (m/s²)/N.
     score : (n,) array
@@ -98,24 +105,33 @@ def block_medians(values: np.ndarray, block: int) -> np.ndarray:
     runs = -(-n // block)
     padded = np.full(values.shape[:-1] + (runs * block,), np.nan)
     padded[..., :n] = values
-    medians = np.nanmedian(padded.reshape(values.shape[:-1] + (runs, block)), axis=-1)
+    medians = median_present(padded.reshape(values.shape[:-1] + (runs, block)), axis=-1)
     return np.repeat(medians, block, axis=-1)[..., :n]
+
+
+def neighbour_median(values: np.ndarray) -> np.ndarray:
+    """The median of the WINDOW lines on each side of every line (…, n) (itself left out; past an end of the axis,
+    its end line), of those that are not NaN: the upper of two middle values, as scipy's median filter takes
+    it; NaN where none is."""
+    padded = np.pad(values, [(0, 0)] * (values.ndim - 1) + [(WINDOW, WINDOW)], mode="edge")
+    neighbours = np.delete(sliding_window_view(padded, 2 * WINDOW + 1, axis=-1), WINDOW, axis=-1)
+    ordered = np.sort(neighbours, axis=-1)  # NaN last
+    middle = np.count_nonzero(~np.isnan(ordered), axis=-1) // 2
+    return np.take_along_axis(ordered, middle[..., None], axis=-1)[..., 0]
 
 
 def departures(frequencies: np.ndarray, frf: np.ndarray) -> Departures:
     """Each FRF's departure from the median of its WINDOW neighbours on each side, and the lines' scores."""
-    footprint = np.ones((1, 1, 2 * WINDOW + 1), dtype=bool)
-    footprint[..., WINDOW] = False
-    smooth = median_filter(frf.real, footprint=footprint, mode="nearest")
-    smooth = smooth + 1j * median_filter(frf.imag, footprint=footprint, mode="nearest")
-    d = frf - smooth
+    has = present(frf)
+    smooth = neighbour_median(missing_as_nan(frf.real, has)) + 1j * neighbour_median(missing_as_nan(frf.imag, has))
+    d = missing_as_nan(frf - smooth, has)
     size = np.abs(d)
     scatter = block_medians(size, 2 * SCATTER + 1)
     z = size / np.maximum(scatter, 1e-300)
-    score = np.median(z.reshape(-1, z.shape[2]), axis=0)
-    squares = d.reshape(-1, d.shape[2])
-    kappa = np.abs(np.sum(squares**2, axis=0)) / np.maximum(np.sum(size.reshape(squares.shape) ** 2, axis=0), 1e-300)
-    level = np.sqrt(np.mean(np.abs(smooth.reshape(squares.shape)) ** 2, axis=0))
+    score = median_present(z.reshape(-1, z.shape[2]), axis=0)
+    squares = np.where(has, d, 0.0).reshape(-1, d.shape[2])  # a line an FRF lacks adds nothing to κ
+    kappa = np.abs(np.sum(squares**2, axis=0)) / np.maximum(np.sum(np.abs(squares) ** 2, axis=0), 1e-300)
+    level = np.sqrt(mean_present(np.abs(smooth.reshape(squares.shape)) ** 2, axis=0))
     span = 2 * WINDOW + 1
     roughness = maximum_filter1d(level, span, mode="nearest") / np.maximum(
         minimum_filter1d(level, span, mode="nearest"), 1e-300
@@ -241,16 +257,19 @@ def set_aside(found: Departures, fundamental: float) -> np.ndarray:
 
 
 def harmonic_amplitude(found: Departures, lines: np.ndarray) -> float:
-    """A harmonic's line relative to the FRFs' level: RMS over FRFs of Σ |d| over its lines, over RMS |H̃|."""
-    summed = np.abs(found.departure[:, :, lines]).sum(axis=2)
-    level = found.level[:, :, lines].max(axis=2)
+    """A harmonic's line relative to the FRFs' level: RMS over FRFs of Σ |d| over its lines, over RMS |H̃| (over
+    the FRFs with some of its lines, each on those it has)."""
+    has = ~np.isnan(found.departure[:, :, lines])
+    seen = has.any(axis=2)
+    summed = np.where(has, np.abs(found.departure[:, :, lines]), 0.0).sum(axis=2)[seen]
+    level = np.where(has, found.level[:, :, lines], 0.0).max(axis=2)[seen]
     return float(np.sqrt(np.mean(summed**2) / np.maximum(np.mean(level**2), 1e-300)))
 
 
 def find_mains(frequencies: np.ndarray, frf: np.ndarray) -> MainsLines | None:
     """Mains interference in the FRFs (n_s, n_e, n) on lines ``frequencies`` (n,) Hz above 0, or None: too few
-    FRFs or lines to tell, or no fundamental with MIN_HARMONICS standing out."""
-    if frf.shape[0] * frf.shape[1] < MIN_FRFS or len(frequencies) < 2 * SCATTER + 1:
+    FRFs (with a line) or lines to tell, or no fundamental with MIN_HARMONICS standing out."""
+    if np.count_nonzero(present(frf).any(axis=2)) < MIN_FRFS or len(frequencies) < 2 * SCATTER + 1:
         return None
     found = departures(frequencies, frf)
     fundamental = best_fundamental(found)

@@ -20,6 +20,10 @@ weighted least squares of every FRF thus needs only its sums over the band's lin
 unweighted Σ xᵐ give the truncation shift of each massline (:func:`truncation_shift`). Sums
 over adjacent runs of lines add, so the candidate bands of :mod:`.band_choice` share them;
 :func:`fit_band` refines its fits once from their residuals, to a QR fit's accuracy.
+
+Each FRF is fitted on its own lines (:mod:`.missing_lines`): a line it does not have (NaN in the FRF, or in
+its weight) is in none of its sums, its degrees of freedom count its own lines, and a pair with no more
+lines in the band than the fit has coefficients has no fit (NaN).
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ import numpy as np
 
 from massline.core.band import GIVE_BAND
 from massline.identify.line_correlation import variance_inflation
+from massline.identify.missing_lines import present
 from massline.core.errors import MasslineError
 
 REAL = (0, -1, 1, 2)  # powers of x in Re H: A, Re B, Re C, D
@@ -42,7 +47,8 @@ WEIGHT_FLOOR = 1e-12  # a line's least weight γ²/(1 − γ²): a coherence of 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class BandFit:
-    """Masslines fitted over a band.
+    """Masslines fitted over a band; each attribute NaN (complex NaN) where the pair has no FRF or too few lines
+    in the band (no more than the fit's coefficients).
 
     Attributes
     ----------
@@ -87,10 +93,10 @@ class LineSums:
         Σ w² Im H xᵐ, m = ±1, (m/s²)/N.
     square : (n_fr,) array
         Σ w² |H|², ((m/s²)/N)².
-    lines : int
-        How many lines were summed.
-    plain : (11,) array
-        Σ xᵐ, m = −4 … 6, unweighted: the gram of the band's own design (:func:`truncation_shift`).
+    lines : (n_fr,) int array
+        How many lines of each FRF were summed (the lines it has).
+    plain : (n_fr, 11) array
+        Σ xᵐ, m = −4 … 6, unweighted over each FRF's lines: the gram of its own design (:func:`truncation_shift`).
     """
 
     weight: np.ndarray
@@ -123,23 +129,28 @@ class LineSums:
         )
 
 
-def line_sums(x: np.ndarray, real: np.ndarray, imag: np.ndarray, w2: np.ndarray) -> LineSums:
-    """The sums of FRFs Re H, Im H (n_fr, n) at x (n,) with line weights w2 (n_fr, n) or (1, n)."""
+def line_sums(x: np.ndarray, real: np.ndarray, imag: np.ndarray, w2: np.ndarray, has: np.ndarray) -> LineSums:
+    """The sums of FRFs Re H, Im H (n_fr, n) at x (n,) with line weights w2 (n_fr, n) or (1, n), each over the
+    lines it has (``has`` (n_fr, n), :func:`band_lines`; w2 is 0 at the others)."""
     powers = x[:, None] ** WEIGHT_POWERS
     weight = np.broadcast_to(w2 @ powers, (len(real), len(WEIGHT_POWERS)))
     weighted_real, weighted_imag = w2 * real, w2 * imag
     square = np.einsum("fn,fn->f", weighted_real, real) + np.einsum("fn,fn->f", weighted_imag, imag)
     sums_real = weighted_real @ powers[:, 2:8]  # x⁻² … x³
     sums_imag = weighted_imag @ powers[:, [3, 5]]  # x⁻¹, x
+    plain = (has[:, :, None] * powers).sum(axis=1)
     return LineSums(
-        weight=weight, real=sums_real, imag=sums_imag, square=square, lines=len(x), plain=powers.sum(axis=0)
+        weight=weight, real=sums_real, imag=sums_imag, square=square, lines=has.sum(axis=1), plain=plain
     )
 
 
-def band_lines(frf: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Re H and Im H (n_fr, n) of the kept lines, each contiguous."""
+def band_lines(frf: np.ndarray, keep: np.ndarray, weights=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Re H and Im H (n_fr, n) of the kept lines, each contiguous, and the lines each FRF has (n_fr, n) bool: H
+    finite, and its weight when ``weights`` (n_s, n_e, n_f) are given; Re H and Im H are 0 at the others."""
     shape = (frf.shape[0] * frf.shape[1], int(np.count_nonzero(keep)))  # a run may hold no line
-    return frf.real[:, :, keep].reshape(shape), frf.imag[:, :, keep].reshape(shape)
+    has = present(frf[:, :, keep], None if weights is None else weights[:, :, keep]).reshape(shape)
+    real, imag = (np.where(has, part[:, :, keep].reshape(shape), 0.0) for part in (frf.real, frf.imag))
+    return real, imag, has
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,15 +167,17 @@ class Solution:
         [(XᵀW²X)⁻¹]₀₀: A's variance per unit variance of a weighted line, dimensionless.
     rss : (n_fr,) array
         Weighted residual sum of squares Σ w² |H − fit|², ((m/s²)/N)².
-    dof : int
-        Lines' real and imaginary parts less the coefficients.
+    dof : (n_fr,) int array
+        Each FRF's lines' real and imaginary parts less the coefficients.
+
+    ``real``, ``imag`` and ``rss`` are NaN for an FRF with too few lines (:func:`fitted`).
     """
 
     real: np.ndarray
     imag: np.ndarray
     variance: np.ndarray
     rss: np.ndarray
-    dof: int
+    dof: np.ndarray
 
     @property
     def std(self) -> np.ndarray:
@@ -172,20 +185,28 @@ class Solution:
         return np.sqrt(np.maximum(self.rss, 0.0) / self.dof * self.variance)
 
 
-def gram(weight: np.ndarray, powers: tuple) -> np.ndarray:
-    """Σ w² x^(a+b) over the columns' powers a, b: (n_fr, k, k)."""
-    return weight[:, np.add.outer(powers, powers) + 4]
+def fitted(sums: LineSums, richer: bool = False) -> np.ndarray:
+    """(n_fr,) bool: the FRFs with more lines than the fit has coefficients; the others have no fit (NaN)."""
+    return sums.lines > len(REAL + (RICHER if richer else ())) + len(IMAG)
+
+
+def gram(weight: np.ndarray, powers: tuple, usable: np.ndarray) -> np.ndarray:
+    """Σ w² x^(a+b) over the columns' powers a, b: (n_fr, k, k); the identity for the FRFs not ``usable``
+    (:func:`fitted`), whose fits are set NaN."""
+    return np.where(usable[:, None, None], weight[:, np.add.outer(powers, powers) + 4], np.eye(len(powers)))
 
 
 def solve(sums: LineSums, richer: bool = False) -> Solution:
     """Every FRF's fit from its sums; the weighted RSS as Σ w²|H|² − cᵀXᵀW²y (exact to ~1e-10, cancellation)."""
     powers = REAL + (RICHER if richer else ())
-    G = gram(sums.weight, powers)
+    usable = fitted(sums, richer)
+    G = gram(sums.weight, powers, usable)
     g = sums.real[:, np.array(powers) + 2]
     real = np.linalg.solve(G, g[..., None])[..., 0]
-    imag = np.linalg.solve(gram(sums.weight, IMAG), sums.imag[..., None])[..., 0]
+    imag = np.linalg.solve(gram(sums.weight, IMAG, usable), sums.imag[..., None])[..., 0]
+    real, imag = (np.where(usable[:, None], c, np.nan) for c in (real, imag))
     rss = sums.square - np.einsum("fk,fk->f", real, g) - np.einsum("fk,fk->f", imag, sums.imag)
-    dof = max(2 * sums.lines - len(powers) - len(IMAG), 1)
+    dof = np.maximum(2 * sums.lines - len(powers) - len(IMAG), 1)
     return Solution(real, imag, np.linalg.inv(G)[:, 0, 0], rss, dof)
 
 
@@ -206,12 +227,13 @@ def truncation_shift(sums: LineSums, fit: Solution, richer: bool = False) -> np.
 
     X is block-diagonal in (Re H: the powers REAL of x) and (Im H: IMAG), and the next terms are real, so
     the row of X⁺ = (XᵀX)⁻¹Xᵀ applied to a column xᵏ is [G⁻¹ h]₀ with G = Σ x^(a+b) over the real
-    columns' powers a, b and h_a = Σ x^(a+k): the unweighted sums ``sums.plain`` give both.
+    columns' powers a, b and h_a = Σ x^(a+k): the unweighted sums ``sums.plain`` give both, over each FRF's own
+    lines.
     """
     powers = REAL + (RICHER if richer else ())
-    G = sums.plain[np.add.outer(powers, powers) + 4]
-    h = sums.plain[np.add.outer(powers, RICHER) + 4]  # (k, 2): Σ x^(a−2), Σ x^(a+3)
-    into_suspension, into_flexibility = np.linalg.solve(G, h)[0]
+    G = gram(sums.plain, powers, fitted(sums, richer))
+    h = sums.plain[:, np.add.outer(powers, RICHER) + 4]  # (n_fr, k, 2): Σ x^(a−2), Σ x^(a+3)
+    into_suspension, into_flexibility = np.linalg.solve(G, h)[:, 0].T
     A, B, C, D = (fit.real[:, k] for k in range(4))
     with np.errstate(divide="ignore", invalid="ignore"):
         B2 = np.where(A != 0, B**2 / A, 0.0)
@@ -226,7 +248,8 @@ def fit_band(
 
     ``weights`` (n_s, n_e, n_f), e.g. the coherence γ²/(1 − γ²), weight the lines of each FRF (floored at
     WEIGHT_FLOOR: an FRF with coherence 0 on every line of the band is fitted unweighted, not left singular);
-    ``richer`` fits each tail's next term too, B₂/ω⁴ and D₂ω⁶.
+    ``richer`` fits each tail's next term too, B₂/ω⁴ and D₂ω⁶. Each FRF is fitted on the lines it has (NaN in
+    ``frf`` or ``weights``: a line it lacks); a pair with too few of them in the band has NaN in every attribute.
     """
     keep = (frequencies >= low) & (frequencies <= high)
     n = int(keep.sum())
@@ -235,61 +258,64 @@ def fit_band(
     omega = 2 * np.pi * frequencies[keep]
     mid2 = omega[0] * omega[-1]
     x = omega**2 / mid2
-    real, imag = band_lines(frf, keep)
-    w2 = line_weights(weights, keep, real.shape)
-    sums = line_sums(x, real, imag, w2)
+    real, imag, has = band_lines(frf, keep, weights)
+    w2 = line_weights(weights, keep, has)
+    sums = line_sums(x, real, imag, w2, has)
+    usable = fitted(sums, richer)
     fit = solve(sums, richer)
     powers = REAL + (RICHER if richer else ())
     real_columns, imag_columns = columns(x, powers), columns(x, IMAG)
-    plain = real.mean(axis=1)
+    lines = np.maximum(sums.lines, 1)  # a pair with no line is not fitted
+    plain = real.sum(axis=1) / lines
     model_real, model_imag = fit.real @ real_columns, fit.imag @ imag_columns
     real = np.subtract(real, model_real, out=model_real)  # the residuals, in the model's arrays
     imag = np.subtract(imag, model_imag, out=model_imag)
     # one step of iterative refinement from the residuals: the tails' coefficients to a QR fit's accuracy
     # (the normal equations alone leave C and D ~1e-9 off, and the truncation shift with them)
-    weighted = (real, imag) if weights is None else (w2 * real, w2 * imag)
+    weighted = (w2 * real, w2 * imag)
     g_real, g_imag = weighted[0] @ real_columns.T, weighted[1] @ imag_columns.T
-    step_real = np.linalg.solve(gram(sums.weight, powers), g_real[..., None])[..., 0]
-    step_imag = np.linalg.solve(gram(sums.weight, IMAG), g_imag[..., None])[..., 0]
+    step_real = np.linalg.solve(gram(sums.weight, powers, usable), g_real[..., None])[..., 0]
+    step_imag = np.linalg.solve(gram(sums.weight, IMAG, usable), g_imag[..., None])[..., 0]
     # the weighted RSS from the residuals (no cancellation), less the step's δᵀg = δᵀGδ (≥ 0, tiny)
     rss = np.einsum("fn,fn->f", weighted[0], real) + np.einsum("fn,fn->f", weighted[1], imag)
     rss -= np.einsum("fk,fk->f", step_real, g_real) + np.einsum("fk,fk->f", step_imag, g_imag)
     real -= step_real @ real_columns
     imag -= step_imag @ imag_columns
+    real[~has] = imag[~has] = 0.0  # no residual at a line the FRF does not have
     squares = np.einsum("fn,fn->f", real, real) + np.einsum("fn,fn->f", imag, imag)
     w = np.sqrt(w2)
-    inflation = variance_inflation(w * real, w * imag)  # neighbouring lines' noise alike: fewer lines' worth
+    inflation = variance_inflation(w * real, w * imag, present=has)  # neighbouring lines' noise alike
     fit = replace(fit, real=fit.real + step_real, imag=fit.imag + step_imag, rss=rss)
     shape = frf.shape[:2]
-    A = fit.real[:, 0].reshape(shape)
-    if not np.isfinite(A).all():
-        raise MasslineError(f"a band fit failed (NaN in the FRFs?): check the recording or give {GIVE_BAND}")
-    rms = np.sqrt(squares / (2 * n)).reshape(shape)
-    B = ((fit.real[:, 1] + 1j * fit.imag[:, 0]) * mid2).reshape(shape)
-    C = ((fit.real[:, 2] + 1j * fit.imag[:, 1]) / mid2).reshape(shape)
+
+    def pairs(values: np.ndarray) -> np.ndarray:
+        """(n_s, n_e): each FRF's ``values``, NaN where it has too few lines."""
+        return np.where(usable, values, np.nan).reshape(shape)
+
+    A = pairs(fit.real[:, 0])
+    if not np.isfinite(A[usable.reshape(shape)]).all():
+        raise MasslineError(f"a band fit failed (overflow in the FRFs?): check the recording or give {GIVE_BAND}")
     scale = np.maximum(np.abs(A), 1e-300)
-    plain = plain.reshape(shape)
-    truncation = truncation_shift(sums, fit, richer).reshape(shape)
     return BandFit(
         values=A,
-        std=(fit.std * np.sqrt(inflation)).reshape(shape),
-        suspension=B,
-        flexibility=C,
-        quality=rms / scale,
-        bias=np.abs(plain - A) / scale,
-        truncation=truncation,
-        inflation=inflation.reshape(shape),
+        std=pairs(fit.std * np.sqrt(inflation)),
+        suspension=pairs((fit.real[:, 1] + 1j * fit.imag[:, 0]) * mid2),
+        flexibility=pairs((fit.real[:, 2] + 1j * fit.imag[:, 1]) / mid2),
+        quality=pairs(np.sqrt(squares / (2 * lines))) / scale,
+        bias=np.abs(pairs(plain) - A) / scale,
+        truncation=pairs(truncation_shift(sums, fit, richer)),
+        inflation=pairs(inflation),
     )
 
 
-def line_weights(weights, keep: np.ndarray, shape: tuple) -> np.ndarray:
-    """The lines' weights w² (n_fr, n) over the kept lines, or ones (1, n) without weights.
+def line_weights(weights, keep: np.ndarray, has: np.ndarray) -> np.ndarray:
+    """The lines' weights w² (n_fr, n) over the kept lines, 0 at those an FRF does not have (``has``, from
+    :func:`band_lines`); without weights, ones (1, n) when every FRF has every line.
 
     Weights below WEIGHT_FLOOR count as it: an FRF whose coherence is 0 on every line of the band is fitted
     with equal weights, as it would be without coherence, its 1-σ from its own scatter (and the pipeline's
     coherence warning names it), where zero weights would leave its fit undetermined.
     """
     if weights is None:
-        return np.ones((1, shape[1]))
-    w2 = weights[:, :, keep].reshape(shape)  # a copy: floored in place
-    return np.maximum(w2, WEIGHT_FLOOR, out=w2)
+        return np.ones((1, has.shape[1])) if has.all() else has.astype(float)
+    return np.where(has, np.maximum(weights[:, :, keep].reshape(has.shape), WEIGHT_FLOOR), 0.0)

@@ -16,6 +16,8 @@ from massline.identify.band_choice import choose_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
 from massline.identify.mains import MainsLines, find_mains
+from massline.identify.missing_pairs import check_determined, missing_warnings
+from massline.identify.repeats import repeat_warnings
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings, file_labels
@@ -43,7 +45,7 @@ from massline.core.rigid_body import RigidBody
 from massline.export.body import Body
 from massline.export.units import SI, Units
 from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
+from massline.uff.runs import read_runs
 from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
@@ -51,9 +53,12 @@ PLANAR_TOLERANCE = 1e-6  # x, y components of a unit direction along z (UFF fram
 BEST, PLATE_OR_BEST = param("method", "'best'", cli="best"), param("method", "'plate' or 'best'", cli="plate or best")
 
 
-def as_recording(recording: Recording | str | Path) -> Recording:
-    """``recording`` itself, or the recording in the Universal File at that path."""
-    return recording if isinstance(recording, Recording) else to_recording(read_uff(recording))
+def as_recording(recording: Recording | str | Path | list) -> Recording:
+    """``recording`` itself, or the recording in the Universal File at that path, or in the files (or folders) of
+    a list, one per run (:mod:`massline.uff.runs`)."""
+    if isinstance(recording, Recording):
+        return recording
+    return to_recording(read_runs(recording if isinstance(recording, (list, tuple)) else [recording]))
 
 
 def is_planar(sensors, exciters) -> bool:
@@ -69,10 +74,17 @@ def properties_payload(body: RigidBody, std: dict, band: tuple, planar: bool) ->
     return {**values, "std": std, "band_hz": list(band), "planar": planar}
 
 
-def check_method(method: str, planar: bool, weighed: WeighedMass | None = None, exciter_mass: float = 0.0) -> None:
+def check_method(
+    method: str, planar: bool, weighed: WeighedMass | None = None, exciter_mass: float = 0.0, missing: int = 0
+) -> None:
     """Refuse a paper method the data's lines cannot serve (the 3-D methods on plate data, the plate's on 3-D),
     or a scale's reading or a force gauge's mass with a paper method (they take no prior, and one body for every
-    column)."""
+    column), or ``missing`` pairs with a paper method (it solves the whole matrix)."""
+    if missing and method != "best":
+        raise MasslineError(
+            f"method {method} (the paper's) needs every response against every reference, but {missing} pairs have "
+            f"no massline: use {BEST}, which estimates from the pairs present"
+        )
     if weighed is not None and method != "best":
         raise MasslineError(
             f"{param('weighed')} needs {BEST}: method {method} (the paper's) takes no prior on the mass"
@@ -110,6 +122,12 @@ def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
         return None
     gamma2 = np.clip(coherence, 0.0, 1 - 1e-6)
     return gamma2 / (1 - gamma2)
+
+
+def absent(recording: Recording, present: np.ndarray) -> list:
+    """The (response, reference) labels of the pairs without a massline (``present`` (n_s, n_e) False)."""
+    rows, columns = np.nonzero(~present)
+    return [(recording.sensor_channels[i], recording.exciter_channels[j]) for i, j in zip(rows, columns)]
 
 
 def usable_lines(recording: Recording) -> tuple[Recording, tuple[CodedWarning, ...]]:
@@ -181,6 +199,7 @@ class Identification:
             "sensor_mass": self.housings.payload(),
         }
         found["exciter_mass"] = self.exciter_mass
+        found["runs"] = list(self.recording.runs)  # the files merged, one per run (empty: one file)
         found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["units"] = JSON_UNITS
         if self.housings.count:
@@ -227,7 +246,7 @@ def fit_note(found: Identification) -> str:
     """'method best, band 5-40 Hz, 72 masslines, reduced chi2 1.02': how ``found`` was identified."""
     fit = f"reduced chi2 {found.best.chi2:.3g}" if np.isfinite(found.best.chi2) else "no redundancy to check the fit"
     band = f"band {found.band.low:.4g}-{found.band.high:.4g} Hz"
-    return f"method {found.method}, {band}, {found.data.values.size} masslines, {fit}"
+    return f"method {found.method}, {band}, {int(np.isfinite(found.sigma).sum())} masslines, {fit}"
 
 
 def identification_note(found: Identification, as_tested: bool, source: str) -> str:
@@ -276,8 +295,11 @@ def identify_recording(
     used = replace(chosen, suspension_top=modes[0], first_elastic=modes[1])  # the resonances the record shows
     fit = fit_band(f, recording.frf, used.low, used.high, weights)
     richer = fit_band(f, recording.frf, used.low, used.high, weights, richer=True)
-    data = Masslines(fit.values, recording.sensors, recording.exciters)
-    sigma = np.maximum(fit.std, 1e-9 * np.abs(fit.values).max())
+    present = np.isfinite(fit.values)  # a pair with no FRF, or too few lines in the band: no massline
+    check_method(method, planar, weighed, exciter_mass, int((~present).sum()))
+    data = Masslines(np.where(present, fit.values, 0.0), recording.sensors, recording.exciters)
+    sigma = np.where(present, np.maximum(fit.std, 1e-9 * np.nanmax(np.abs(fit.values))), np.inf)
+    check_determined(data, present, planar, (recording.sensor_channels, recording.exciter_channels))
     housings = Housings.on(recording.sensors, sensor_mass, file_labels(recording))
     prior = None if weighed is None else weighed.plus(housings.total)
     try:
@@ -286,7 +308,8 @@ def identify_recording(
         against = recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
         raise MasslineError("; ".join([str(refused)] + [w.text for w in against])) from None
     bare = housings.removed(best)  # refused first when the housings leave no physical body
-    shift = truncation_std(data, seen_truncation(fit.truncation, fit, richer), sigma, best, prior)
+    seen = np.where(present, seen_truncation(fit.truncation, fit, richer), 0.0)
+    shift = truncation_std(data, np.nan_to_num(seen), sigma, best, prior)
     draws_found = bootstrap(data, sigma, best, draws) if draws else []
     tested_std = with_truncation(combined_std(best, draws_found, draws), shift, planar)
     statistical = combined_std(bare, housings.removed_from_each(draws_found, planar), draws)
@@ -302,6 +325,8 @@ def identify_recording(
         + truncation_warnings(shift, statistical, bare.body)
         + recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
         + units_warnings(tested, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
+        + missing_warnings(absent(recording, present), present.size)
+        + repeat_warnings(recording, used.low, used.high, [coherence_weights(r.coherence) for r in recording.repeats])
     )
     return Identification(
         recording=recording,

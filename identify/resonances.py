@@ -16,6 +16,9 @@ elastic mode apart: its shape at the 14 sensors is within 5 % of a rigid motion,
 
 These are the frequencies identify's warnings and band, diagnose's findings and both reports quote
 (:func:`bounding_modes`, :func:`support_and_elastic`): one rule, and nan where the record does not show them.
+
+The norms are over the FRFs present at each line, scaled to all of them (:func:`.missing_lines.pair_norm`), and
+a peak's shape is read on the pairs present at its line.
 """
 
 from __future__ import annotations
@@ -25,23 +28,25 @@ import numpy as np
 from massline.core.band import Band
 from massline.core.lines import Lines
 from massline.core.plate import plate_coordinates
+from massline.identify.missing_lines import pair_norm, present
 
 STANDS_OUT = 3.0  # a resonance's s(f) over the band's massline level
 NEIGHBOURHOOD = 1.1  # a peak is the largest line within this factor in frequency either side
 PRECISION = 0.05  # a mode's frequency is given when its peak's line places it within this fraction
 RIGID = 0.12  # a peak whose shape one rigid motion fits within this is a support mode (blind suite, stiff
 # cord: support modes ≤ 0.04 on clean records, 0.09 beside a hit's direction fault; elastic modes ≥ 0.17)
+ALTERNATIONS = 50  # alternating least-squares steps of a shape's rank-one fit to the pairs present
 
 
 def peak_curve(frf: np.ndarray) -> np.ndarray:
-    """s(f) = ‖Im H(f)‖_F, (n_f,): the FRF matrix's imaginary part at every line."""
-    return np.linalg.norm(frf.imag, axis=(0, 1))
+    """s(f) = ‖Im H(f)‖_F, (n_f,): the FRF matrix's imaginary part at every line (over the FRFs present)."""
+    return pair_norm(frf.imag, present(frf))
 
 
 def massline_level(frequencies: np.ndarray, frf: np.ndarray, band: Band) -> float:
     """The median over the band's lines of ‖Re H(f)‖_F: the masslines' scale, (m/s²)/N."""
     inside = (frequencies >= band.low) & (frequencies <= band.high)
-    return float(np.median(np.linalg.norm(frf.real[:, :, inside], axis=(0, 1))))
+    return float(np.median(pair_norm(frf.real[:, :, inside], present(frf[:, :, inside]))))
 
 
 def peaks(frequencies: np.ndarray, frf: np.ndarray, level: float) -> np.ndarray:
@@ -63,6 +68,22 @@ def resolved(frequencies: np.ndarray, k: int) -> bool:
     return bool(0 < k < len(f) - 1 and max(f[k] - f[k - 1], f[k + 1] - f[k]) <= PRECISION * f[k])
 
 
+def leading_pair(values: np.ndarray, has: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The leading singular pair u (n_s,), v (n_e,) of ``values`` (n_s, n_e), unit vectors, fitted to the entries
+    ``has`` marks: the SVD's when it marks all, else the rank-one least-squares fit u vᵀ to those entries alone,
+    by ALTERNATIONS alternating steps from the SVD of the matrix with the others at 0 (0 on a row or column with
+    none)."""
+    filled = np.where(has, values, 0.0)
+    U, s, Vt = np.linalg.svd(filled)
+    if has.all():
+        return U[:, 0], Vt[0]
+    u, v, weight = U[:, 0], s[0] * Vt[0], has.astype(float)
+    for _ in range(ALTERNATIONS):
+        u = filled @ v / np.maximum(weight @ v**2, 1e-300)
+        v = filled.T @ u / np.maximum(weight.T @ u**2, 1e-300)
+    return u / max(np.linalg.norm(u), 1e-300), v / max(np.linalg.norm(v), 1e-300)
+
+
 def rigid_misfit(frf_line: np.ndarray, S: np.ndarray, E: np.ndarray) -> float:
     """How far the resonance at one line (n_s, n_e) is from moving the body rigidly (0: rigid).
 
@@ -70,10 +91,13 @@ def rigid_misfit(frf_line: np.ndarray, S: np.ndarray, E: np.ndarray) -> float:
     and the hits; S (n_s, q) and E (n_e, q) the sensor and hit lines' coordinates. A rigid mode is q = S⁺u
     seen on both sides: the misfit is the mean of ‖(I − SS⁺)u‖ and the sine of the angle between v and E q
     (the mean, not the larger: one faulty channel or hit disturbs one side, an elastic shape both or one
-    much more).
+    much more). Only the pairs present at the line count (:func:`leading_pair`), and the sensors and hits with
+    one.
     """
-    U, _, Vt = np.linalg.svd(frf_line.imag)
-    u, v = U[:, 0], Vt[0]
+    has = present(frf_line)
+    u, v = leading_pair(frf_line.imag, has)
+    sensors, hits = has.any(axis=1), has.any(axis=0)
+    u, v, S, E = u[sensors], v[hits], S[sensors], E[hits]
     q = np.linalg.lstsq(S, u, rcond=None)[0]
     at_hits = E @ q
     norm = np.linalg.norm(at_hits)

@@ -26,6 +26,9 @@ A result that may be off by more than its ± carries a warning (DESIGN.md, ident
   autospectrum, but an H1 estimate's incoherence 1 − γ² = G_nn/(|H|² G_ff) rises as G_ff falls. Where the
   FRFs leave their massline above the band with the incoherence tens of times the band's, or where it rises
   that much across the band, the edge is the force's spectrum, not a resonance.
+
+The recording's checks read each FRF on the lines it has (:mod:`.missing_lines`): a line it lacks (NaN) is
+left out of every median, and says nothing either way.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
+from massline.identify.missing_lines import median_present, missing_as_nan, present
 from massline.identify.warning_codes import CodedWarning
 from massline.identify.resonances import massline_level, peak_curve
 from massline.identify.zones import RESONANT, imaginary_fraction, stretch
@@ -137,10 +141,12 @@ def band_warnings(band: Band, lines: int) -> list[CodedWarning]:
 
 def noise_levels(frf: np.ndarray, coherence: np.ndarray) -> np.ndarray:
     """|H|² (1 − γ²)/γ² of every line (n_s, n_e, n_f), ((m/s²)/N)²: an H1 estimate's error variance G_nn/G_ff,
-    the response channel's noise over the force's power, whatever the FRF's own size (γ² = 0: inf)."""
+    the response channel's noise over the force's power, whatever the FRF's own size (γ² = 0: inf; NaN at a
+    line the FRF does not have)."""
     gamma2 = np.clip(coherence, 0.0, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(gamma2 > 0, np.abs(frf) ** 2 * (1 - gamma2) / gamma2, np.inf)
+        levels = np.where(gamma2 > 0, np.abs(frf) ** 2 * (1 - gamma2) / gamma2, np.inf)
+    return missing_as_nan(levels, present(frf, coherence))
 
 
 def small_not_faulty(frf: np.ndarray, coherence: np.ndarray) -> np.ndarray:
@@ -151,12 +157,13 @@ def small_not_faulty(frf: np.ndarray, coherence: np.ndarray) -> np.ndarray:
     when N_ij is within FAULTY of the quieter of its row's and its column's median N (its channel's noise with
     the other hits, its hit's with the other channels: a bad cable raises a row, a double hit a column, both
     stand out from the other), and when that noise would leave an FRF of its row's and column's level
-    s_ij = √(max_l |H_il| max_k |H_kj|) (medians of |H| over the lines) a good coherence.
+    s_ij = √(max_l |H_il| max_k |H_kj|) (medians of |H| over the lines) a good coherence. Every median and
+    maximum is over the lines and FRFs present; a pair with none is not expected (False).
     """
-    noise = np.median(noise_levels(frf, coherence), axis=2)
-    expected = np.minimum(np.median(noise, axis=1)[:, None], np.median(noise, axis=0)[None, :])
-    size = np.median(np.abs(frf), axis=2)
-    scale2 = size.max(axis=1)[:, None] * size.max(axis=0)[None, :]
+    noise = median_present(noise_levels(frf, coherence), axis=2)
+    expected = np.minimum(median_present(noise, axis=1)[:, None], median_present(noise, axis=0)[None, :])
+    size = median_present(np.abs(frf), axis=2)  # |NaN| is NaN
+    scale2 = np.fmax.reduce(size, axis=1)[:, None] * np.fmax.reduce(size, axis=0)[None, :]
     return (noise <= FAULTY * expected) & (scale2 >= GOOD_RATIO * expected)
 
 
@@ -164,11 +171,13 @@ def coherence_warnings(
     frf: np.ndarray, coherence: np.ndarray | None, in_band: np.ndarray, channels: list[str]
 ) -> list[CodedWarning]:
     """FRFs whose band lines have a median coherence below POOR_COHERENCE that their smallness does not explain
-    (:func:`small_not_faulty`; ``frf`` (n_s, n_e, n_f) accelerance, ``channels``: 'sensor / hit')."""
+    (:func:`small_not_faulty`; ``frf`` (n_s, n_e, n_f) accelerance, ``channels``: 'sensor / hit'), over the lines
+    each has; a pair with none in the band is not named."""
     if coherence is None:
         return []
     frf, coherence = frf[:, :, in_band], coherence[:, :, in_band]
-    poor = (np.median(coherence, axis=2) < POOR_COHERENCE) & ~small_not_faulty(frf, coherence)
+    median = median_present(missing_as_nan(coherence, present(frf, coherence)), axis=2)
+    poor = (median < POOR_COHERENCE) & ~small_not_faulty(frf, coherence)
     poor = np.flatnonzero(poor.ravel())
     if not len(poor):
         return []
@@ -269,8 +278,8 @@ def short_record_warnings(frequencies: np.ndarray, frf: np.ndarray, band: Band, 
 
 
 def incoherence(coherence: np.ndarray, where: np.ndarray) -> float:
-    """Median over the FRFs and the lines ``where`` of 1 − γ²."""
-    return float(np.median(1 - coherence[:, :, where])) if where.any() else np.nan
+    """Median over the FRFs and the lines ``where`` of 1 − γ², of those present (not NaN); nan if none."""
+    return float(median_present(1 - coherence[:, :, where])) if where.any() else np.nan
 
 
 def rolloff_warnings(

@@ -31,6 +31,8 @@ CODES = {
     "mains_set_aside": "the lines of mains interference (a fundamental and its harmonics) were set aside",
     "identify_no_band": "identify found no band: the properties are on the given band",
     "identify_refused": "identify refuses the file as it came",
+    "frf_missing": "response-reference pairs without an FRF (or lines in the band): estimated from those present",
+    "repeat_disagrees": "a pair measured in several runs differs between them beyond their noise",
 }
 
 

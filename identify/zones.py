@@ -8,6 +8,9 @@ resolution still lifts or drops its neighbours). The band is the widest gap,
 in log frequency, between such runs, kept clear of both sides by margins: the
 band fit (:mod:`.massline_fit`) removes the tails of the suspension (∝ 1/ω²)
 and of the elastic modes (∝ ω²), but not the peaks.
+
+Every measure reads the FRFs present at each line (:mod:`.missing_lines`): a pair not measured, or a line an
+FRF on a coarser or shorter axis does not have, is left out of the norms, means and medians.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import numpy as np
 
 from massline.core.band import Band, GIVE_BAND
 from massline.core.errors import MasslineError, param
+from massline.identify.missing_lines import mean_present, median_present, missing_as_nan, pair_norm, present
 
 RESONANT = 0.5  # ‖Im H‖/‖H‖ above which a frequency is inside a resonance
 OFF_LEVEL = 0.2  # ‖Re H(f) − H_quiet‖/‖H_quiet‖ that marks a disturbed line
@@ -26,8 +30,10 @@ FLAT = 0.5  # mean |d log|H| / d log f| below which a stretch reads a massline
 
 
 def imaginary_fraction(frf: np.ndarray) -> np.ndarray:
-    """‖Im H(f)‖_F / ‖H(f)‖_F over all FRFs (n_s, n_e, n_f): near 0 on the massline, near 1 at resonances."""
-    return np.linalg.norm(frf.imag, axis=(0, 1)) / np.maximum(np.linalg.norm(frf, axis=(0, 1)), 1e-300)
+    """‖Im H(f)‖_F / ‖H(f)‖_F over the FRFs (n_s, n_e, n_f) present at each line: near 0 on the massline, near 1
+    at resonances."""
+    has = present(frf)
+    return pair_norm(frf.imag, has) / np.maximum(pair_norm(frf, has), 1e-300)
 
 
 def runs_of(frequencies: np.ndarray, marked: np.ndarray) -> np.ndarray:
@@ -48,16 +54,17 @@ def steepness(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float)
     """Mean over FRFs of |d log|H| / d log f| across the middle half (in log f) of low–high.
 
     0 on a massline; 2 where the FRFs follow a stiffness line (below a stiff support's bounce, the lines
-    it moves are spring-like while the others already read the mass)."""
+    it moves are spring-like while the others already read the mass). Each FRF's level at either end is from
+    the lines it has there; the mean is over the FRFs with lines at both."""
     quarter = (high / low) ** 0.25
     ends = []
     for centre in (low * quarter, high / quarter):
         near = np.abs(np.log(frequencies / centre)) <= np.log(quarter) / 4
         if not near.any():
             return np.inf
-        ends.append(np.sqrt(np.mean(np.abs(frf[:, :, near]) ** 2, axis=2)))
+        ends.append(np.sqrt(mean_present(np.abs(frf[:, :, near]) ** 2, axis=2)))  # |NaN| is NaN
     scale = np.maximum(ends[0], 1e-300)
-    return float(np.mean(np.abs(np.log(np.maximum(ends[1], 1e-300) / scale))) / np.log(quarter**2))
+    return float(mean_present(np.abs(np.log(np.maximum(ends[1], 1e-300) / scale))) / np.log(quarter**2))
 
 
 def widest_gap(frequencies: np.ndarray, frf: np.ndarray, runs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
@@ -86,12 +93,16 @@ def log_spaced(frequencies: np.ndarray, where: np.ndarray, count: int = 200) -> 
 
 
 def disturbed(frequencies: np.ndarray, frf: np.ndarray) -> np.ndarray:
-    """Lines inside a resonance: imaginary-dominated, or off the level of the quietest stretch."""
+    """Lines inside a resonance: imaginary-dominated, or off the level of the quietest stretch (each FRF's median
+    over its lines there; at each line, over the FRFs present with such a level)."""
     phase = imaginary_fraction(frf) > RESONANT
     k, tops, bottoms = widest_gap(frequencies, frf, runs_of(frequencies, phase))
     quiet = (frequencies > tops[k]) & (frequencies < bottoms[k])
-    reference = np.median(frf.real[:, :, log_spaced(frequencies, quiet)], axis=2)
-    departure = np.linalg.norm(frf.real - reference[:, :, None], axis=(0, 1)) / np.linalg.norm(reference)
+    has, lines = present(frf), log_spaced(frequencies, quiet)
+    reference = median_present(missing_as_nan(frf.real[:, :, lines], has[:, :, lines]), axis=2)
+    seen = has & np.isfinite(reference)[:, :, None]
+    level = pair_norm(np.broadcast_to(reference[:, :, None], frf.shape), seen)
+    departure = pair_norm(frf.real - reference[:, :, None], seen) / np.maximum(level, 1e-300)
     return phase | (departure > OFF_LEVEL)
 
 

@@ -40,9 +40,12 @@ from massline.reports.viewer3d import viewer_html
 def recording_line(recording, path) -> str:
     f = recording.frequencies
     n_s, n_e = recording.frf.shape[:2]
+    missing = int((~recording.present).sum())
+    runs = f" Runs: {escape(', '.join(recording.runs))}." if recording.runs else ""
+    gaps = f" {missing} of {n_s * n_e} pairs not measured." if missing else ""
     return (
         f"Recording {escape(Path(path).name)}: {counted(n_s, 'accelerometer channel')} × {counted(n_e, 'hit')}, {len(f)} spectral lines, "
-        f"{num(f[0], '.3g')}–{num(f[-1], '.4g')} Hz. Frame of the file; written by massline {__version__}."
+        f"{num(f[0], '.3g')}–{num(f[-1], '.4g')} Hz.{runs}{gaps} Frame of the file; written by massline {__version__}."
     )
 
 
@@ -172,7 +175,8 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
     sensors, hits = recording.sensor_channels, recording.exciter_channels
     nominal = None if mesh is None else mesh.nominal
     scene, renderings, views = body_views(mesh, recording, sensors, hits, found.body, found.planar)
-    picks = representative(recording.sensors, recording.exciters, fit.values)
+    present = np.isfinite(fit.values)
+    picks = [p for p in representative(recording.sensors, recording.exciters, np.nan_to_num(fit.values)) if present[p]]
     notes = {
         (i, j): f"massline {with_sigma(fit.values[i, j], fit.std[i, j], 1.0)}, fit RMS {100 * fit.quality[i, j]:.2f} %"
         for i, j in picks
@@ -195,12 +199,12 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + resonances_note(zones)
         + "). Every FRF is fitted there with A + B/ω² + Cω² + Dω⁴ so that the suspension and "
         f"residual-flexibility tails do not bias its massline A. Band fits: median RMS residual "
-        f"{100 * np.median(fit.quality):.2f} % of the massline, worst {100 * fit.quality.max():.2f} %; a plain "
-        f"average over the band would be off by up to {100 * fit.bias.max():.1f} %."
+        f"{100 * np.nanmedian(fit.quality):.2f} % of the massline, worst {100 * np.nanmax(fit.quality):.2f} %; a "
+        f"plain average over the band would be off by up to {100 * np.nanmax(fit.bias):.1f} %."
     )
     method = "weighted estimate over all masslines, physically consistent" if found.method == "best" else found.method
     fit_note = (
-        f"Reduced χ² {number(found.best.chi2, 3)} over {found.data.values.size} masslines"
+        f"Reduced χ² {number(found.best.chi2, 3)} over {int(np.isfinite(found.sigma).sum())} masslines"
         + ("; the physical-consistency constraint is active" if found.best.constrained else "")
         + ". The ± is the larger of the information-based 1-σ (scaled by the reduced χ²) and a bootstrap over the "
         "sensors." + masses_note(found)

@@ -10,6 +10,9 @@ every property is within its bound (``BOUNDS``), or when its error is within 2σ
     exporter  the simulator's default file: the 0 Hz line, g/N, mm geometry from 164, coherence
     local     the exporter's file with 2411 nodes and 2420 local systems (a triaxial's own frame)
     impact    the exporter's file from hammer hits: H1 over 5 averages, force and exponential windows
+    runs      the exporter's file as one file per reference (a shaker moved between runs)
+    gaps      the runs with 5 % of the FRFs dropped at random (at least one; seeded)
+    halfres   the runs with the last reference's run at half the resolution (every other line)
 
 The stiff cord has its top support mode at a tenth of the first elastic mode.
 
@@ -22,7 +25,7 @@ import argparse
 import subprocess
 import sys
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -35,8 +38,8 @@ from massline.core.errors import MasslineError
 from massline.meshes.loader import load_body
 from massline.placement.plan_file import read_plan
 from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
-from massline.uff.writer import write_uff
+from massline.uff.runs import read_runs
+from massline.uff.writer import write_runs, write_uff
 from massline.virtual.attachment import point_above
 from massline.identify.diagnose.effects import parse_effect
 from massline.virtual.elastic import ElasticBody, Material
@@ -46,7 +49,9 @@ from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.acquisition import Acquisition, run
 
 BODIES = ("bracket", "structure", "plate")
-STYLES = ("plain", "exporter", "local", "impact")
+STYLES = ("plain", "exporter", "local", "impact", "runs", "gaps", "halfres")
+RUNS = ("runs", "gaps", "halfres")  # the styles written one file per reference
+DROPPED = 0.05  # the share of FRFs the gaps style drops
 SUPPORTS = ("soft", "stiff", "foam")
 REDUNDANT = ("--sensors", "12", "--triaxial", "2", "--exciters", "4")
 PLANS = {  # massline plan options per body: 3-D bodies with redundancy (the minimal 6 × 3 can check nothing)
@@ -107,11 +112,31 @@ def acquisition(style: str) -> Acquisition:
     return Acquisition()
 
 
-def write(path: Path, recording, style: str) -> None:
+def as_runs(recording, style: str, seed: int):
+    """The recording as the runs of ``style`` leave it: pairs dropped (gaps) or the last run on every other line
+    (halfres), NaN where nothing was measured."""
+    frf = recording.frf.copy()
+    if style == "gaps":
+        rng = np.random.default_rng(1000 + seed)
+        n_s, n_e = frf.shape[:2]
+        dropped = rng.choice(n_s * n_e, size=max(1, round(DROPPED * n_s * n_e)), replace=False)
+        frf.reshape(n_s * n_e, -1)[dropped] = np.nan
+    if style == "halfres":
+        frf[:, -1, 1::2] = np.nan
+    coherence = None if recording.coherence is None else np.where(np.isfinite(frf), recording.coherence, np.nan)
+    return replace(recording, frf=frf, coherence=coherence)
+
+
+def write(path: Path, recording, style: str, seed: int = 0) -> list[Path]:
+    """The files of a case in its style: one, or one per reference."""
     if style == "plain":
         write_uff(path, recording)
-    else:
-        write_uff(path, recording, units="MM", acceleration="g", nodes_dataset=2411 if style == "local" else 15)
+        return [path]
+    options = {"units": "MM", "acceleration": "g", "nodes_dataset": 2411 if style == "local" else 15}
+    if style in RUNS:
+        return write_runs(path, as_runs(recording, style, seed), **options)
+    write_uff(path, recording, **options)
+    return [path]
 
 
 def errors(found, true) -> dict:
@@ -183,10 +208,9 @@ def cell(body: str, style: str, kind: str, seed: int, folder: Path) -> Cell:
         recording, _ = run(mesh.nominal, sensors, exciters, modes, suspension, effects(style), acquisition(style), seed)
     except MasslineError as reason:
         return Cell(body, style, kind, seed, (np.nan, np.nan), {}, {}, (), f"not simulated: {reason}")
-    path = folder / f"{body}-{style}-{kind}-{seed}.uff"
-    write(path, recording, style)
+    paths = write(folder / f"{body}-{style}-{kind}-{seed}.uff", recording, style, seed)
     try:
-        found = identify_recording(to_recording(read_uff(path)))
+        found = identify_recording(to_recording(read_runs(paths)))
     except MasslineError as reason:
         return Cell(body, style, kind, seed, (np.nan, np.nan), {}, {}, (), f"refused: {reason}")
     true = mesh.nominal

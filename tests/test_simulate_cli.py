@@ -84,6 +84,31 @@ def test_truth_holds_the_concealed_effect(planned, tmp_path):
     assert truth["elastic_hz"] == []
 
 
+def test_split_runs_write_one_file_per_exciter_that_identify_reads_together(planned, tmp_path):
+    """--split-runs: FILE.run1.uff … one per hit, every node in each; refused whole when one exists; identify on
+    the files (or their folder) gives the file's body."""
+    out = tmp_path / "runs" / "t.uff"
+    out.parent.mkdir()
+    run = massline("simulate", planned, "--out", out, "--rigid", "--split-runs", "--seed", "2")
+    assert run.returncode == 0, run.stderr
+    n_s, n_e = shape(planned)
+    files = sorted(out.parent.glob("t.run*.uff"))
+    assert [f.name for f in files] == [f"t.run{j + 1}.uff" for j in range(n_e)] and "one file per exciter" in run.stdout
+    for f in files:
+        contents = read_uff(f)
+        assert len(contents.frfs) == n_s and len({frf.reference for frf in contents.frfs}) == 1
+    again = massline("simulate", planned, "--out", out, "--rigid", "--split-runs")
+    assert again.returncode == 2 and "t.run1.uff" in again.stderr and "--force" in again.stderr
+    whole = tmp_path / "whole.uff"
+    assert massline("simulate", planned, "--out", whole, "--rigid", "--seed", "2").returncode == 0
+    found = [tmp_path / f"{name}.json" for name in ("runs", "whole")]
+    for given, json_out in ((out.parent, found[0]), (whole, found[1])):
+        result = massline("identify", given, "--json", json_out, "--bootstrap", "0")
+        assert result.returncode == 0, result.stderr
+    runs, one = (json.loads(f.read_text()) for f in found)
+    assert runs["mass"] == pytest.approx(one["mass"], rel=1e-9) and len(runs["runs"]) == n_e
+
+
 def test_check_predicts_the_band_and_plots_it(planned, tmp_path):
     png = tmp_path / "band.png"
     run = massline("simulate", planned, "--check", "--rigid", "--suspension", "cord:k=2000,L=0.3", "--plot", png)

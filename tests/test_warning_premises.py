@@ -45,7 +45,7 @@ from massline.placement.hand_layouts import structure_exciters, structure_sensor
 from massline.reports.identification_report import resonances_note
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
-from massline.uff.writer import write_uff
+from massline.uff.writer import write_runs, write_uff
 from massline.virtual.acquisition import Acquisition, run
 from massline.virtual.measurement import ImpactTest, Noise
 from massline.virtual.suspension import Cord, Foam, Suspension
@@ -293,6 +293,27 @@ def test_the_default_plans_clean_files_are_quiet_and_quote_the_truths_resonances
     )
 
 
+def test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some(tmp_path):
+    """"frf_missing" only when a pair has no FRF (not for one file per run that holds them all); "repeat_disagrees"
+    only when a pair measured twice differs beyond its noise (not for a repeat with its own noise)."""
+    from test_runs_identify import BAND, gaps, recording
+
+    body = bundled("structure").nominal
+    first, again = recording(body, 6), recording(body, 7)
+    whole = write_runs(tmp_path / "whole.uff", first)
+    assert "frf_missing" not in codes_of(identify_recording(whole, BAND, draws=0).warnings)
+    holed = write_runs(tmp_path / "holed.uff", gaps(first, [(1, 1)]))
+    assert "frf_missing" in codes_of(identify_recording(holed, BAND, draws=0).warnings)
+    write_uff(tmp_path / "a.uff", first)
+    write_uff(tmp_path / "b.uff", again, columns=[1])
+    quiet = identify_recording([tmp_path / "a.uff", tmp_path / "b.uff"], BAND, draws=0)
+    assert quiet.recording.repeats and "repeat_disagrees" not in codes_of(quiet.warnings)
+    off = again.frf.copy()
+    off[2, 1] *= 0.9
+    write_uff(tmp_path / "c.uff", replace(again, frf=off), columns=[1])
+    assert "repeat_disagrees" in codes_of(identify_recording([tmp_path / "a.uff", tmp_path / "c.uff"], BAND).warnings)
+
+
 PREMISES = {  # each code, and the test above that checks it silent on a false premise and raised on a true one
     "no_redundancy": test_the_fit_statistic_warns_only_when_it_has_something_to_say,
     "model_misfit": test_the_fit_statistic_warns_only_when_it_has_something_to_say,
@@ -315,6 +336,8 @@ PREMISES = {  # each code, and the test above that checks it silent on a false p
     "mains_set_aside": test_lines_are_said_to_be_set_aside_only_when_they_were,
     "identify_no_band": test_diagnose_says_identify_refused_only_when_it_did,
     "identify_refused": test_diagnose_says_identify_refused_only_when_it_did,
+    "frf_missing": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
+    "repeat_disagrees": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
 }
 
 

@@ -2,10 +2,11 @@
 estimators read, from what :func:`.reader.read_uff` found.
 
 Rows are the response channels in file order, columns the reference channels in file order; a node's three
-response channels along its three axes form a triaxial accelerometer. Every pair must be measured once, on
-one frequency axis, at nodes with coordinates, along translations: anything else is refused with the FRF,
-its line in the file and what to export instead. A 1858 qualifier of window type 4 or 6 marks the recording
-as windowed exponentially (an impact test's window).
+response channels along its three axes form a triaxial accelerometer. Every FRF must be at nodes with
+coordinates, along translations: anything else is refused with the FRF, its line in the file and what to export
+instead. Pairs not measured, FRFs on other axes and pairs measured twice are kept as they are (NaN where nothing
+was measured, repeats combined): what the estimators make of them is theirs to say. A 1858 qualifier of window
+type 4 or 6 marks the recording as windowed exponentially (an impact test's window).
 """
 
 from __future__ import annotations
@@ -14,8 +15,9 @@ import numpy as np
 
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
-from massline.uff.reader import Frf, UffContents, same_axis
-from massline.uff.recording import Channel, Recording, code_direction
+from massline.uff.reader import Frf, UffContents
+from massline.uff.recording import Channel, Recording, Repeat, code_direction
+from massline.uff.runs import combined, lines_in, union_axis
 
 EXPONENTIAL = {4, 6}  # dataset 1858 window types with an exponential window: exponential, impact and exponential
 
@@ -36,7 +38,7 @@ def _no_frfs(contents: UffContents) -> MasslineError:
 
 def _check_channels(frf: Frf, contents: UffContents) -> None:
     """Every channel a translation (code ±1..±3) at a node with coordinates, and values."""
-    where = f"file {contents.path}: FRF {frf.number} (line {frf.line})"
+    where = f"file {contents.path}: {frf.name}"
     for role, (node, code) in (("response", frf.response), ("reference", frf.reference)):
         if code == 0:
             raise MasslineError(
@@ -70,41 +72,65 @@ def _lines(contents: UffContents, channels: list[tuple[int, int]], triaxials: bo
     return Lines(points, np.array(axes), group)
 
 
-def _table(contents: UffContents, sensors: list, exciters: list) -> dict:
-    """{(response, reference): Frf}, every pair once."""
-    table = {}
+def _table(contents: UffContents) -> dict:
+    """{(response, reference): [Frf, ...]}: each pair's measurements in file (and run) order."""
+    table: dict = {}
     for frf in contents.frfs:
-        twin = table.setdefault((frf.response, frf.reference), frf)
-        if twin is not frf:
-            raise MasslineError(
-                f"file {contents.path}: FRFs {twin.number} and {frf.number} both give response "
-                f"{frf.response} against reference {frf.reference}, with different "
-                "data: keep one measurement per pair"
-            )
-    missing = [(s, e) for s in sensors for e in exciters if (s, e) not in table]
-    if missing:
-        (s, e), n = missing[0], len(sensors) * len(exciters)
-        raise MasslineError(
-            f"file {contents.path}: no FRF between response {s} and reference {e} "
-            f"({len(missing)} of {n} response-reference pairs missing): measure every response against every "
-            "reference and export them all"
-        )
+        table.setdefault((frf.response, frf.reference), []).append(frf)
     return table
 
 
+def _on_axis(frfs: list, frequencies: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """Measurements of one pair (k, n_f) on the union axis ``frequencies`` and their coherence (NaN off each
+    FRF's own lines)."""
+    index = [lines_in(frequencies, frf.frequencies) for frf in frfs]
+    values = np.full((len(frfs), len(frequencies)), np.nan, dtype=complex)
+    weighted = all(frf.coherence is not None for frf in frfs)
+    coherence = np.full(values.shape, np.nan) if weighted else None
+    for k, (frf, lines) in enumerate(zip(frfs, index)):
+        values[k, lines] = frf.accelerance
+        if weighted:
+            coherence[k, lines] = frf.coherence
+    return values, coherence
+
+
+def _grid(contents: UffContents, sensors: list, exciters: list, frequencies: np.ndarray, weighted: bool):
+    """The FRF (n_s, n_e, n_f) and coherence grids, NaN where a pair or a line was not measured, and the
+    :class:`Repeat` of every pair measured more than once."""
+    table = _table(contents)
+    frf = np.full((len(sensors), len(exciters), len(frequencies)), np.nan, dtype=complex)
+    coherence = np.full(frf.shape, np.nan) if weighted else None
+    repeats = []
+    for i, s in enumerate(sensors):
+        for j, e in enumerate(exciters):
+            if (s, e) not in table:
+                continue
+            values, gamma2 = _on_axis(table[s, e], frequencies)
+            weights = None if gamma2 is None else gamma2 / (1 - np.clip(gamma2, 0.0, 1 - 1e-6))
+            frf[i, j], joined = combined(values, weights) if len(values) > 1 else (values[0], gamma2)
+            if weighted:
+                coherence[i, j] = joined if len(values) > 1 else gamma2[0]
+            if len(values) > 1:
+                runs = tuple(frf_.run or f"FRF {frf_.number}" for frf_ in table[s, e])
+                repeats.append(Repeat(i, j, runs, values, gamma2))
+    return frf, coherence, tuple(repeats)
+
+
 def to_recording(contents: UffContents) -> Recording:
-    """The FRFs of a file on one grid: unique responses in file order × unique references in file order.
+    """The FRFs of a file (or of several runs' files, :func:`.runs.read_runs`) on one grid: unique responses in
+    file order × unique references in file order, on the union of the FRFs' frequency axes.
 
     Sensor lines are the response channels (point: the node, m; direction: the code's axis of the node's
     displacement frame, global); a node's channels along its three axes form a triaxial accelerometer.
-    Exciter lines are the reference channels.
+    Exciter lines are the reference channels. A pair no FRF measures is NaN at every line; an FRF on another
+    axis is NaN at the lines of the union it lacks; a pair measured more than once is their combination
+    (:func:`.runs.combined`), each measurement kept in ``repeats``.
 
     Raises
     ------
     MasslineError (a ValueError)
         No FRFs; a scalar or rotational channel; a node without coordinates; NaN or infinite values; fewer
-        than 3 exciters or 3 sensors; FRFs on different frequency axes; a pair measured twice with different
-        data, or missing.
+        than 3 exciters or 3 sensors.
     """
     frfs = contents.frfs
     if not frfs:
@@ -131,28 +157,19 @@ def to_recording(contents: UffContents) -> Recording:
                 f"file {contents.path}: the FRFs have {len(channels)} {role} channel(s) "
                 f"({', '.join(map(str, channels))}): the method needs at least {need}"
             )
-    first = frfs[0]
-    for frf in frfs:
-        if not same_axis(frf.frequencies, first.frequencies):
-            raise MasslineError(
-                f"file {contents.path}: FRF {frf.number} has {_describe(frf.frequencies)}, FRF {first.number} "
-                f"{_describe(first.frequencies)}: export all FRFs on one frequency axis"
-            )
-    table = _table(contents, sensors, exciters)
-    grid = [[table[s, e] for e in exciters] for s in sensors]
+    frequencies, _ = union_axis([frf.frequencies for frf in frfs])
     weighted = all(frf.coherence is not None for frf in frfs)
+    frf, coherence, repeats = _grid(contents, sensors, exciters, frequencies, weighted)
     return Recording(
-        frequencies=first.frequencies,
-        frf=np.array([[frf.accelerance for frf in row] for row in grid]),
+        frequencies=frequencies,
+        frf=frf,
         sensors=_lines(contents, sensors, True),
         exciters=_lines(contents, exciters, False),
-        coherence=np.array([[frf.coherence for frf in row] for row in grid]) if weighted else None,
+        coherence=coherence,
         description=contents.description,
         sensor_labels=tuple(sensors),
         exciter_labels=tuple(exciters),
         exponential_window=bool(EXPONENTIAL & set(contents.windows)),
+        runs=contents.runs,
+        repeats=repeats,
     )
-
-
-def _describe(frequencies: np.ndarray) -> str:
-    return f"{len(frequencies)} frequencies {frequencies[0]:g}-{frequencies[-1]:g} Hz"

@@ -49,6 +49,8 @@ class Frf:
         ("type field", "unit label", "physics"; see `frf_kind`).
     coherence : (n,) array or None
         Its ordinary coherence, when the file holds one for the same channels and frequencies.
+    run : str
+        The file it was read from, when several were (:mod:`.runs`); empty for one file.
     """
 
     number: int
@@ -60,6 +62,12 @@ class Frf:
     kind: str
     rule: str
     coherence: np.ndarray | None = None
+    run: str = ""
+
+    @property
+    def name(self) -> str:
+        """'FRF 12 (line 3456)', with its file when several were read."""
+        return f"{self.run + ': ' if self.run else ''}FRF {self.number} (line {self.line})"
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,6 +99,8 @@ class UffContents:
         6 impact and exponential (record 2, field 2); empty when the file has none.
     warnings : list of str
         Anything odd that was tolerated.
+    runs : tuple of str
+        The files merged into these contents (:func:`.runs.read_runs`); empty for one file.
     """
 
     path: Path
@@ -105,6 +115,7 @@ class UffContents:
     description: str
     warnings: list[str]
     windows: tuple[int, ...] = ()
+    runs: tuple[str, ...] = ()
 
 
 def _resolve(definitions: dict, name: str) -> dict:

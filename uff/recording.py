@@ -60,6 +60,33 @@ class Numbered(NamedTuple):
 
 
 @dataclass(frozen=True, eq=False)
+class Repeat:
+    """A response–reference pair measured in several runs.
+
+    Attributes
+    ----------
+    sensor, exciter : int
+        Its row and column in the recording.
+    runs : tuple of str
+        The run (file) of each measurement.
+    frf : (k, n_f) complex array
+        Each run's accelerance on the recording's lines, (m/s²)/N (NaN off the run's axis).
+    coherence : (k, n_f) array or None
+    """
+
+    sensor: int
+    exciter: int
+    runs: tuple
+    frf: np.ndarray
+    coherence: np.ndarray | None = None
+
+    def kept(self, keep: np.ndarray) -> "Repeat":
+        """The repeat on the lines ``keep`` marks."""
+        coherence = None if self.coherence is None else self.coherence[:, keep]
+        return replace(self, frf=self.frf[:, keep], coherence=coherence)
+
+
+@dataclass(frozen=True, eq=False)
 class Recording:
     """Accelerance FRFs of one test.
 
@@ -80,6 +107,15 @@ class Recording:
     exponential_window : bool
         The responses were windowed exponentially, as an impact test's are (a file's dataset 1858 says so:
         window type 4 or 6). The window adds σ_w = ln(1/end)/T to every pole; False when nothing says so.
+    runs : tuple of str
+        The files (test runs) the FRFs were read from, when more than one.
+    repeats : tuple of Repeat
+        The pairs measured in more than one run, each run's FRF on the recording's lines; ``frf`` holds their
+        combination (:func:`massline.uff.runs.combined`).
+
+    ``frf`` (and ``coherence``) hold NaN at the lines an FRF was not measured on: a pair no run measured
+    (NaN at every line, :attr:`present` False), or an FRF on a coarser or shorter axis than the union of the
+    runs' axes (``frequencies``).
     """
 
     frequencies: np.ndarray
@@ -91,6 +127,8 @@ class Recording:
     sensor_labels: tuple | None = None
     exciter_labels: tuple | None = None
     exponential_window: bool = False
+    runs: tuple = ()
+    repeats: tuple = ()
 
     def __post_init__(self):
         f = np.asarray(self.frequencies, dtype=float)
@@ -117,7 +155,13 @@ class Recording:
             frequencies=self.frequencies[keep],
             frf=self.frf[:, :, keep],
             coherence=None if self.coherence is None else self.coherence[:, :, keep],
+            repeats=tuple(repeat.kept(keep) for repeat in self.repeats),
         )
+
+    @property
+    def present(self) -> np.ndarray:
+        """(n_s, n_e) bool: the pairs measured (an FRF with at least one line)."""
+        return np.isfinite(self.frf).any(axis=2)
 
     @property
     def sensor_channels(self) -> list:

@@ -215,14 +215,19 @@ def _qualifiers_1858(number: int, window: int) -> bytes:
     return f"{-1:6d}\n{1858:6d}\n".encode() + "".join(records).encode() + f"{-1:6d}\n".encode()
 
 
-def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits, binary: bool, stamp: str):
-    """The 58 records: every FRF (accelerance, in the file's units), then every coherence."""
+def _functions(
+    recording: Recording, layout: UffLayout, units: AccelerationUnits, binary: bool, stamp: str, columns=None
+):
+    """The 58 records: every FRF (accelerance, in the file's units) of the exciters ``columns`` (all: None), then
+    every coherence. Each FRF on its own lines (those not NaN); a pair NaN at every line is not written."""
     accelerance = (units.numerator, units.denominator)
     dimensionless = (Characteristic(1, (0, 0, 0), "Coherence", "NONE"), SILENT)
     functions = [("Frequency Response Function", FRF, recording.frf * units.factor, accelerance)]
     if recording.coherence is not None:
         functions.append(("Coherence", COHERENCE, np.asarray(recording.coherence, dtype=float), dimensionless))
-    pairs = [(i, j) for i in range(len(recording.sensors)) for j in range(len(recording.exciters))]
+    present = recording.present
+    chosen = range(len(recording.exciters)) if columns is None else columns
+    pairs = [(i, j) for i in range(len(recording.sensors)) for j in chosen if present[i, j]]
     for k, (title, kind, data, ordinate) in enumerate(functions):
         for n, (i, j) in enumerate(pairs):
             response = (int(layout.sensor_nodes[i]), int(layout.sensor_codes[i]))
@@ -232,9 +237,11 @@ def _functions(recording: Recording, layout: UffLayout, units: AccelerationUnits
             number = k * len(pairs) + n + 1
             if kind == FRF and recording.exponential_window:
                 yield _qualifiers_1858(number, IMPACT_AND_EXPONENTIAL)
+            lines = np.isfinite(recording.frf[i, j])
             yield _dataset_58(
-                number, kind, ids, response, reference, recording.frequencies, data[i, j], ordinate, binary
-            )
+                number, kind, ids, response, reference, recording.frequencies[lines], data[i, j, lines], ordinate,
+                binary,
+            )  # fmt: skip
 
 
 def _write(path: Path, datasets: list[dict], records) -> None:
@@ -256,6 +263,7 @@ def write_uff(
     units: str = "SI",
     acceleration: str = "length",
     force: bool = False,
+    columns=None,
 ) -> UffLayout:
     """Write a recording as a Universal File: 151, 164, 18/2420, 15/2411, then 58 or 58b records.
 
@@ -281,6 +289,12 @@ def write_uff(
         g/N (SI, MM) or g/lbf (IN), said by the unit labels.
     force : bool
         Overwrite an existing file.
+    columns : sequence of int or None
+        The exciters whose FRFs the file holds (one run of a test that moved the shaker, :func:`write_runs`);
+        every node is written all the same, so that each run's file numbers them alike. None: every exciter.
+
+    A recording's NaN lines are left out: each FRF is written on its own lines, a pair NaN at every line not at
+    all (the files a test with missing FRFs or runs at other resolutions leaves).
 
     Returns
     -------
@@ -314,5 +328,23 @@ def write_uff(
         _nodes(layout, nodes_dataset, system),
     ]
     frf_units = accelerance_units(system, acceleration)
-    _write(path, datasets, _functions(recording, layout, frf_units, binary, stamp))
+    _write(path, datasets, _functions(recording, layout, frf_units, binary, stamp, columns))
     return layout
+
+
+def run_files(path, count: int) -> list[Path]:
+    """The files :func:`write_runs` writes for ``path``: ``STEM.run1.uff`` … ``STEM.run{count}.uff`` beside it."""
+    path = Path(path)
+    return [path.with_name(f"{path.stem}.run{j + 1}{path.suffix or '.uff'}") for j in range(count)]
+
+
+def write_runs(path, recording: Recording, *, force: bool = False, **options) -> list[Path]:
+    """The recording as a test that moved its exciter between runs leaves it: one Universal File per exciter
+    (:func:`run_files`), each with every node and that exciter's FRFs; ``options`` as :func:`write_uff`'s.
+    Every file is refused before any is written when one exists and ``force`` is False."""
+    paths = run_files(path, len(recording.exciters))
+    if not force and (there := [p for p in paths if p.exists()]):
+        raise FileExistsError(f"{there[0]} already exists: pass force=True to overwrite it")
+    for j, run in enumerate(paths):
+        write_uff(run, recording, force=force, columns=[j], **options)
+    return paths

@@ -235,6 +235,20 @@ def check_seen(layout: Layout) -> None:
         )
 
 
+def check_complete(recording: Recording) -> None:
+    """Refuse a recording whose pairs are not all measured on one axis: the diagnosis models every FRF line by
+    line (identify estimates from the pairs present)."""
+    measured = np.isfinite(recording.frf)
+    if measured.all():
+        return
+    missing = int((~recording.present).sum())
+    what = f"{missing} of {recording.present.size} pairs have no FRF" if missing else "the FRFs are on different axes"
+    raise MasslineError(
+        f"{what}: the diagnosis needs every response against every reference on one frequency axis; identify "
+        "estimates from the pairs present (massline identify)"
+    )
+
+
 def diagnose_recording(
     recording: Recording | str | Path,
     band=None,
@@ -257,6 +271,7 @@ def diagnose_recording(
     and the mains interference is a test-physics finding. ``recording`` may be the path of a Universal File.
     """
     recording, notes = usable_lines(as_recording(recording))
+    check_complete(recording)
     cleaned, mains, aside = without_mains(recording)
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)

@@ -1,0 +1,160 @@
+"""What the masslines present can say when not every response–reference pair was measured (issue 32).
+
+A pair with no FRF (or too few lines in the band) has no massline: its σ is infinite and it weighs nothing in
+the estimate. Three things follow from it:
+
+- the paper's methods, which start the iterative estimate, need the whole matrix: :func:`completed` fills the
+  missing pairs from a body that fits the present ones;
+- the properties are determined by the present pairs when their sensitivities to the p parameters,
+  g_ij = ∂H_ij/∂θ̃ (``core.information``; the kinematic eq. 6 and dynamic eq. 9 steps joined), have rank p:
+  :func:`undetermined` says which parameter combination is lost otherwise, and which missing FRF would restore
+  it;
+- :func:`missing_warnings` lists what is missing, by code.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from massline.core.degeneracy import describe_motion
+from massline.core.errors import MasslineError
+from massline.core.information import sensitivities
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
+from massline.identify.warning_codes import CodedWarning
+
+RANK_TOLERANCE = 1e-7  # a singular value of the scaled sensitivities below this fraction of the largest is 0
+SHOWN = 4  # missing pairs named in a warning
+WORDS = {"m": "the mass", "mc_x": "the CoG's x", "mc_y": "the CoG's y", "mc_z": "the CoG's z"}
+
+
+def symmetric_solution(data: Masslines, present: np.ndarray) -> np.ndarray:
+    """The symmetric X (q, q) of least squares H_ij = ℓ_iᵀ X w_j over the present pairs (minimum norm): M⁻¹
+    where the present masslines determine it, linear in its q(q+1)/2 entries."""
+    S, W = data.sensors.coordinates, data.exciters.coordinates
+    rows, columns = np.nonzero(present)
+    a, b = np.triu_indices(S.shape[1])
+    design = S[rows][:, a] * W[columns][:, b] + np.where(a != b, S[rows][:, b] * W[columns][:, a], 0.0)
+    x = np.linalg.lstsq(design, data.values[rows, columns], rcond=None)[0]
+    X = np.zeros((S.shape[1],) * 2)
+    X[a, b] = X[b, a] = x
+    return X
+
+
+def completed(data: Masslines, present: np.ndarray, planar: bool, rounds: int = 3) -> Masslines:
+    """The masslines with the missing pairs filled: from :func:`symmetric_solution`, then ``rounds`` times from
+    the body the paper's methods 2 + 3 (the plate's eqs. 10–13) find in the filled matrix."""
+    S, W = data.sensors.coordinates, data.exciters.coordinates
+    filled = np.where(present, data.values, S @ symmetric_solution(data, present) @ W.T)
+    for _ in range(rounds):
+        body = starting_body(Masslines(filled, data.sensors, data.exciters), planar)
+        model = RigidModel(body, planar)
+        H = model.coordinates(data.sensors) @ model.mass_matrix_inverse @ model.coordinates(data.exciters).T
+        filled = np.where(present, data.values, H)
+    return Masslines(filled, data.sensors, data.exciters)
+
+
+def generic_body(data: Masslines) -> RigidBody:
+    """A body of the layout's size (1 kg, CoG at the points' centre, unequal moments) to judge rank on when the
+    masslines give none."""
+    points = np.vstack([data.sensors.points, data.exciters.points])
+    size = max(float(np.ptp(points, axis=0).max()), 1e-3)
+    return RigidBody(1.0, points.mean(axis=0), np.diag([1.0, 1.3, 1.7]) * size**2 / 12)
+
+
+def parameter_words(null: np.ndarray, names: tuple) -> str:
+    """The parameters a null direction of the sensitivities (scaled θ̃) moves most: 'the mass and J_xy'."""
+    big = np.abs(null) >= 0.3 * np.abs(null).max()
+    words = [WORDS.get(name, name) for name, shown in zip(names, big) if shown]
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
+
+
+def column_motions(data: Masslines, present: np.ndarray, planar: bool, model: RigidModel, references: list) -> str:
+    """The first column whose present sensors cannot see every rigid motion (eq. 6 for that column), in words
+    (``references``: the columns' labels)."""
+    S = model.coordinates(data.sensors)
+    scale = max(float(np.ptp(data.sensors.points, axis=0).max()), 1e-3)
+    for j, exciter in enumerate(references):
+        rows = S[present[:, j]]
+        s = np.linalg.svd(rows, compute_uv=False) if len(rows) else np.zeros(1)
+        rank = int(np.sum(s > RANK_TOLERANCE * max(s[0], 1e-300))) if len(rows) else 0
+        if rank < S.shape[1]:
+            seen = f"{rank} of {S.shape[1]} motions"
+            if planar or not len(rows):
+                return f"reference {exciter}'s present responses see {seen}"
+            null = np.linalg.svd(np.vstack([rows, np.zeros((6, 6))]))[2][rank]
+            return f"reference {exciter}'s present responses see {seen} ({describe_motion(null, scale)})"
+    return ""
+
+
+def undetermined(data: Masslines, present: np.ndarray, planar: bool, body: RigidBody | None, labels: tuple) -> str:
+    """Why the present pairs leave the properties undetermined, and which missing FRF would restore them; ''
+    when they determine them.
+
+    ``labels``: the rows' and the columns' channel labels. The sensitivities g_ij of the present pairs at ``body``
+    (a generic body of the layout's size when None, or no body) must have rank p. Otherwise their null direction v
+    names the parameters lost, and the missing pair with the largest |g_ij · v| / |g_ij| is the FRF that would
+    restore the most.
+    """
+    model = RigidModel(body or generic_body(data), planar)
+    G, _ = sensitivities(model, model.coordinates(data.sensors), model.coordinates(data.exciters))
+    if not np.isfinite(G).all():  # a start from too few masslines can be no body
+        return undetermined(data, present, planar, None, labels)
+    s, Vt = np.linalg.svd(G[present], full_matrices=True)[1:]
+    rank = int(np.sum(s > RANK_TOLERANCE * s[0]))
+    if rank == model.p:
+        return ""
+    null = Vt[rank:]
+    words = parameter_words(null[0], model.names)
+    lost = f"the FRFs present leave {words} undetermined ({(~present).sum()} of {present.size} pairs missing)"
+    responses, references = labels
+    kinematic = column_motions(data, present, planar, model, references)
+    lost += f"; {kinematic}" if kinematic else ""
+    rows, columns = np.nonzero(~present)
+    if not len(rows):
+        return lost
+    g = G[rows, columns]
+    gain = np.linalg.norm(g @ null.T, axis=1) / np.maximum(np.linalg.norm(g, axis=1), 1e-300)
+    if gain.max() < RANK_TOLERANCE:
+        return f"{lost}: no missing FRF restores it; add responses or references that see it"
+    k = int(np.argmax(gain))
+    return (
+        f"{lost}: measure response {responses[rows[k]]} against reference {references[columns[k]]}, the missing "
+        "FRF that restores the most"
+    )
+
+
+def check_determined(data: Masslines, present: np.ndarray, planar: bool, labels: tuple) -> None:
+    """Refuse the present pairs when they leave a parameter undetermined (:func:`undetermined`, at the body
+    :func:`completed` starts from; ``labels``: the rows' and columns' channel labels).
+
+    Raises
+    ------
+    MasslineError
+        The present pairs do not determine the properties: which, and the FRF that would restore them.
+    """
+    if present.all():
+        return
+    try:
+        start = starting_body(completed(data, present, planar), planar)
+    except (MasslineError, np.linalg.LinAlgError):
+        start = None
+    why = undetermined(data, present, planar, start, labels)
+    if why:
+        raise MasslineError(why)
+
+
+def missing_warnings(missing: list, pairs: int, reason: str = "no FRF") -> list[CodedWarning]:
+    """The pairs left out of the estimate (``missing``: (response, reference) labels), by code."""
+    if not missing:
+        return []
+    shown = ", ".join(f"{s} / {e}" for s, e in missing[:SHOWN]) + (", …" if len(missing) > SHOWN else "")
+    return [
+        CodedWarning(
+            "frf_missing",
+            f"{len(missing)} of {pairs} response-reference pairs have {reason} ({shown}): the properties and "
+            "their ± are from the pairs present",
+        )
+    ]
