@@ -82,7 +82,7 @@ def column_motions(data: Masslines, present: np.ndarray, planar: bool, model: Ri
         rank = int(np.sum(s > RANK_TOLERANCE * max(s[0], 1e-300))) if len(rows) else 0
         if rank < S.shape[1]:
             seen = f"{rank} of {S.shape[1]} motions"
-            if planar or not len(rows):
+            if planar or rank < S.shape[1] - 1:  # one unseen motion is put in words, several counted
                 return f"reference {exciter}'s present responses see {seen}"
             null = np.linalg.svd(np.vstack([rows, np.zeros((6, 6))]))[2][rank]
             return f"reference {exciter}'s present responses see {seen} ({describe_motion(null, scale)})"

@@ -103,6 +103,17 @@ def test_a_repeat_within_noise_is_averaged_silently_and_one_off_by_ten_percent_i
     assert 8 < float(re.search(r"differs by ([\d.]+) %", warning.text).group(1)) < 12
 
 
+def test_pairs_that_leave_the_moments_undetermined_are_refused_naming_the_frf_to_measure(structure, tmp_path):
+    """The second and third hits each measured at one response only: the moments are undetermined; identify exits 2
+    with one line naming them and a missing FRF of those hits."""
+    pairs = [(i, 1) for i in range(1, 12)] + [(i, 2) for i in range(12) if i != 1]
+    runs = write_runs(tmp_path / "test.uff", gaps(recording(structure, 9), pairs))
+    result = massline("identify", *runs, "--band", *map(str, BAND))
+    assert result.returncode == 2 and result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    assert "J_xx" in result.stderr and "undetermined (22 of 36 pairs missing)" in result.stderr
+    assert re.search(r"measure response \d+:[+-][XYZ] against reference 10[23]:", result.stderr), result.stderr
+
+
 def test_identify_command_lists_the_runs(structure, tmp_path):
     runs = write_runs(tmp_path / "test.uff", gaps(recording(structure, 8), [(3, 1)]))
     out = tmp_path / "found.json"
