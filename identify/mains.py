@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from scipy.ndimage import maximum_filter1d, minimum_filter1d
+from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
 
 from massline.identify.missing_lines import mean_present, median_present, missing_as_nan, present
 
@@ -112,7 +112,11 @@ def block_medians(values: np.ndarray, block: int) -> np.ndarray:
 def neighbour_median(values: np.ndarray) -> np.ndarray:
     """The median of the WINDOW lines on each side of every line (…, n) (itself left out; past an end of the axis,
     its end line), of those that are not NaN: the upper of two middle values, as scipy's median filter takes
-    it; NaN where none is."""
+    it; NaN where none is. Without NaN, scipy's median filter itself (the same values, faster)."""
+    if not np.isnan(values).any():
+        footprint = np.ones((1,) * (values.ndim - 1) + (2 * WINDOW + 1,), dtype=bool)
+        footprint[..., WINDOW] = False
+        return median_filter(values, footprint=footprint, mode="nearest")
     padded = np.pad(values, [(0, 0)] * (values.ndim - 1) + [(WINDOW, WINDOW)], mode="edge")
     neighbours = np.delete(sliding_window_view(padded, 2 * WINDOW + 1, axis=-1), WINDOW, axis=-1)
     ordered = np.sort(neighbours, axis=-1)  # NaN last
