@@ -30,9 +30,15 @@ out, and each FRF's RSS is a parabola in the pair (A, b),
 
     RSS_ij(A, b) = rss_ij + [A − â_ij, b − b̂_ij] K₂ [A − â_ij, b − b̂_ij]ᵀ,
 
-with one 2×2 curvature K₂ for every FRF (they share the design). σ_ij, the noise of one real component of one line, comes from a free
-fit of each FRF (massline, B/ω² + B₂/ω⁴, Cω² + Dω⁴ per FRF), whose residual is
+with one 2×2 curvature K₂ for every FRF (they share the design). σ_ij, the noise of one real component of
+one line, comes from a free fit of each FRF (massline, B/ω² + B₂/ω⁴, Cω² + Dω⁴ per FRF), whose residual is
 the measurement scatter.
+
+Each FRF is reduced on the lines it has (:mod:`.missing_lines`, issue 32): a pair not measured, or with fewer
+than ``MIN_LINES`` lines in the band, has no massline (0, σ = ∞, RSS 0, outside ``present``); FRFs on another
+axis (NaN at the lines they lack) are reduced with the design on their own lines, one design per set of lines
+(:attr:`BandData.designs`), so κ and K₂ are then per FRF. A complete recording, or one with whole pairs missing,
+keeps one shared design.
 """
 
 from __future__ import annotations
@@ -46,6 +52,8 @@ from scipy.optimize import minimize, minimize_scalar
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
 from massline.identify.line_correlation import variance_inflation
+from massline.identify.missing_lines import present as has_lines
+from massline.identify.tail_projection import reduce_design, support_design
 
 # Below the band, above it: each a single mode shared by every FRF, named as the test-physics effect whose
 # tail it is (the registry, massline.identify.diagnose.effects)
@@ -88,8 +96,9 @@ class Reduced:
     ----------
     massline : (n_s, n_e) array
         â_ij, the massline that best fits FRF ij with those tails, (m/s²)/N.
-    kappa : float
-        Curvature of every RSS_ij in A (lines' worth of information on a massline).
+    kappa : float or (n_s, n_e) array
+        Curvature of every RSS_ij in A (lines' worth of information on a massline); per FRF when the FRFs are
+        on different lines.
     rss : (n_s, n_e) array
         RSS_ij at â_ij, ((m/s²)/N)².
     tails : (n_s, n_e, k) array
@@ -101,18 +110,25 @@ class Reduced:
     support : (n_s, n_e) array or None
         b̂_ij, the support column's coefficient at the joint minimum, (m/s²)/N: set when the support's tail is
         shared (left to the model as s_iᵀ X e_j); None when it is projected out per FRF.
-    coupling : (2, 2) array or None
-        K₂, the curvature of every RSS_ij in (A, b) when shared.
+    coupling : (2, 2) or (n_s, n_e, 2, 2) array, or None
+        K₂, the curvature of every RSS_ij in (A, b) when shared (per FRF as κ is).
+    present : (n_s, n_e) bool array
+        The FRFs that have a massline (every one by default); the others weigh nothing in any sum.
     """
 
     massline: np.ndarray
-    kappa: float
+    kappa: float | np.ndarray
     rss: np.ndarray
     tails: np.ndarray
     poles: dict = field(default_factory=dict)
     free: bool = False
     support: np.ndarray | None = None
     coupling: np.ndarray | None = None
+    present: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.present is None:
+            object.__setattr__(self, "present", np.ones(self.massline.shape, dtype=bool))
 
     @property
     def laws(self) -> frozenset:
@@ -126,7 +142,7 @@ class Reduced:
     @property
     def n_tail_parameters(self) -> int:
         """Per-FRF coefficients and the shared poles (a shared support's X is the model's)."""
-        return (self.tails.shape[2] - self.shared) * self.massline.size + len(self.poles)
+        return (self.tails.shape[2] - self.shared) * int(np.count_nonzero(self.present)) + len(self.poles)
 
     @property
     def targets(self) -> np.ndarray:
@@ -135,27 +151,25 @@ class Reduced:
 
     @property
     def curvature(self) -> np.ndarray:
-        """(m, m): [[κ]], or K₂ of the pair (A, b) when the support is shared, ((m/s²)/N)⁻² per line."""
-        return self.coupling if self.shared else np.array([[self.kappa]])
+        """(m, m), or (n_s, n_e, m, m) per FRF: [[κ]], or K₂ of the pair (A, b) when the support is shared,
+        ((m/s²)/N)⁻² per line."""
+        return self.coupling if self.shared else np.asarray(self.kappa)[..., None, None]
+
+    @property
+    def per_frf(self) -> bool:
+        """Whether each FRF has its own curvature (FRFs on different lines)."""
+        return self.curvature.ndim == 4
 
     @property
     def whitening(self) -> np.ndarray:
-        """Upper-triangular L with LᵀL = ``curvature``: ‖L d‖² is the RSS a deviation d adds."""
-        return np.linalg.cholesky(self.curvature).T
+        """Upper-triangular L with LᵀL = ``curvature`` (per FRF as it is): ‖L d‖² is the RSS a deviation d adds."""
+        return np.swapaxes(np.linalg.cholesky(self.curvature), -1, -2)
 
     def rss_at(self, A: np.ndarray, b: np.ndarray | None = None) -> np.ndarray:
-        """RSS_ij of every FRF with masslines A (n_s, n_e) and, when shared, support tails b."""
+        """RSS_ij of every FRF with masslines A (n_s, n_e) and, when shared, support tails b (0 where absent)."""
         d = np.stack([A] + ([b] if self.shared else []), axis=-1) - self.targets
-        return self.rss + np.einsum("ija,ab,ijb->ij", d, self.curvature, d)
-
-
-def _project_out(X: np.ndarray, Y: np.ndarray, u: np.ndarray):
-    """(I − QQᵀ) of the kept columns u (the massline's, (2n,) or (2n, m)) and of the data Y (…, 2n), Q spanning
-    X's columns."""
-    if X.shape[1] == 0:
-        return u, Y
-    Q, _ = np.linalg.qr(X)
-    return u - Q @ (Q.T @ u), Y - (Y @ Q) @ Q.T
+        added = np.einsum("ija,ijab,ijb->ij" if self.per_frf else "ija,ab,ijb->ij", d, self.curvature, d)
+        return np.where(self.present, self.rss + added, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,7 +181,7 @@ class BandData:
     frequencies : (n,) array
         Lines inside the band, Hz.
     frf : (n_s, n_e, n) complex array
-        Accelerance, (m/s²)/N.
+        Accelerance, (m/s²)/N; NaN at the lines an FRF does not have (a pair not measured: at every line).
     """
 
     frequencies: np.ndarray
@@ -182,7 +196,22 @@ class BandData:
                 f"the band {low:g}–{high:g} Hz holds {keep.sum()} spectral lines; diagnosis needs {MIN_LINES}: "
                 f"widen it with {GIVE_BAND}"
             )
-        return cls(frequencies[keep], frf[:, :, keep])
+        band = cls(frequencies[keep], frf[:, :, keep])
+        if not band.present.any():
+            raise MasslineError(f"no FRF has {MIN_LINES} spectral lines in the band {low:g}–{high:g} Hz: widen it "
+                                f"with {GIVE_BAND}")  # fmt: skip
+        return band
+
+    @cached_property
+    def present(self) -> np.ndarray:
+        """(n_s, n_e) bool: the FRFs with a massline, those with at least ``MIN_LINES`` lines in the band."""
+        return np.count_nonzero(has_lines(self.frf), axis=2) >= MIN_LINES
+
+    @cached_property
+    def lines(self) -> np.ndarray:
+        """(n_s, n_e, 2n) bool over [Re; Im]: the lines of each FRF with a massline."""
+        has = has_lines(self.frf) & self.present[..., None]
+        return np.concatenate([has, has], axis=2)
 
     @cached_property
     def omega(self) -> np.ndarray:
@@ -190,12 +219,13 @@ class BandData:
 
     @cached_property
     def values(self) -> np.ndarray:
-        """[Re; Im] of every FRF, (n_s, n_e, 2n)."""
-        return np.concatenate([self.frf.real, self.frf.imag], axis=2)
+        """[Re; Im] of every FRF, (n_s, n_e, 2n); 0 at the lines it does not have (``lines``)."""
+        return np.where(self.lines, np.concatenate([self.frf.real, self.frf.imag], axis=2), 0.0)
 
     @property
     def n_values(self) -> int:
-        return self.values.size
+        """The real numbers behind the fit: 2 × the lines of every FRF with a massline (BIC's n)."""
+        return int(np.count_nonzero(self.lines))
 
     @cached_property
     def unit(self) -> np.ndarray:
@@ -204,18 +234,59 @@ class BandData:
         return np.concatenate([np.ones(n), np.zeros(n)])
 
     @cached_property
+    def designs(self) -> tuple:
+        """The FRFs that share their lines, one design each: (rows (2n,) bool over [Re; Im], FRFs (n_s, n_e)
+        bool). One design when every FRF with a massline has the same lines (a complete recording, or whole pairs
+        missing)."""
+        rows, which = np.unique(self.lines[self.present], axis=0, return_inverse=True)
+        groups = []
+        for k, row in enumerate(rows):
+            frfs = np.zeros_like(self.present)
+            frfs[self.present] = which.ravel() == k
+            groups.append((row, frfs))
+        return tuple(groups)
+
+    @property
+    def one_design(self) -> bool:
+        return len(self.designs) == 1
+
+    def _group(self, rows: np.ndarray, frfs: np.ndarray) -> np.ndarray:
+        """One design's FRFs on its lines: every FRF (n_s, n_e, ·) with one design (the others are 0), else (k, ·)."""
+        return self.values[..., rows] if self.one_design else self.values[frfs][:, rows]
+
+    def _joined(self, values: list, fill) -> np.ndarray:
+        """Each design's per-FRF values (ordered as ``_group`` gives them) on (n_s, n_e, …), ``fill`` at the FRFs
+        with no massline."""
+        first = np.asarray(values[0])
+        if self.one_design:
+            return np.where(self.present.reshape(self.present.shape + (1,) * (first.ndim - 2)), first, fill)
+        out = np.empty(self.present.shape + first.shape[1:])
+        out[...] = fill
+        for (_, frfs), value in zip(self.designs, values):
+            out[frfs] = value
+        return out
+
+    @cached_property
     def noise(self) -> np.ndarray:
-        """σ_ij (n_s, n_e): scatter of one real component of one line, from each FRF's free fit, its variance
-        scaled by how alike neighbouring lines' residuals are (:mod:`.line_correlation`): every χ² and BIC of the
-        diagnosis then counts the lines the noise is worth, as identify's 1-σ does."""
+        """σ_ij (n_s, n_e): scatter of one real component of one line, from each FRF's free fit on its own lines,
+        its variance scaled by how alike neighbouring lines' residuals are (:mod:`.line_correlation`): every χ²
+        and BIC of the diagnosis then counts the lines the noise is worth, as identify's 1-σ does; ∞ for an FRF
+        with no massline (it weighs nothing, as in identify)."""
         X = free_columns(self.omega)
-        dof = self.values.shape[2] - 1 - X.shape[1]
-        design = np.column_stack([self.unit, X])
-        flat = self.values.reshape(-1, design.shape[0])
+        dof = np.maximum(np.count_nonzero(self.lines, axis=2) - 1 - X.shape[1], 1)
+        inflation = self._joined([self._inflation(rows, frfs) for rows, frfs in self.designs], 1.0)
+        sigma = np.sqrt(np.maximum(self.free.rss / dof * inflation, 1e-300))
+        return np.where(self.present, sigma, np.inf)
+
+    def _inflation(self, rows: np.ndarray, frfs: np.ndarray) -> np.ndarray:
+        """The variance inflation of one design's FRFs, from the residual of their free fit on its lines."""
+        design = np.column_stack([self.unit, free_columns(self.omega)])[rows]
+        values = self._group(rows, frfs)
+        flat = values.reshape(-1, design.shape[0])
         residual = flat - (design @ np.linalg.lstsq(design, flat.T, rcond=None)[0]).T
-        n = len(self.frequencies)
-        inflation = variance_inflation(residual[:, :n], residual[:, n:]).reshape(self.free.rss.shape)
-        return np.sqrt(np.maximum(self.free.rss / dof * inflation, 1e-300))
+        n = design.shape[0] // 2
+        with np.errstate(invalid="ignore", divide="ignore"):  # a pair not measured: zeros, set aside by _joined
+            return variance_inflation(residual[:, :n], residual[:, n:]).reshape(values.shape[:-1])
 
     @cached_property
     def free(self) -> Reduced:
@@ -224,35 +295,35 @@ class BandData:
 
     @cached_property
     def energy(self) -> np.ndarray:
-        """Σ over lines of |H_ij|², per FRF: the scale of the relative residuals."""
+        """Σ over lines of |H_ij|², per FRF (0 for a pair with no massline): the scale of the relative residuals."""
         return np.sum(self.values**2, axis=2)
 
     def at_poles(self, poles: dict) -> Reduced:
-        """The reduction with the tails of ``poles`` projected out (one QR shared by all FRFs)."""
+        """The reduction with the tails of ``poles`` projected out (one QR shared by the FRFs of each design)."""
         return self._reduce(tail_columns(self.omega, poles), poles)
 
     def shared_support(self, laws: frozenset) -> Reduced:
         """The reduction for ``laws`` (with "suspension", at the same poles) keeping the support column s:
-        the other tails projected out, (â, b̂) = K₂⁻¹ [Pu, Ps]ᵀ PY and K₂ = [Pu, Ps]ᵀ[Pu, Ps]."""
+        the other tails projected out, (â, b̂) = K₂⁻¹ [Pu, Ps]ᵀ PY and K₂ = [Pu, Ps]ᵀ[Pu, Ps] (per design)."""
         per_frf = self.reduced(laws)
         X = tail_columns(self.omega, per_frf.poles)
-        D, PY = _project_out(X[:, 1:], self.values, np.column_stack([self.unit, X[:, 0]]))
-        K2 = D.T @ D
-        ab = np.linalg.solve(K2, (PY @ D)[..., None])[..., 0]
-        rss = np.sum((PY - ab @ D.T) ** 2, axis=2)
-        return replace(per_frf, rss=rss, massline=ab[..., 0], support=ab[..., 1], coupling=K2, kappa=K2[0, 0])
+        parts = [support_design(X[rows], self.unit[rows], self._group(rows, frfs)) for rows, frfs in self.designs]
+        ab, rss = (self._joined([part[k] for part in parts], 0.0) for k in (0, 1))
+        if self.one_design:
+            K2 = parts[0][2]
+        else:
+            K2 = self._joined([np.broadcast_to(K, (len(a), 2, 2)) for a, _, K in parts], np.eye(2))
+        return replace(per_frf, rss=rss, massline=ab[..., 0], support=ab[..., 1], coupling=K2, kappa=K2[..., 0, 0])
 
     def _reduce(self, X: np.ndarray, poles: dict, free: bool = False) -> Reduced:
-        u, PY = _project_out(X, self.values, self.unit)
-        kappa = float(u @ u)
-        massline = PY @ u / kappa
-        rss = np.sum((PY - massline[..., None] * u) ** 2, axis=2)  # not ‖PY‖² − κâ²: that cancels
-        if X.shape[1]:
-            rest = self.values - massline[..., None] * self.unit
-            tails = np.linalg.lstsq(X, rest.reshape(-1, X.shape[0]).T, rcond=None)[0].T.reshape(*massline.shape, -1)
+        parts = [reduce_design(X[rows], self.unit[rows], self._group(rows, frfs)) for rows, frfs in self.designs]
+        massline, rss, tails = (self._joined([part[k] for part in parts], 0.0) for k in (0, 2, 3))
+        if self.one_design:
+            kappa = parts[0][1]
         else:
-            tails = np.zeros((*massline.shape, 0))
-        return Reduced(massline=massline, kappa=kappa, rss=rss, tails=tails, poles=dict(poles), free=free)
+            kappa = self._joined([np.full(len(part[0]), part[1]) for part in parts], 1.0)
+        return Reduced(massline=massline, kappa=kappa, rss=rss, tails=tails, poles=dict(poles), free=free,
+                       present=self.present)  # fmt: skip
 
     def reduced(self, laws: frozenset) -> Reduced:
         """The reduction for ``laws``, each pole placed where the weighted RSS over all FRFs is least."""
@@ -298,7 +369,7 @@ class BandData:
         X = tail_columns(self.omega, reduced.poles)[[line, n + line]]  # Re and Im rows of the edge line
         k = sorted(reduced.laws, key=TAIL_LAWS.index).index(law)
         value = np.einsum("rk,ijk->ijr", X[:, 2 * k : 2 * k + 2], reduced.tails[..., 2 * k : 2 * k + 2])
-        scale = np.sqrt(np.mean(reduced.massline**2))
+        scale = np.sqrt(np.sum(reduced.massline**2) / np.count_nonzero(reduced.present))  # over the FRFs present
         return np.hypot(value[..., 0], value[..., 1]) / max(scale, 1e-300)
 
     def pole_hz(self, reduced: Reduced, law: str) -> float:

@@ -12,6 +12,7 @@ from test_cli import massline
 from test_diagnose import twelve_lines
 
 from massline.core.errors import MasslineError
+from massline.core.files import to_json
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.identify.warning_codes import codes_of
@@ -75,14 +76,19 @@ def test_missing_frfs_and_a_coarser_run_identify_within_the_bounds(structure, tm
         assert len(found.recording.frequencies) == 400 and np.isnan(found.recording.frf[0, 2]).sum() == 200
 
 
-def test_a_paper_method_and_the_diagnosis_refuse_missing_pairs_in_one_line(structure, tmp_path):
+def test_a_paper_method_refuses_a_missing_pair_and_the_diagnosis_reads_the_pairs_present(structure, tmp_path):
+    """One pair not measured: the paper's method needs the whole matrix and says so; diagnose (its function and
+    its command) diagnoses the runs' files from the pairs present, its properties before identify's."""
     runs = write_runs(tmp_path / "test.uff", gaps(recording(structure, 5), [(0, 0)]))
     with pytest.raises(MasslineError, match="method method2\\+method3 .* needs every response against every"):
         identify_recording(runs, BAND, draws=0, method="method2+method3")
-    with pytest.raises(MasslineError, match="1 of 36 pairs have no FRF: the diagnosis needs every response"):
-        diagnose_recording(runs, BAND)
-    result = massline("diagnose", *runs, "--band", *map(str, BAND))
-    assert result.returncode == 2 and result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    found = diagnose_recording(runs, BAND)
+    assert [f for f in found.findings if f.kind == "fault"] == []
+    assert found.before.mass == identify_recording(runs).mass
+    result = massline("diagnose", *runs, "--band", *map(str, BAND), "--json", str(tmp_path / "d.json"))
+    assert result.returncode == 0 and "Traceback" not in result.stderr
+    written = json.loads((tmp_path / "d.json").read_text())["properties"]["before"]
+    assert written == json.loads(to_json(found.document["properties"]["before"]))
 
 
 def test_a_repeat_within_noise_is_averaged_silently_and_one_off_by_ten_percent_is_named(structure, tmp_path):

@@ -38,7 +38,13 @@ from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, sc
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import Finding, accepted_finding, faults_first
-from massline.identify.diagnose.screens import channel_consistency, corrected_band, discrete_fixes, kinematic_matrix
+from massline.identify.diagnose.screens import (
+    channel_consistency,
+    corrected_band,
+    discrete_fixes,
+    kinematic_matrix,
+    with_gaps,
+)
 from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
@@ -83,9 +89,10 @@ class Diagnosis:
 
 
 def relative_noise(band: BandData) -> float:
-    """The noise level as a relative RMS over the band: √(Σ 2n σ_ij² / Σ |H|²)."""
-    lines = band.values.shape[2]
-    return float(np.sqrt(np.sum(lines * band.noise**2) / np.sum(band.energy)))
+    """The noise level as a relative RMS over the band: √(Σ 2n_ij σ_ij² / Σ |H|²) over the FRFs with a massline
+    (n_ij: each one's lines)."""
+    lines = np.count_nonzero(band.lines, axis=2)
+    return float(np.sqrt(np.sum(lines * np.where(band.present, band.noise, 0.0) ** 2) / np.sum(band.energy)))
 
 
 def rigid_tail(laws) -> bool:
@@ -168,7 +175,7 @@ def discrete_stage(before: Fit, band: BandData) -> DiscreteStage:
         return DiscreteStage((), band, current, findings)
     for _ in range(len(layout.sensors)):
         corrected = corrected_band(band, fixes)
-        A = corrected.reduced(laws).massline
+        A = with_gaps(corrected.reduced(laws))
         ranked = discrete_fixes(A, S)
         proposals = [r for r in ranked if r[0] < PROPOSALS][:3]
         best = None
@@ -276,10 +283,12 @@ def seen_per_frf(current: Fit, trial: Fit, band: BandData) -> bool:
 
 
 def massline_change(current: Fit, trial: Fit, band: BandData) -> float:
-    """How far an effect moves the masslines, as a share of the band's energy: n Σ_ij (ΔA_ij)² / Σ_ij |H_ij|²
-    over the n lines. Tails that are nearly collinear with the massline over a narrow band can mimic most of
-    an effect in the residual; what it changes in the rigid body's lines is its size all the same."""
-    change = len(band.frequencies) * np.sum((trial.masslines - current.masslines) ** 2)
+    """How far an effect moves the masslines, as a share of the band's energy: Σ_ij n_ij (ΔA_ij)² / Σ_ij |H_ij|²
+    over the n_ij lines of each FRF with a massline. Tails that are nearly collinear with the massline over a
+    narrow band can mimic most of an effect in the residual; what it changes in the rigid body's lines is its size
+    all the same."""
+    lines = np.count_nonzero(band.lines, axis=2) // 2
+    change = np.sum(lines * (trial.masslines - current.masslines) ** 2)
     return float(change / np.sum(band.energy))
 
 

@@ -115,9 +115,9 @@ class Problem:
     """What stays fixed while effects are tried: the layout, the reduced data, noise and prior.
 
     ``data`` holds the masslines with the discrete corrections (polarity, swaps) applied;
-    ``sigma`` (n_s, n_e) the per-line noise σ_ij; ``transverse`` the prior 1-σ of τ; ``n_values``
-    the real numbers behind the fit (2 × lines × FRFs), BIC's n; ``energy`` (n_s, n_e) Σ|H|² over
-    each FRF's lines, the scale of relative residuals.
+    ``sigma`` (n_s, n_e) the per-line noise σ_ij (∞ for a pair with no massline); ``transverse`` the prior 1-σ
+    of τ; ``n_values`` the real numbers behind the fit (2 × each FRF's lines), BIC's n; ``energy`` (n_s, n_e)
+    Σ|H|² over each FRF's lines, the scale of relative residuals.
     """
 
     layout: Layout
@@ -146,12 +146,13 @@ class Problem:
 
     @cached_property
     def support_rank(self) -> int:
-        """X's entries the FRFs determine: s_iᵀ X e_j sees X only on the lines' span (four hits: not all 21)."""
+        """X's entries the FRFs with a massline determine: s_iᵀ X e_j sees X only on the lines' span (four hits: not
+        all 21)."""
         if not self.n_support:
             return 0
         s, e = self.line_vectors(np.zeros((len(self.layout.sensors), 2)), (), ())
         return int(
-            np.linalg.matrix_rank(np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e).reshape(-1, self.n_support))
+            np.linalg.matrix_rank(np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e)[self.data.present])
         )
 
     def support_basis(self) -> np.ndarray:
@@ -201,9 +202,12 @@ class Problem:
         return np.stack([A] + ([s @ self.support_matrix(x) @ e.T] if self.n_support else []), axis=-1)
 
     def whitened(self, deviation: np.ndarray) -> np.ndarray:
-        """L d / σ_ij of deviations d (n_s, n_e, m, …) from the targets: rows of the weighted residual."""
-        rows = np.einsum("ab,ijb...->ija...", self.data.whitening, deviation)
-        return rows / self.sigma.reshape(self.sigma.shape + (1,) * (deviation.ndim - 2))
+        """L d / σ_ij of deviations d (n_s, n_e, m, …) from the targets, on the FRFs with a massline (``data.present``;
+        the model predicts every pair, only the comparison leaves the others out): rows of the weighted residual,
+        (k, m, …)."""
+        rule = "ijab,ijb...->ija..." if self.data.per_frf else "ab,ijb...->ija..."
+        rows = np.einsum(rule, self.data.whitening, deviation)
+        return (rows / self.sigma.reshape(self.sigma.shape + (1,) * (deviation.ndim - 2)))[self.data.present]
 
     def jacobian(self, x: np.ndarray, blocks) -> np.ndarray:
         """∂r/∂x: analytic in θ̃ (∂M⁻¹ = −M⁻¹ B_k M⁻¹), τ (∂d'/∂τ = (I − d'd'ᵀ) T / ‖d + Tτ‖) and X (linear),
@@ -290,7 +294,8 @@ class Problem:
         """X's entries that best give the b̂_ij on the lines (weighted least squares: linear in X)."""
         s, e = self.line_vectors(tau, blocks, values)
         design = np.einsum("ia,abk,jb->ijk", s, self.support_basis(), e) / self.sigma[..., None]
-        return np.linalg.lstsq(design.reshape(-1, self.n_support), (self.data.support / self.sigma).ravel())[0]
+        present = self.data.present
+        return np.linalg.lstsq(design[present], (self.data.support / self.sigma)[present])[0]
 
 
 def jacobian(problem: Problem, x: np.ndarray, blocks, columns=None) -> np.ndarray:

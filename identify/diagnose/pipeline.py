@@ -42,6 +42,7 @@ from massline.identify.pipeline import (
     usable_lines,
     without_mains,
 )
+from massline.identify.missing_lines import mean_present
 from massline.identify.tails import BandData
 from massline.identify.warning_codes import CodedWarning
 from massline.core.band import Band
@@ -115,11 +116,13 @@ class DiagnosisRun:
         return self.after.body if self.loading is None else self.loading.bare(self.after.body)
 
     def off_rigid(self) -> np.ndarray | None:
-        """How far each recorded channel sits from the rigid motions at every band line (None without redundancy)."""
+        """How far each recorded channel sits from the rigid motions at every band line (None without redundancy):
+        the norm over the hits it has there, scaled to all of them (NaN where it has none)."""
         if not roomy(self.layout):
             return None
         S = kinematic_matrix(self.layout.sensors, self.layout.planar)
-        return np.linalg.norm(rigid_subspace_residual(self.data.frf, S), axis=1)
+        off = rigid_subspace_residual(self.data.frf, S)
+        return np.sqrt(mean_present(off**2, axis=1) * off.shape[1])
 
     @property
     def document(self) -> dict:
@@ -235,20 +238,6 @@ def check_seen(layout: Layout) -> None:
         )
 
 
-def check_complete(recording: Recording) -> None:
-    """Refuse a recording whose pairs are not all measured on one axis: the diagnosis models every FRF line by
-    line (identify estimates from the pairs present)."""
-    measured = np.isfinite(recording.frf)
-    if measured.all():
-        return
-    missing = int((~recording.present).sum())
-    what = f"{missing} of {recording.present.size} pairs have no FRF" if missing else "the FRFs are on different axes"
-    raise MasslineError(
-        f"{what}: the diagnosis needs every response against every reference on one frequency axis; identify "
-        "estimates from the pairs present (massline identify)"
-    )
-
-
 def diagnose_recording(
     recording: Recording | str | Path,
     band=None,
@@ -268,10 +257,11 @@ def diagnose_recording(
 
     Lines at or below 0 Hz are set aside, as identify does (``recording`` of the run is the one diagnosed), and
     the lines of any mains interference: identify sets them aside itself, the band data are taken without them,
-    and the mains interference is a test-physics finding. ``recording`` may be the path of a Universal File.
+    and the mains interference is a test-physics finding. ``recording`` may be the path of a Universal File, or
+    several (one per run: pairs not measured and FRFs on a coarser axis are NaN, and the diagnosis reads each FRF
+    on its own lines, :mod:`massline.identify.tails`).
     """
     recording, notes = usable_lines(as_recording(recording))
-    check_complete(recording)
     cleaned, mains, aside = without_mains(recording)
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)

@@ -113,7 +113,7 @@ def outfits(without, after, finding) -> dict | None:
     if not rows and not columns or finding.effect in SCALE_EFFECTS:
         return None
     shape, factors = scaled(without, rows, columns)
-    n = without.data.values.size
+    n = np.count_nonzero(np.isfinite(without.sigma))  # the masslines present (σ = ∞: a pair with none)
     named_cost = objective(after.best) + finding.evidence.get("values", 0) * np.log(n)
     shape_cost = shape + len(factors) * np.log(n)
     if not shape_cost <= named_cost:

@@ -150,7 +150,7 @@ def best_undone(recording, findings: list, candidates: list, band, transverse: f
         trial = faults + [candidate]
         found = attempt(corrected(recording, trial), band, transverse, 0, **known | identify_options(trial))
         if found is not None:
-            cost = candidate.evidence.get("values", 1) * np.log(found.data.values.size)
+            cost = candidate.evidence.get("values", 1) * np.log(np.count_nonzero(np.isfinite(found.sigma)))
             scored.append((total_chi2(found) + cost, candidate))
     if not scored:
         return []
