@@ -98,6 +98,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
     for note in found.notes:
         console.print(f"note: {note}")
+    if recording.runs:
+        missing = int((~recording.present).sum())
+        gaps = f"; {missing} pair{'s' * (missing != 1)} not measured" if missing else ""
+        console.print(f"runs: {', '.join(recording.runs)}{gaps}")
     console.print(
         f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
         f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"

@@ -87,6 +87,7 @@ def test_a_paper_method_refuses_a_missing_pair_and_the_diagnosis_reads_the_pairs
     assert found.before.mass == identify_recording(runs).mass
     result = massline("diagnose", *runs, "--band", *map(str, BAND), "--json", str(tmp_path / "d.json"))
     assert result.returncode == 0 and "Traceback" not in result.stderr
+    assert "runs: test.run1.uff, test.run2.uff, test.run3.uff; 1 pair not measured" in result.stdout
     written = json.loads((tmp_path / "d.json").read_text())["properties"]["before"]
     assert written == json.loads(to_json(found.document["properties"]["before"]))
 
