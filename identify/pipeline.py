@@ -45,7 +45,7 @@ from massline.core.rigid_body import RigidBody
 from massline.export.body import Body
 from massline.export.units import SI, Units
 from massline.uff.grid import to_recording
-from massline.uff.runs import read_runs
+from massline.uff.runs import coherence_weights, read_runs
 from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
@@ -114,14 +114,6 @@ def paper_body(data: Masslines, method: str, best: Estimate) -> RigidBody:
     if method == "plate":
         return best.model.body(plate_theta(found.mass, found.cog, found.inertia_cog))
     return found.body
-
-
-def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
-    """γ²/(1 − γ²) of every line: the inverse of an H1 estimate's relative variance (None without coherence)."""
-    if coherence is None:
-        return None
-    gamma2 = np.clip(coherence, 0.0, 1 - 1e-6)
-    return gamma2 / (1 - gamma2)
 
 
 def absent(recording: Recording, present: np.ndarray) -> list:

@@ -23,7 +23,7 @@ from massline.identify.diagnose.effects import parse_effect
 from massline.identify.line_correlation import variance_inflation
 from massline.identify.mains import find_mains
 from massline.identify.massline_fit import fit_band
-from massline.identify.pipeline import coherence_weights
+from massline.uff.runs import coherence_weights
 from massline.identify.resonances import RIGID, bounding_modes, rigid_misfit
 from massline.identify.suspicions import coherence_warnings, recording_warnings
 from massline.placement.hand_layouts import structure_exciters, structure_origin_sensors, structure_sensors

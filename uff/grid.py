@@ -17,7 +17,7 @@ from massline.core.errors import MasslineError
 from massline.core.lines import Lines
 from massline.uff.reader import Frf, UffContents
 from massline.uff.recording import Channel, Recording, Repeat, code_direction
-from massline.uff.runs import combined, lines_in, union_axis
+from massline.uff.runs import coherence_weights, combined, lines_in, union_axis
 
 EXPONENTIAL = {4, 6}  # dataset 1858 window types with an exponential window: exponential, impact and exponential
 
@@ -106,13 +106,14 @@ def _grid(contents: UffContents, sensors: list, exciters: list, frequencies: np.
             if (s, e) not in table:
                 continue
             values, gamma2 = _on_axis(table[s, e], frequencies)
-            weights = None if gamma2 is None else gamma2 / (1 - np.clip(gamma2, 0.0, 1 - 1e-6))
-            frf[i, j], joined = combined(values, weights) if len(values) > 1 else (values[0], gamma2)
-            if weighted:
-                coherence[i, j] = joined if len(values) > 1 else gamma2[0]
-            if len(values) > 1:
+            if len(values) == 1:
+                frf[i, j], joined = values[0], None if gamma2 is None else gamma2[0]
+            else:
+                frf[i, j], joined = combined(values, coherence_weights(gamma2))
                 runs = tuple(frf_.run or f"FRF {frf_.number}" for frf_ in table[s, e])
                 repeats.append(Repeat(i, j, runs, values, gamma2))
+            if weighted:
+                coherence[i, j] = joined
     return frf, coherence, tuple(repeats)
 
 

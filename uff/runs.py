@@ -129,6 +129,14 @@ def lines_in(union: np.ndarray, axis: np.ndarray) -> np.ndarray:
     return np.clip(np.searchsorted(union, axis - LINE_TOLERANCE * scale), 0, len(union) - 1)
 
 
+def coherence_weights(coherence: np.ndarray | None) -> np.ndarray | None:
+    """γ²/(1 − γ²) of every line: the inverse of an H1 estimate's relative variance (None without coherence)."""
+    if coherence is None:
+        return None
+    gamma2 = np.clip(coherence, 0.0, 1 - 1e-6)
+    return gamma2 / (1 - gamma2)
+
+
 def combined(frf: np.ndarray, weights: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
     """Several measurements of one pair (k, n_f) joined line by line, and the coherence of the join.
 

@@ -44,7 +44,7 @@ def noisy_frfs(H: np.ndarray, noise: Noise, mass: float, rng: np.random.Generato
         γ² = |G_xf|² / (G_xx G_ff) = |H|² G_ff² / ((|H|² G_ff + G_nn) G_ff) = |H|² / (|H|² + σ²).
 
     So γ²/(1 − γ²) = |H|²/σ², the inverse relative variance that identify weights each line by
-    (:func:`massline.identify.pipeline.coherence_weights`). The stored value is read as one average's
+    (:func:`massline.uff.runs.coherence_weights`). The stored value is read as one average's
     estimate: with n_d averages of that noise the error variance would be σ²/n_d and γ² unchanged. The
     coherence returned is this expected value (no estimation scatter); 1 where σ = 0.
 
