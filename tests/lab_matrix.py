@@ -4,7 +4,9 @@
 1 % noise, 3 % transverse sensitivity and the bodies' FE modes; the lab's files (exporter, local, impact) also
 carry a ground loop's mains hum, 50 Hz and its harmonics at 5 % of each channel's massline. Each case is simulated, written as a
 Universal File in its style, read back and identified with no option but the file. A case passes when
-every property is within its bound (``BOUNDS``), or when its error is within 2σ and a warning says why.
+every property is within its bound (``BOUNDS``), or when its error is within 2σ and a warning says why, or
+when each property beyond its bound is within a 2σ that is itself wider than the bound (the ± never claimed
+it; on the soft cord the bounds must hold).
 
     plain     SI, (m/s²)/N, no DC line, nodes in 15
     exporter  the simulator's default file: the 0 Hz line, g/N, mm geometry from 164, coherence
@@ -160,18 +162,22 @@ def errors(found, true) -> dict:
 
 
 def z_scores(found, true) -> dict:
-    """|error| / 1-σ of the mass, the CoG (worst coordinate) and the principal moments (worst)."""
+    """|error| / 1-σ of the mass, the CoG (worst coordinate), the principal moments (worst) and, for 3-D
+    bodies, the tensor: ‖J − J_true‖_F over the root sum of its entries' variances (its expected size)."""
     b, s = found.body, found.std
     axes = [0, 1] if found.planar else [0, 1, 2]
     if found.planar:
         moments = [abs(b.inertia_cog[k, k] - true.inertia_cog[k, k]) / s["inertia_cog"][k][k] for k in (0, 1)]
     else:
         moments = np.abs(b.principal_moments - true.principal_moments) / s["principal_moments"]
-    return {
+    z = {
         "mass": abs(b.mass - true.mass) / s["mass"],
         "cog_mm": max(abs(b.cog[k] - true.cog[k]) / s["cog"][k] for k in axes),
         "moments": float(np.max(moments)),
     }
+    if not found.planar:
+        z["tensor"] = np.linalg.norm(b.inertia_cog - true.inertia_cog) / np.linalg.norm(s["inertia_cog"])
+    return z
 
 
 @dataclass(frozen=True)
@@ -195,9 +201,18 @@ class Cell:
         return bool(self.warnings) and all(v <= 2.0 for v in self.z.values())
 
     @property
+    def stated(self) -> bool:
+        """Every property beyond its bound is within its 2σ, and that 2σ is itself wider than the bound: the ±
+        printed beside it never claimed the bound (a narrow band or fewer lines; no warning needed)."""
+        beyond = [k for k, v in self.errors.items() if v > BOUNDS[k]]
+        wide = [2 * self.errors[k] / self.z[k] > BOUNDS[k] if self.z[k] > 0 else False for k in beyond]
+        return bool(self.errors) and all(self.z[k] <= 2.0 for k in beyond) and all(wide)
+
+    @property
     def passed(self) -> bool:
-        """Within the bounds, or covered by 2σ and warned, or refused with a reason (never a quiet wrong number)."""
-        return self.within or self.covered or self.outcome.startswith("refused")
+        """Within the bounds, or covered by 2σ and warned, or off the bounds only where the ± says so, or refused
+        with a reason (never a quiet wrong number)."""
+        return self.within or self.covered or self.stated or self.outcome.startswith("refused")
 
 
 def cell(body: str, style: str, kind: str, seed: int, folder: Path) -> Cell:
@@ -223,7 +238,7 @@ def row(c: Cell) -> str:
         return f"| {c.body} | {c.style} | {c.support} | {c.seed} | | {c.outcome} | | | |"
     e = " ".join(f"{k} {v:.3g}" for k, v in c.errors.items())
     z = " ".join(f"{v:.1f}" for v in c.z.values())
-    verdict = "within" if c.within else ("covered+warned" if c.covered else "FAIL")
+    verdict = "within" if c.within else "covered+warned" if c.covered else "± wider than bound" if c.stated else "FAIL"
     return (
         f"| {c.body} | {c.style} | {c.support} | {c.seed} | {c.band[0]:.3g}–{c.band[1]:.3g} | {e} | {z} | "
         f"{len(c.warnings)} | {verdict} |"
@@ -238,7 +253,7 @@ def main() -> None:
     parser.add_argument("--supports", default=",".join(SUPPORTS))
     args = parser.parse_args()
     print(
-        "| body | file | support | seed | band Hz | error (mass %, CoG mm, moments %, tensor %) | z (m, c, J) "
+        "| body | file | support | seed | band Hz | error (mass %, CoG mm, moments %, tensor %) | z (m, c, J, tensor) "
         "| warnings | verdict |"
     )
     print("|---|---|---|---|---|---|---|---|---|")

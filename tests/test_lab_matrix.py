@@ -23,3 +23,18 @@ def test_identify_is_within_bounds_or_covered_and_warned(body, style, support, t
     assert c.passed, (c.errors, c.z, c.warnings)
     if support == "soft":
         assert c.within, (c.errors, c.warnings)
+
+
+def test_a_property_off_its_bound_passes_only_where_its_printed_two_sigma_is_wider_than_the_bound():
+    """The plate on foam, half resolution, seed 1: mass 0.322 % at 0.88σ (2σ = 0.73 % > 0.3 %) passes unwarned;
+    the same error at 2.5σ (2σ = 0.26 %: the ± claimed the bound) or beyond 2σ does not."""
+    from lab_matrix import Cell
+
+    def plate(mass_z: float) -> Cell:
+        errors = {"mass": 0.322, "cog_mm": 0.046, "moments": 0.367}
+        z = {"mass": mass_z, "cog_mm": 0.4, "moments": 0.9}
+        return Cell("plate", "halfres", "foam", 1, (35.7, 104), errors, z, ())
+
+    assert plate(0.88).stated and plate(0.88).passed
+    assert not plate(2.5).passed
+    assert not plate(2.1).passed  # 2σ = 0.31 % would be wide enough, but the error is beyond 2σ
