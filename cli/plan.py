@@ -22,6 +22,7 @@ from massline.core.lines import Lines
 from massline.meshes.loader import UNITS
 from massline.core.numbers import counted, formatted, number, sigma_text, vector_text
 from massline.placement.on_surface import is_plate, plan
+from massline.placement.mounts import motion_text, mounts
 from massline.placement.plan_file import condition_systems, plan_to_dict
 from massline.placement.planner import Budget
 from massline.virtual.fe_process import FEInProcess
@@ -159,19 +160,22 @@ def _fixed(rows, scale, option: str) -> Lines | None:
     return Lines(rows[:, :3] * scale, rows[:, 3:])
 
 
-def layout_table(title: str, lines: Lines, nodes, labels) -> Table:
+def layout_table(title: str, lines: Lines, nodes, labels, mounted) -> Table:
     """One row per line: its point's label (the test's numbering, as in plan.json, the report and the Universal
-    File), where it is and which way it reads; "fixed" for a line the user gave."""
+    File), where it is, which way it reads and how it is mounted (:mod:`massline.placement.mounts`); "fixed" for a
+    line the user gave."""
     table = Table(title=title)
-    for col in ("#", "point", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial"):
+    for col in ("#", "point", "x (mm)", "y (mm)", "z (mm)", "direction", "triaxial", "mount"):
         table.add_column(col, justify="right")
-    for k, (n, label, p, d, t) in enumerate(zip(nodes, labels, lines.points, lines.directions, lines.triaxial), 1):
+    rows = zip(nodes, labels, lines.points, lines.directions, lines.triaxial, mounted)
+    for k, (n, label, p, d, t, m) in enumerate(rows, 1):
         table.add_row(
             str(k),
             str(label) + ("" if n >= 0 else " (fixed)"),
             *(formatted(v * 1e3, ".1f") for v in p),
             vector_text(d, 3),
             "" if t < 0 else str(t),
+            m.text,
         )
     return table
 
@@ -270,6 +274,20 @@ def chosen_budget(args: argparse.Namespace, planar: bool) -> Budget | None:
     )
 
 
+def blocks_note(console: Console, result) -> None:
+    """Which motion the normals miss and where the planner put mounting blocks for it
+    (:func:`massline.placement.candidates.blocks_needed`)."""
+    missed = {motion_text(t) for twists in result.blocks for t in twists}
+    if not missed:
+        return
+    used = [sum(m.kind == "block" for m in mounts(result, k)) for k in (0, 1)]
+    console.print(
+        f"[yellow]mounting blocks:[/] no surface normal reads the {' or the '.join(sorted(missed))} (a turned "
+        f"part's axis), so lines may sit on blocks glued to the surface, read or struck on their sides along it: "
+        f"{used[0]} accelerometer line(s) and {used[1]} hit(s) do (mount \"block\")"
+    )
+
+
 def diagnosability_note(console: Console, result) -> None:
     """Diagnosable or not, what it costs against the minimal layout, which channels could hide a fault."""
     d = result.diagnosability
@@ -352,8 +370,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
         fe_solve.close()
         raise
     sensor_labels, hit_labels = result.point_labels
-    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels))
-    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels))
+    console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels, mounts(result, 0)))
+    console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels, mounts(result, 1)))
+    blocks_note(console, result)
     console.print(std_table(result))
     console.print(criterion_text(result))
     console.print(sliding_line(result))

@@ -4,9 +4,9 @@ Points: the mesh vertices, the face centres, the midpoints of the edges inside
 flat patches (the centre of a rectangle split in two triangles, where a thin
 face has the most room) and area-uniform samples, about ``n_samples`` over the surface, thinned so that no two are closer than half the
 mean spacing; each with the outward normal of the face it lies on. Only points
-where a hit lands square (a flat patch, clear of edges by the tip's radius,
-:mod:`.mountable`) are kept; those that also take the accelerometer's base are
-the sensor candidates. Lines at each point: the surface normal (a hammer hit, a
+where a hit lands square (a smooth region, clear of sharp edges by the tip's radius,
+:mod:`.mountable`) are kept; those that also take the accelerometer's base, with a gap under it
+that a film or a cemented pad fills, are the sensor candidates. Lines at each point: the surface normal (a hammer hit, a
 uniaxial accelerometer glued on the face) and, optionally, the three global axes
 (mounting blocks). A triaxial accelerometer is one candidate of three global-axis
 lines through a point. Regions can be excluded (boxes, faces).
@@ -22,8 +22,10 @@ from scipy.spatial import cKDTree
 
 from massline.core.errors import MasslineError, param
 from massline.core.lines import AXES, Lines
-from massline.placement.mountable import Surface
+from massline.placement.mountable import PAD_GAP, Surface
 
+MOST_BLOCKED = 1  # unseen motions the planner offers mounting blocks for (a turned part's axis)
+UNSEEN = 1e-2  # a motion no normal reads with an arm above this share of the body's size is as good as unseen
 SENSOR_BASE = 10e-3  # m across: the base of a typical uniaxial or triaxial modal accelerometer
 HAMMER_TIP = 6e-3  # m across: a modal hammer's tip
 
@@ -58,7 +60,8 @@ class CandidateOptions:
 @dataclass(frozen=True, eq=False)
 class CandidatePoints:
     """Points (n, 3) m, outward normals (n, 3), the face each lies on (n,), how many points each exclusion
-    took, whether an accelerometer fits at each (n,) (every point takes a hit), and each one's clearance (m)."""
+    took, whether an accelerometer fits at each (n,) (every point takes a hit), each one's clearance (m) and
+    the gap (m) under an accelerometer's base there (0 on flat faces, :meth:`.Surface.base_gap`)."""
 
     points: np.ndarray
     normals: np.ndarray
@@ -66,6 +69,7 @@ class CandidatePoints:
     excluded: dict = field(default_factory=dict)
     sensor_fit: np.ndarray | None = None
     clearance: np.ndarray | None = None
+    gap: np.ndarray | None = None
 
     def sensor_points(self) -> np.ndarray:
         """Indices of the points an accelerometer fits on."""
@@ -91,6 +95,16 @@ class CandidatePoints:
             extra_node.append(np.flatnonzero(off_normal))
         extra = Lines(np.vstack(extra_points), np.vstack(extra_dirs))
         return lines + extra, np.concatenate([node, *extra_node])
+
+    def block_lines(self, twists: np.ndarray) -> tuple[Lines, np.ndarray]:
+        """Lines on mounting blocks along each unseen rigid motion's velocity v + ω × r at each point, in the
+        surface's tangent plane, and the point index of each; none where it vanishes (a point on the axis)."""
+        velocity = twists[None, :, :3] + np.cross(twists[None, :, 3:], self.points[:, None, :])  # (n, k, 3)
+        velocity -= np.einsum("nkd,nd->nk", velocity, self.normals)[:, :, None] * self.normals[:, None, :]
+        speed = np.linalg.norm(velocity, axis=2)
+        moving = speed > UNSEEN * speed.max(initial=0.0)
+        node = np.nonzero(moving)[0]
+        return Lines(self.points[node], velocity[moving] / speed[moving][:, None]), node
 
     def triaxial_lines(self) -> tuple[Lines, np.ndarray]:
         """Three global-axis lines through every point; the point index of each line."""
@@ -170,13 +184,15 @@ def candidate_points(
     excluded["edges, corners, small or curved faces"] = int((~fits & ~out).sum())
     usable = np.flatnonzero(fits & ~out)
     kept = usable[thin(points[usable], 0.5 * spacing)]
+    gap = surface.base_gap(points[kept], faces[kept], options.sensor_base)
     return CandidatePoints(
         points=points[kept],
-        normals=mesh.face_normals[faces[kept]],
+        normals=surface.surface_normal(points[kept], faces[kept]),
         faces=faces[kept],
         excluded=excluded,
-        sensor_fit=clearance[kept] >= sensor,
+        sensor_fit=(clearance[kept] >= sensor) & (gap <= PAD_GAP),
         clearance=clearance[kept],
+        gap=gap,
     )
 
 
@@ -217,8 +233,11 @@ class CandidateLines:
         return np.append(mask, False)[self.members].any(axis=1)
 
 
-def side_lines(points: CandidatePoints, index: np.ndarray, axes: bool, planar: bool, triaxial: bool) -> CandidateLines:
-    """One side's candidates at the points ``index``: normals (and axes, and triaxials); nodes index ``points``.
+def side_lines(
+    points: CandidatePoints, index: np.ndarray, axes: bool, planar: bool, triaxial: bool, twists=np.zeros((0, 6))
+) -> CandidateLines:
+    """One side's candidates at the points ``index``: normals (and axes, blocks along the unseen ``twists``, and
+    triaxials); nodes index ``points``.
 
     A plate gets its out-of-plane lines only (§2.3).
     """
@@ -233,6 +252,9 @@ def side_lines(points: CandidatePoints, index: np.ndarray, axes: bool, planar: b
         lines = Lines(at.points[on_faces], np.tile([0.0, 0.0, 1.0], (int(on_faces.sum()), 1)))
         return replace(CandidateLines.single(lines), node=index[on_faces])
     lines, node = at.lines(axes)
+    if len(twists) and not axes:
+        blocks, block_node = at.block_lines(twists)
+        lines, node = lines + blocks, np.concatenate([node, block_node])
     members = np.arange(len(lines))[:, None]
     group = np.zeros(len(lines), int)
     if triaxial:
@@ -246,9 +268,42 @@ def side_lines(points: CandidatePoints, index: np.ndarray, axes: bool, planar: b
 
 
 def candidate_lines(
-    points: CandidatePoints, axes: bool, planar: bool, triaxial: bool
+    points: CandidatePoints, axes: bool, planar: bool, triaxial: bool, blocks=(np.zeros((0, 6)), np.zeros((0, 6)))
 ) -> tuple[CandidateLines, CandidateLines]:
     """Sensor candidates where an accelerometer fits (triaxials among them when asked), exciter candidates at
-    every point."""
-    sensors = side_lines(points, points.sensor_points(), axes, planar, triaxial)
-    return sensors, side_lines(points, np.arange(len(points)), axes, planar, False)
+    every point; ``axes``: mounting blocks along the global axes; ``blocks``: the rigid motions (k, 6) each side's
+    normals leave unseen, read or driven on blocks along them (:func:`blocks_needed`)."""
+    sensors = side_lines(points, points.sensor_points(), axes, planar, triaxial, blocks[0])
+    return sensors, side_lines(points, np.arange(len(points)), axes, planar, False, blocks[1])
+
+
+def unseen_twists(points: CandidatePoints, index: np.ndarray) -> np.ndarray:
+    """The rigid motions (k, 6), twists (v, ω) at the origin, that no surface normal at the points ``index`` reads
+    better than with an arm of ``UNSEEN`` of the body's size (a line (d, r × d) reads d · (v + ω × r)): among the
+    right singular vectors of their coordinates (arms in units of the body's size), those whose best reading is
+    below it. A surface of revolution's normals all meet its axis: rotation about it (k = 1); a sphere's, its
+    centre (k = 3). A thin plate's in-plane motions are seen, by its rims."""
+    coords = Lines(points.points[index], points.normals[index]).coordinates
+    size = max(np.ptp(points.points, axis=0).max(initial=0.0), 1e-300)  # m, the body's extent
+    scale = np.array([1, 1, 1, size, size, size])
+    twists = np.linalg.svd(coords / scale)[2]
+    best = np.abs(coords / scale @ twists.T).max(axis=0, initial=0.0)
+    unseen = twists[best < UNSEEN] / scale
+    return unseen / np.linalg.norm(unseen, axis=1, keepdims=True)
+
+
+def blocks_needed(points: CandidatePoints, planar: bool, triaxial: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid motion (1, 6) the accelerometers' normals leave unseen (none when triaxials are planned: they see
+    all) and the one no hit's normal drives (:func:`unseen_twists`), read or driven on mounting blocks: a turned
+    part's rotation about its axis. Where the normals miss more than ``MOST_BLOCKED`` motions (a sphere, one flat
+    face) the part offers too little for uniaxial lines and none is offered: the planner refuses, naming
+    ``--triaxial`` and ``--axes``. A plate needs none (§2.3)."""
+    none = np.zeros((0, 6))
+    if planar:
+        return none, none
+
+    def offered(index: np.ndarray) -> np.ndarray:
+        unseen = unseen_twists(points, index) if len(index) else none
+        return unseen if len(unseen) <= MOST_BLOCKED else none
+
+    return (none if triaxial else offered(points.sensor_points())), offered(np.arange(len(points)))

@@ -10,10 +10,17 @@ the radius of the largest disk around p, in the patch's plane, that stays inside
 that far from every feature edge in space (a rim above a pocket's floor counts). An accelerometer with
 a base B across fits where clearance ≥ B/2; a hammer tip T across strikes square where clearance ≥ T/2.
 
-A *gentle crease* (less than ``SMOOTH_DEG``, on a surface curving no tighter than ``SMOOTH_RADIUS``: a
-tessellated cylinder's side) bounds no patch for the clearance: a base across it stands at most
-(B/2)²/(2R) off the surface at its rim (0.4 mm for a 10 mm base on R 30 mm), what a film of wax or
-adhesive fills. The point keeps its own triangle's normal. All lengths in metres, mesh frame.
+A *soft crease* (less than ``SHARP_EDGE_DEG``: a tessellated cylinder's side, a fillet, a shallow bend) bounds
+no patch for the clearance: flat patches joined across soft creases are one *smooth region*. A hammer tip
+strikes anywhere on it clear of sharp edges, along its own triangle's normal. An accelerometer's flat base
+on a curved region stands off the surface by its *gap*,
+
+    gap(p) = max_rim |(r − q)·n_q|,   r = p + (B/2)(cos φ u + sin φ v),
+
+r the base's rim in the plane of p's triangle, q the surface point of p's region nearest to r and n_q its
+triangle's normal ((B/2)²/(2R) on a radius R: 0.31 mm for a 10 mm base on R 40 mm). It is glued directly where
+the gap is at most ``FILM_GAP`` (an adhesive film fills it), on a cemented pad up to ``PAD_GAP``, and not at
+all beyond. All lengths in metres, mesh frame.
 """
 
 from __future__ import annotations
@@ -29,11 +36,21 @@ from scipy.spatial import cKDTree
 from massline.core.errors import MasslineError
 
 FLAT_DEG = 0.5  # neighbouring triangles closer than this to coplanar belong to one flat patch
-SMOOTH_DEG = 10.0  # a crease gentler than this on a surface of radius ≥ SMOOTH_RADIUS is no patch boundary
-SMOOTH_RADIUS = 0.03  # m
-SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor or a hit keeps away from
+SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor or a hit keeps away from; softer, no bound
+FILM_GAP = 0.1e-3  # m: the largest gap under a base that a film of adhesive or wax fills
+PAD_GAP = 1.0e-3  # m: the largest a cemented pad under the base fills (a 10 mm base on R 12.5 mm)
+RIM_POINTS = 16  # points on a base's rim where its gap is measured
+GAP_SAMPLES = 200_000  # at most this many surface samples of the curved regions (spacing base/8 or coarser)
 PIECES_PER_SIZE = 200  # long edges are cut into pieces no longer than the body's size / this, for the search
 SNAP_TOLERANCE = 2e-3  # m: a fixed sensor or hit given farther than this from the surface is refused
+
+
+def plane_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors (n, 3) each, orthogonal to each other and to the unit ``normals`` (n, 3)."""
+    helper = np.where(np.abs(normals[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    u = np.cross(normals, helper)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return u, np.cross(normals, u)
 
 
 def foot_on_segments(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -50,15 +67,10 @@ def feature_edges(mesh: trimesh.Trimesh, degrees: float = SHARP_EDGE_DEG) -> np.
     return mesh.vertices[np.vstack([sharp, unique[counts == 1]])]
 
 
-def gentle_creases(mesh: trimesh.Trimesh) -> np.ndarray:
-    """Which face adjacencies (mesh.face_adjacency rows) crease by θ < ``SMOOTH_DEG`` where the surface's radius
-    R ≈ (h₁ + h₂)/(2θ) ≥ ``SMOOTH_RADIUS``, h_k the height of face k over the shared edge (m)."""
-    angle = mesh.face_adjacency_angles
-    ends = mesh.vertices[mesh.face_adjacency_edges]
-    length = np.maximum(np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1), 1e-300)
-    heights = 2 * mesh.area_faces[mesh.face_adjacency] / length[:, None]
-    radius = heights.sum(axis=1) / (2 * np.maximum(angle, 1e-300))
-    return (angle < np.radians(SMOOTH_DEG)) & (radius >= SMOOTH_RADIUS)
+def soft_creases(mesh: trimesh.Trimesh) -> np.ndarray:
+    """Which face adjacencies (mesh.face_adjacency rows) crease by less than ``SHARP_EDGE_DEG``: inside a smooth
+    region (the facets of a tessellated curve, a fillet), not an edge."""
+    return mesh.face_adjacency_angles < np.radians(SHARP_EDGE_DEG)
 
 
 def flat_patches(mesh: trimesh.Trimesh, degrees: float = FLAT_DEG) -> np.ndarray:
@@ -95,7 +107,7 @@ class Surface:
     def of(cls, mesh: trimesh.Trimesh) -> "Surface":
         patch = flat_patches(mesh)
         adjacent = patch[mesh.face_adjacency]
-        between = (adjacent[:, 0] != adjacent[:, 1]) & ~gentle_creases(mesh)
+        between = (adjacent[:, 0] != adjacent[:, 1]) & ~soft_creases(mesh)
         edges = mesh.vertices[mesh.face_adjacency_edges[between]]
         features = feature_edges(mesh)
         return cls(
@@ -122,11 +134,10 @@ class Surface:
 
     @cached_property
     def smooth(self) -> tuple[np.ndarray, np.ndarray]:
-        """The smooth region of each face (its flat patches joined across gentle creases) and each region's area
+        """The smooth region of each face (its flat patches joined across soft creases) and each region's area
         (m²)."""
         mesh = self.mesh
-        pairs = mesh.face_adjacency[(self.patch[mesh.face_adjacency[:, 0]] == self.patch[mesh.face_adjacency[:, 1]])
-                                    | gentle_creases(mesh)]
+        pairs = mesh.face_adjacency[soft_creases(mesh)]
         region = connected_components(trimesh.graph.edges_to_coo(pairs, count=len(mesh.faces)), directed=False)[1]
         return region, np.bincount(region, weights=mesh.area_faces)
 
@@ -135,9 +146,67 @@ class Surface:
         region, area = self.smooth
         return area[region[faces]] >= np.pi * radius**2
 
+    @cached_property
+    def curved(self) -> np.ndarray:
+        """Whether each face (n_faces,) lies in a curved smooth region: one of more than one flat patch."""
+        region = self.smooth[0]
+        patches = np.unique(np.column_stack([region, self.patch]), axis=0)[:, 0]
+        return np.bincount(patches, minlength=region.max() + 1)[region] > 1
+
+    def base_gap(self, points: np.ndarray, faces: np.ndarray, base: float) -> np.ndarray:
+        """The gap (m) under a flat base ``base`` across (m) at points (n, 3) on ``faces`` (n,), in their
+        triangles' planes: the largest distance of its rim from its region's surface (0 on a flat region)."""
+        gap = np.zeros(len(points))
+        on = np.flatnonzero(self.curved[faces])
+        if not len(on):
+            return gap
+        region = self.smooth[0]
+        sampled = self.curved
+        area = self.mesh.area_faces[sampled].sum()
+        count = int(min(GAP_SAMPLES, max(area / (base / 8) ** 2, 1000)))
+        submesh = self.mesh.submesh([np.flatnonzero(sampled)], append=True)
+        samples, which = trimesh.sample.sample_surface_even(submesh, count, seed=0)
+        which = np.flatnonzero(sampled)[which]
+        samples = np.vstack([samples, self.mesh.triangles_center[sampled]])
+        which = np.concatenate([which, np.flatnonzero(sampled)])
+        tree = cKDTree(np.column_stack([samples, self.lift(region[which])]))
+        normal = self.mesh.face_normals[faces[on]]
+        u, v = plane_bases(normal)
+        phi = 2 * np.pi * np.arange(RIM_POINTS) / RIM_POINTS
+        rim = points[on, None, :] + base / 2 * (np.cos(phi)[:, None] * u[:, None] + np.sin(phi)[:, None] * v[:, None])
+        lifted = np.repeat(self.lift(region[faces[on]]), RIM_POINTS)
+        nearest = tree.query(np.column_stack([rim.reshape(-1, 3), lifted]))[1]
+        off = np.einsum("kd,kd->k", rim.reshape(-1, 3) - samples[nearest], self.mesh.face_normals[which[nearest]])
+        gap[on] = np.abs(off).reshape(-1, RIM_POINTS).max(axis=1)
+        return gap
+
     def normal(self, faces: np.ndarray) -> np.ndarray:
         """Outward unit normal (n, 3) of the faces' patches (that of the face: a patch is flat)."""
         return self.mesh.face_normals[faces]
+
+    @cached_property
+    def corner_normals(self) -> np.ndarray:
+        """Each face's three corner normals (n_faces, 3, 3): at each vertex the angle-weighted mean of the normals
+        of the faces around it in the same smooth region (the surface the facets tessellate, not its facets)."""
+        mesh, region = self.mesh, self.smooth[0]
+        key = np.column_stack([np.repeat(region, 3), mesh.faces.ravel()])
+        _, corner = np.unique(key, axis=0, return_inverse=True)
+        weighted = mesh.face_normals[:, None, :] * mesh.face_angles[:, :, None]
+        total = np.zeros((corner.max() + 1, 3))
+        np.add.at(total, corner.ravel(), weighted.reshape(-1, 3))
+        total /= np.maximum(np.linalg.norm(total, axis=1, keepdims=True), 1e-300)
+        return total[corner.reshape(-1, 3)]
+
+    def surface_normal(self, points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """Outward unit normal (n, 3) of the smooth surface at points (n, 3) on ``faces`` (n,): the face's on a
+        flat region, its corner normals interpolated (barycentric) on a curved one (a cylinder's radius)."""
+        normal = self.mesh.face_normals[faces].copy()
+        on = np.flatnonzero(self.curved[faces])
+        if len(on):
+            weights = trimesh.triangles.points_to_barycentric(self.mesh.triangles[faces[on]], points[on])
+            smooth = np.einsum("nk,nkd->nd", weights, self.corner_normals[faces[on]])
+            normal[on] = smooth / np.linalg.norm(smooth, axis=1, keepdims=True)
+        return normal
 
     @property
     def piece_length(self) -> float:

@@ -13,7 +13,13 @@ import numpy as np
 import trimesh
 
 from massline.placement.admissible import regular
-from massline.placement.candidates import CandidateOptions, CandidatePoints, candidate_lines, candidate_points
+from massline.placement.candidates import (
+    CandidateOptions,
+    CandidatePoints,
+    blocks_needed,
+    candidate_lines,
+    candidate_points,
+)
 from massline.placement.diagnosability import diagnosability
 from massline.placement.footprints import Footprint, Footprints, Sites, check_fixed
 from massline.core.information import NoiseModel
@@ -141,7 +147,8 @@ def plan(
     footprint = Footprint(options.sensor_base, options.hammer_tip)
     points = candidate_points(body.mesh, options, surface)
     footprints = Footprints(footprint, Sites(points.points, points.normals), *anchors)
-    sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0)
+    blocks = blocks_needed(points, planar or options.axes, budget.triaxial > 0)  # --axes: the user's blocks
+    sensor_side, exciter_side = candidate_lines(points, options.axes, planar, budget.triaxial > 0, blocks)
     result = plan_on_candidates(
         RigidModel(body.nominal, planar),
         sensor_side,
@@ -161,5 +168,5 @@ def plan(
         footprints=footprints,
     )
     progress("sliding the points on their faces", 0.95)
-    located = replace(result, candidates=points, clearances=options.clearances)
+    located = replace(result, candidates=points, clearances=options.clearances, blocks=blocks)
     return slid(located, surface, points, options, diagnosable, footprints)

@@ -1,7 +1,10 @@
 """plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial"}``, metres, mesh frame;
+``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial", "mount"}``, metres, mesh
+frame; ``mount``: ``kind`` flat, film, pad, curved, block or fixed and ``gap_m`` under the base, :mod:`.mounts`;
+``blocks``: the rigid motions, in words, that the ``sensors``' and the ``hits``' normals leave unseen and that
+mounting blocks were offered for;
 ``node`` is the point's label, the test's one numbering (:mod:`massline.core.numbering`: accelerometers from 1,
 hits from 101), ``candidate`` the candidate point a slid point started from; fixed lines first, snapped onto the
 surface, with candidate null and ``"fixed": true``), ``criterion`` (``name``
@@ -35,11 +38,12 @@ from pathlib import Path
 import numpy as np
 
 from massline.core.errors import MasslineError
+from massline.placement.mounts import Mount, motion_text, mounts
 from massline.placement.plans import Plan
 from massline.core.lines import Lines
 
 
-def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray) -> list:
+def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray, mounted: list[Mount]) -> list:
     groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
     return [
         {
@@ -48,9 +52,10 @@ def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray) -> list:
             "point": p.tolist(),
             "direction": d.tolist(),
             "triaxial": groups.get(int(t)),
+            "mount": m.to_dict(),
         }
         | ({"fixed": True} if n < 0 else {})
-        for n, label, p, d, t in zip(nodes, labels, lines.points, lines.directions, lines.triaxial)
+        for n, label, p, d, t, m in zip(nodes, labels, lines.points, lines.directions, lines.triaxial, mounted)
     ]
 
 
@@ -88,8 +93,9 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
         "density": density,
         "planar": plan.model.planar,
         "nominal": nominal.as_dict(),
-        "sensors": _lines(plan.sensors, plan.sensor_nodes, plan.point_labels[0]),
-        "exciters": _lines(plan.exciters, plan.exciter_nodes, plan.point_labels[1]),
+        "sensors": _lines(plan.sensors, plan.sensor_nodes, plan.point_labels[0], mounts(plan, 0)),
+        "exciters": _lines(plan.exciters, plan.exciter_nodes, plan.point_labels[1], mounts(plan, 1)),
+        "blocks": {side: [motion_text(t) for t in twists] for side, twists in zip(("sensors", "hits"), plan.blocks)},
         "criterion": {
             "name": plan.criterion.name,
             "title": plan.criterion.title,

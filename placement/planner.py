@@ -87,7 +87,7 @@ def check_candidates(sensor_side: CandidateLines, exciter_side: CandidateLines, 
             raise MasslineError(
                 f"only {len(side)} {name} candidates for a budget of {need}: sample more points "
                 f"({param('options.n_samples')}), relax the exclusions or give a smaller {option} "
-                "(flat places clear of edges are few)"
+                "(places clear of sharp edges, flat or curved gently enough, are few)"
             )
 
 

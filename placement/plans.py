@@ -92,6 +92,7 @@ class Plan:
     candidate_value: float = np.nan  # its criterion value (NaN: not slid, ``value`` is the candidate layout's)
     search: Reached | None = None  # what the diagnosable search spent and reached (None: the budget was given)
     certificate: Reached | None = None  # what the D certificate's branch and bound spent of its relaxation steps
+    blocks: tuple = (np.zeros((0, 6)), np.zeros((0, 6)))  # sensors, hits: the motions (k, 6) blocks were offered for
 
     @property
     def point_labels(self) -> tuple[np.ndarray, np.ndarray]:

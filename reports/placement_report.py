@@ -16,6 +16,7 @@ import numpy as np
 
 from massline.core import __version__
 from massline.core.numbers import counted
+from massline.placement.mountable import SHARP_EDGE_DEG
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
@@ -56,9 +57,33 @@ def fixed_labels(doc: dict, scene: Scene) -> set:
     return {m.label for m in scene.markers if fixed.get(m.kind, set()) & set(m.lines)}
 
 
-def points_table(scene: Scene, fixed: set = frozenset()) -> str:
-    """Number (marked when ``fixed``), plan lines, coordinates (mm), direction and the face of every
-    accelerometer and hit."""
+MOUNT_WORDS = {
+    "flat": "glued",
+    "film": "curved: adhesive film {gap} mm",
+    "pad": "curved: cemented pad {gap} mm",
+    "curved": "curved, along its normal",
+    "block": "on a mounting block",
+    "fixed": "given",
+}
+
+
+def mount_texts(doc: dict, scene: Scene) -> dict:
+    """How each marker is mounted (plan.json ``mount``, :mod:`massline.placement.mounts`), by label; plans
+    written before it was kept give none."""
+    out = {}
+    for m in scene.markers:
+        entries = doc["sensors" if m.kind == SENSOR else "exciters"]
+        mount = entries[m.lines[0]].get("mount") if m.lines and m.lines[0] < len(entries) else None
+        if mount:
+            gap = num(1e3 * _float(mount.get("gap_m")), ".2g")
+            out[m.label] = MOUNT_WORDS.get(mount.get("kind"), str(mount.get("kind"))).format(gap=gap)
+    return out
+
+
+def points_table(scene: Scene, fixed: set = frozenset(), mounted: dict | None = None) -> str:
+    """Number (marked when ``fixed``), plan lines, coordinates (mm), direction, the face and how it is mounted
+    (``mounted``, by label) of every accelerometer and hit."""
+    mounted = mounted or {}
     rows = []
     for m, n, f in zip(scene.markers, scene.normals, scene.faces):
         css = "sensor" if m.kind == SENSOR else "hit"
@@ -72,10 +97,11 @@ def points_table(scene: Scene, fixed: set = frozenset()) -> str:
                 *(num(c * 1e3, ".1f") for c in m.point),
                 what or _direction(m.directions[0]),
                 f"{face} (triangle {f})",
+                mounted.get(m.label, ""),
             ]
         )
-    head = ["#", "plan line", "x (mm)", "y (mm)", "z (mm)", "direction", "face"]
-    return html_table(head, rows, "llrrrll", [6, 8, 10, 10, 10, 24, 32])
+    head = ["#", "plan line", "x (mm)", "y (mm)", "z (mm)", "direction", "face", "mount"]
+    return html_table(head, rows, "llrrrlll", [6, 8, 9, 9, 9, 20, 24, 15])
 
 
 def _moments(doc: dict) -> np.ndarray:
@@ -190,7 +216,11 @@ def mounting_rows(doc: dict) -> list:
     if mounting:
         sensor, hit = (num(1e3 * _float(mounting.get(k)), ".3g") for k in ("sensor_clearance_m", "hit_clearance_m"))
         rows.append(
-            ["mountable points", f"on flat faces, accelerometers ≥ {sensor} mm and hits ≥ {hit} mm from every edge"]
+            [
+                "mountable points",
+                f"on smooth faces, accelerometers ≥ {sensor} mm and hits ≥ {hit} mm from every sharp edge (a crease "
+                f"over {SHARP_EDGE_DEG:g}°); on a curve the gap under a base is filled by adhesive or a cemented pad",
+            ]
         )
     if sliding:
         gain, moved = _float(sliding.get("gain")), 1e3 * _float(sliding.get("largest_move_m"))
@@ -259,7 +289,7 @@ def report_html(
         '<section class="screen"><h2>Turn it</h2><p class="note">Drag to turn the body (screen only).</p>'
         + viewer_html(scene)
         + "</section>",
-        "<section><h2>Points</h2>" + points_table(scene, fixed_labels(doc, scene)),
+        "<section><h2>Points</h2>" + points_table(scene, fixed_labels(doc, scene), mount_texts(doc, scene)),
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",

@@ -12,11 +12,13 @@ from massline.identify.diagnose.diagnosis import base_fit, diagnose
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout, line_coordinates
 from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.identify.estimator import DIVERGED
 from massline.identify.warning_codes import codes_of
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix, screen
 from massline.identify.pipeline import identify_recording
 from massline.identify.sensor_mass import point_mass_theta
 from massline.identify.tails import BandData
+from massline.core.errors import MasslineError
 from massline.core.files import to_json
 from massline.placement.hand_layouts import plate_table1, structure_exciters
 from massline.core.lines import Lines
@@ -282,3 +284,20 @@ def test_the_fits_covariance_survives_columns_of_every_scale():
     expected = np.linalg.inv(J0.T @ J0) / np.outer(scales, scales)
     np.testing.assert_allclose(covariance, expected, rtol=1e-8)
     assert (np.diag(covariance) > 0).all()
+
+
+def test_drive_points_that_cannot_be_weighed_leave_the_housings_weighed(structure, monkeypatch):
+    """The bracket's default plan, a faulty channel: the fit with gauges riding at the drive points diverged and
+    diagnose crashed (blind table, seeds 0–9). Now the drive points are not weighed and the diagnosis goes on."""
+    import massline.identify.diagnose.pipeline as pipeline
+
+    tried = []
+
+    def diverges(*args, **kwargs):
+        tried.append(True)
+        raise MasslineError(DIVERGED)
+
+    monkeypatch.setattr(pipeline, "gauge_pattern", diverges)
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=1)
+    found = diagnose_recording(rec, None, structure)
+    assert tried and [f for f in found.findings if f.kind == "fault"] == [] and found.after is not None

@@ -7,6 +7,7 @@ from conftest import bundled
 from rich.console import Console
 
 from massline import plan_layout, plan_to_dict, read_uff, simulate_test, to_recording, write_uff
+from massline.placement.mounts import mounts
 from massline.plan import layout_table
 from massline.core.lines import Lines
 from massline.core.numbering import first_hit_label, point_groups, point_labels
@@ -47,8 +48,8 @@ def test_plan_console_report_and_file_carry_the_same_labels(plate_plan, tmp_path
     assert set(hit_labels.tolist()) == set(range(101, 101 + len(set(hit_labels.tolist()))))
 
     console = Console(record=True, width=200)
-    console.print(layout_table("Accelerometers", plan.sensors, plan.sensor_nodes, sensor_labels))
-    console.print(layout_table("Hammer hits", plan.exciters, plan.exciter_nodes, hit_labels))
+    console.print(layout_table("Accelerometers", plan.sensors, plan.sensor_nodes, sensor_labels, mounts(plan, 0)))
+    console.print(layout_table("Hammer hits", plan.exciters, plan.exciter_nodes, hit_labels, mounts(plan, 1)))
     rows = [line.split("│") for line in console.export_text().splitlines() if line.startswith("│")]
     assert [int(r[2]) for r in rows] == sensor_labels.tolist() + hit_labels.tolist()
 

@@ -347,11 +347,15 @@ def measures_a_body(after: Identification | None, nominal: RigidBody | None) -> 
 
 
 def weighed_loading(after: Identification, result: Diagnosis, nominal: RigidBody, transverse: float):
-    """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points."""
+    """The mass loading θ̂ − θ_mesh shows: at the housings, or (when identify fitted no gauge) at the drive points
+    (not when the body with gauges riding there fits no rigid body: the estimate diverged)."""
     excitation = None
     if not after.exciter_mass and len(after.recording.exciters) > 1:
-        pattern = gauge_pattern(after.data, after.sigma, after.planar, transverse, after.best)  # a difference
-        excitation = (after.recording.exciters.points, pattern)
+        try:
+            pattern = gauge_pattern(after.data, after.sigma, after.planar, transverse, after.best)  # a difference
+            excitation = (after.recording.exciters.points, pattern)
+        except MasslineError:  # no rigid body fits with gauges riding: the drive points cannot be weighed
+            excitation = None
     theta, covariance, planar = weighed(after.best, result.after)
     bare = theta - after.housings.theta(planar)  # the housings the engineer gave are no loading
     return mass_loading(bare, covariance, planar, after.recording.sensors, nominal, excitation)

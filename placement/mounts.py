@@ -1,0 +1,74 @@
+"""How each planned point is mounted: on a flat face, on a curve with an adhesive film or a cemented pad, or on
+a mounting block (a line off the surface normal), as the technician must prepare it.
+
+An accelerometer's kind follows the gap under its flat base on the surface (:meth:`.Surface.base_gap`):
+none on a flat face, at most ``FILM_GAP`` filled by the adhesive, at most ``PAD_GAP`` by a cemented pad.
+A hit lands on a flat face or on a curve along its normal. A line whose direction is not the surface's normal
+there (``--axes``, or the blocks a surface of revolution needs to see its axial rotation) is on a block: a
+small cube glued on the surface, read or struck on its side. Lengths in metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from massline.placement.mountable import FILM_GAP
+from massline.placement.plans import Plan
+
+PARALLEL = 1 - 1e-6  # |d · n| above this: the line is along the surface normal
+
+
+@dataclass(frozen=True)
+class Mount:
+    """``kind``: "flat", "film" (curved, an adhesive film fills the gap), "pad" (a cemented pad), "curved" (a
+    hit on a curve), "block" or "fixed" (given by the user); ``gap``: under the base (m), 0 for hits."""
+
+    kind: str
+    gap: float = 0.0
+
+    @property
+    def text(self) -> str:
+        """As the console and the report show it: "flat", "film 0.05 mm", "pad 0.47 mm", "block"..."""
+        return f"{self.kind} {1e3 * self.gap:.2g} mm" if self.kind in ("film", "pad") else self.kind
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "gap_m": self.gap}
+
+
+def motion_text(twist: np.ndarray) -> str:
+    """A rigid motion (v, ω) at the origin (6,) in words, mm: "rotation about the axis along (0, 0, 1) through
+    (0, 0, 0) mm" (a screw's pitch left out), or "translation along (1, 0, 0)"."""
+    v, w = twist[:3], twist[3:]
+    if np.linalg.norm(w) < 1e-9 * max(np.linalg.norm(v), 1e-300):
+        return "translation along (" + ", ".join(f"{c + 0.0:.2g}" for c in v / np.linalg.norm(v)) + ")"
+    through = np.cross(w, v) / (w @ w)
+    axis = w / np.linalg.norm(w)
+    return (
+        "rotation about the axis along (" + ", ".join(f"{c + 0.0:.2g}" for c in axis) + ") through ("
+        + ", ".join(f"{1e3 * c + 0.0:.3g}" for c in through) + ") mm"
+    )
+
+
+def mounts(plan: Plan, side: int) -> list[Mount]:
+    """The mount of each line of the plan's sensors (``side`` 0) or exciters (1)."""
+    lines = (plan.sensors, plan.exciters)[side]
+    nodes = (plan.sensor_nodes, plan.exciter_nodes)[side]
+    points = plan.candidates
+    return [mount(points, int(n), d, side == 0 and t >= 0, side) for n, d, t in
+            zip(nodes, lines.directions, lines.triaxial)]  # fmt: skip
+
+
+def mount(points, node: int, direction: np.ndarray, triaxial: bool, side: int) -> Mount:
+    """One line's mount at candidate point ``node`` (−1: fixed) of ``points`` (:class:`.CandidatePoints`)."""
+    if node < 0 or points is None:
+        return Mount("fixed")
+    if not triaxial and abs(direction @ points.normals[node]) < PARALLEL:
+        return Mount("block")
+    gap = 0.0 if points.gap is None else float(points.gap[node])
+    if gap == 0.0:
+        return Mount("flat")
+    if side == 1:
+        return Mount("curved")
+    return Mount("film" if gap <= FILM_GAP else "pad", gap)
