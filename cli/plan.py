@@ -94,14 +94,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=real(0, MAX_FOOTPRINT_MM, "mm"),
         default=SENSOR_BASE * 1e3,
         metavar="MM",
-        help="accelerometer base across (mm, default 10): sensors go on flat faces, half of it clear of every edge",
+        help="accelerometer base across (mm, default 10): sensors go half of it clear of every sharp edge (a crease "
+        "over 30°), on flat faces or on curves that leave at most 1 mm under it (an adhesive film to 0.1 mm, "
+        "then a cemented pad)",
     )
     parser.add_argument(
         "--tip",
         type=real(0, MAX_FOOTPRINT_MM, "mm"),
         default=HAMMER_TIP * 1e3,
         metavar="MM",
-        help="hammer tip across (mm, default 6): hits land on flat faces, half of it clear of every edge",
+        help="hammer tip across (mm, default 6): hits land along the surface normal, on flat faces or curves, half "
+        "of it clear of every sharp edge (a crease over 30°)",
     )
     parser.add_argument(
         "--edge-keepout",
