@@ -38,17 +38,18 @@ class Mount:
 
 
 def motion_text(twist: np.ndarray) -> str:
-    """A rigid motion (v, ω) at the origin (6,) in words, mm: "rotation about the axis along (0, 0, 1) through
+    """A rigid motion (v, ω) at the origin (6,) in words, the axis to 3 decimals and its point to 0.1 mm (so that
+    one motion found twice, on each side, reads the same): "rotation about the axis along (0, 0, 1) through
     (0, 0, 0) mm" (a screw's pitch left out), or "translation along (1, 0, 0)"."""
     v, w = twist[:3], twist[3:]
+
+    def shown(values: np.ndarray, decimals: int) -> str:
+        return "(" + ", ".join(f"{np.round(c, decimals) + 0.0:g}" for c in values) + ")"
+
     if np.linalg.norm(w) < 1e-9 * max(np.linalg.norm(v), 1e-300):
-        return "translation along (" + ", ".join(f"{c + 0.0:.2g}" for c in v / np.linalg.norm(v)) + ")"
-    through = np.cross(w, v) / (w @ w)
-    axis = w / np.linalg.norm(w)
-    return (
-        "rotation about the axis along (" + ", ".join(f"{c + 0.0:.2g}" for c in axis) + ") through ("
-        + ", ".join(f"{1e3 * c + 0.0:.3g}" for c in through) + ") mm"
-    )
+        return "translation along " + shown(v / np.linalg.norm(v), 3)
+    axis, through = shown(w / np.linalg.norm(w), 3), shown(1e3 * np.cross(w, v) / (w @ w), 1)
+    return f"rotation about the axis along {axis} through {through} mm"
 
 
 def mounts(plan: Plan, side: int) -> list[Mount]:
