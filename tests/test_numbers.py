@@ -143,7 +143,7 @@ def test_the_plans_accuracy_table_of_a_cylinder_prints_no_rounding_noise():
     import numpy as np
     import trimesh
 
-    from massline.plan import AXIS_UNDETERMINED, std_table
+    from massline.plan_console import AXIS_UNDETERMINED, std_table
     from massline.core.accuracy import predicted_std
     from massline.core.model import RigidModel
     from massline.meshes.loader import BodyMesh
