@@ -114,8 +114,9 @@ def blocks_note(console: Console, result) -> None:
     used = [sum(m.kind == "block" for m in mounts(result, k)) for k in (0, 1)]
     console.print(
         f"[yellow]mounting blocks:[/] no surface normal reads or drives the {' or the '.join(sorted(missed))} (a "
-        f"turned part's axis), so lines may sit on blocks glued to the surface, read or struck on their sides along "
-        f"it: {used[0]} accelerometer line(s) and {used[1]} hit(s) do (mount \"block\")"
+        f"turned part's axis), so {used[0]} accelerometer line(s) and {used[1]} hit(s) sit on blocks glued to the "
+        f"surface, read or struck on their sides along it (mount \"block\"): as few as the motion needs (one line "
+        f"and one hit read and drive it, three lines and two hits check each other), the rest on the surface"
     )
 
 

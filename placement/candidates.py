@@ -25,6 +25,7 @@ from massline.core.lines import AXES, Lines
 from massline.placement.mountable import PAD_GAP, Surface
 
 MOST_BLOCKED = 1  # unseen motions the planner offers mounting blocks for (a turned part's axis)
+BLOCK = 2  # the budget group of lines on mounting blocks (0 uniaxial on the surface, 1 triaxial)
 UNSEEN = 1e-2  # a motion no normal reads with an arm above this share of the body's size is as good as unseen
 SENSOR_BASE = 10e-3  # m across: the base of a typical uniaxial or triaxial modal accelerometer
 HAMMER_TIP = 6e-3  # m across: a modal hammer's tip
@@ -200,7 +201,7 @@ def candidate_points(
 class CandidateLines:
     """Candidates of one side: their lines; ``members`` (n, w), the lines each
     candidate is made of (one, or three for a triaxial; −1 pads); its budget
-    group (0 uniaxial, 1 triaxial); and the candidate point (node) of each line."""
+    group (0 uniaxial, 1 triaxial, ``BLOCK`` on a mounting block); and the candidate point (node) of each line."""
 
     lines: Lines
     members: np.ndarray
@@ -252,11 +253,12 @@ def side_lines(
         lines = Lines(at.points[on_faces], np.tile([0.0, 0.0, 1.0], (int(on_faces.sum()), 1)))
         return replace(CandidateLines.single(lines), node=index[on_faces])
     lines, node = at.lines(axes)
+    group = np.zeros(len(lines), int)
     if len(twists) and not axes:
         blocks, block_node = at.block_lines(twists)
         lines, node = lines + blocks, np.concatenate([node, block_node])
+        group = np.concatenate([group, np.full(len(blocks), BLOCK)])
     members = np.arange(len(lines))[:, None]
-    group = np.zeros(len(lines), int)
     if triaxial:
         tri, tri_node = at.triaxial_lines()
         members = np.vstack(

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Callable
 
-from massline.placement.alternation import EVALUATIONS, WORKING_SET, Planner, PlannerSettings
+from massline.placement.alternation import EVALUATIONS, SAMPLES, WORKING_SET, Planner, PlannerSettings
 from massline.placement.candidates import CandidateLines
 from massline.placement.certification import CERTIFY_STEPS, certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
@@ -94,12 +94,18 @@ def check_candidates(sensor_side: CandidateLines, exciter_side: CandidateLines, 
 def searched(settings: PlannerSettings, planner: Planner, starts: int, seed: int, progress) -> tuple[list, list]:
     """The layout (candidate indices) the search finds on the working sets of ``planner`` (the settings' by D,
     over every candidate), carried on among every candidate when the working sets hold fewer: by D, then
-    (A, E) by the settings' criterion from there."""
+    (A, E) by the settings' criterion from there. Where diagnosability is asked, the alternation starts from
+    the most informative exciters and from the random layouts nearest to diagnosable (``Planner.sampled``: the
+    diagnosable ones where any was drawn), not from random exciters: the walk towards diagnosable from the most
+    informative layout stalls on a turned part, whose diagnosable layouts need lines that add little
+    information (the blocks, the end faces)."""
     d_settings, sides = replace(settings, criterion=D), (planner.s, planner.e)
     s_work, e_work = planner.working_sets(seed)
     subsets = sides[0].subset(s_work), sides[1].subset(e_work)
     searcher = d_settings.planner(*subsets)
-    best = _search(searcher, [(start,) for start in searcher.starts(starts - 1, seed)], progress)
+    drawn = searcher.sampled(SAMPLES, seed, starts - 1) if settings.diagnosable else []
+    begin = [(start,) for start in searcher.starts(0 if drawn else starts - 1, seed)] + [(e, s) for s, e in drawn]
+    best = _search(searcher, begin, progress)
     if settings.criterion is not D:
         best = _search(settings.planner(*subsets), [(best.exciters, best.sensors)], progress)
     if settings.diagnosable and not best.admitted:

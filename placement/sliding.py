@@ -238,7 +238,9 @@ def slide(
     criterion: Criterion = log_det,
     anchors: tuple | None = None,
 ) -> Slide:
-    """Slide the layout's (sensors, exciters) points that come from candidates (``nodes`` ≥ 0) on their patches.
+    """Slide the layout's (sensors, exciters) points that come from candidates (``nodes`` ≥ 0) on their flat
+    patches; a point on a curved region (a facet of a tessellated curve) stays at its candidate, where its normal
+    and the gap under its base were measured (sliding along the curve itself is not done).
 
     Parameters
     ----------
@@ -261,7 +263,8 @@ def slide(
     anchors : (Sites, Sites), optional
         The fixed accelerometers' and hits' points (m) and outward normals, whose footprints the points keep off.
     """
-    mounts = Mounts.of(surface, points, nodes, options.clearances)
+    on_curves = [np.where((n >= 0) & surface.curved[points.faces[np.maximum(n, 0)]], -1, n) for n in nodes]
+    mounts = Mounts.of(surface, points, tuple(on_curves), options.clearances)
     slider = Slider(
         surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion,
         admissible=admissible, anchors=(Sites.none(), Sites.none()) if anchors is None else anchors,

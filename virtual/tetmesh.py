@@ -23,6 +23,9 @@ MAX_DOFS = 25_000  # quadratic-tetrahedron DOFs the default size stays under (th
 GRADING = 0.3  # netgen's default: how fast elements may grow away from a small feature
 FEATURE_DOFS = 2 * MAX_DOFS  # a default mesh beyond this was refined by small features: meshed again, graded faster
 FEATURE_GRADING = 0.6  # featuretype.STL: 78 400 → 42 300 DOF, its first 3 modes +0.36 %, +0.29 %, +0.56 %
+CURVE_ANGLE = 0.7  # rad of a curve one element may span: its chord then lies within 6 % of the radius
+MOUNTABLE_RADIUS = 12.5e-3  # m: curves this round hold a 10 mm accelerometer base on a 1 mm pad (placement)
+CREASE_DEG = (1.0, 30.0)  # degrees between neighbouring facets of a tessellated curve (sharper: an edge)
 DOFS_PER_VOLUME, DOFS_PER_AREA = 4.8, 21.0  # fitted n_dofs ≈ 4.8 V/h³ + 21 A/h² (netgen, P2; ±30 %)
 FACET = "facet normal 0 0 0\nouter loop\n" + "vertex %.17g %.17g %.17g\n" * 3 + "endloop\nendfacet\n"  # ASCII STL facet
 
@@ -38,8 +41,23 @@ def size_for_dofs(mesh: trimesh.Trimesh, n_dofs: float) -> float:
     return float(roots[np.isreal(roots)].real.max())
 
 
+def curve_radii(mesh: trimesh.Trimesh) -> np.ndarray:
+    """The radius of curvature (m) across each soft crease of a tessellated curve (facets meeting at
+    ``CREASE_DEG``): the mean width of its two facets, across their shared edge, over the angle between them
+    (exact for a cylinder's facets)."""
+    angles = mesh.face_adjacency_angles
+    soft = (angles > np.radians(CREASE_DEG[0])) & (angles < np.radians(CREASE_DEG[1]))
+    edges = mesh.vertices[mesh.face_adjacency_edges[soft]]  # (k, 2, 3)
+    far = mesh.vertices[mesh.face_adjacency_unshared[soft]] - edges[:, :1]  # each facet's third vertex (k, 2, 3)
+    along = (edges[:, 1] - edges[:, 0]) / np.linalg.norm(edges[:, 1] - edges[:, 0], axis=1, keepdims=True)
+    across = far - np.einsum("kjd,kd->kj", far, along)[:, :, None] * along[:, None, :]
+    return np.linalg.norm(across, axis=2).mean(axis=1) / angles[soft]
+
+
 def default_size(mesh: trimesh.Trimesh) -> float:
-    """Default element size h (m): ``min(4 · 2V/A, L/16)``, coarsened to stay near 25 000 DOF.
+    """Default element size h (m): ``min(4 · 2V/A, L/16)``, at most ``CURVE_ANGLE`` of the smallest curve
+    that holds an accelerometer (radius ≥ ``MOUNTABLE_RADIUS``: a point planned on the surface then lies within
+    ``elastic.OUTSIDE`` of the meshed solid), coarsened to stay near 25 000 DOF.
 
     ``2V/A`` (volume V, surface area A) is the body's mean thickness: a plate's
     thickness, half a square bar's side, a third of a cube's side. Four times it
@@ -66,8 +84,10 @@ def default_size(mesh: trimesh.Trimesh) -> float:
     ==============================  =====  ======  =================================================
     """
     extents = np.ptp(mesh.vertices, axis=0)
-    size = min(SIZE_PER_THICKNESS * 2.0 * mesh.volume / mesh.area, extents.max() / SPANS)
-    return max(size, size_for_dofs(mesh, MAX_DOFS))
+    radii = curve_radii(mesh)
+    curve = CURVE_ANGLE * radii[radii >= MOUNTABLE_RADIUS].min(initial=np.inf)
+    size = min(SIZE_PER_THICKNESS * 2.0 * mesh.volume / mesh.area, extents.max() / SPANS, curve)
+    return float(max(size, size_for_dofs(mesh, MAX_DOFS)))
 
 
 def _write_ascii_stl(mesh: trimesh.Trimesh, path: Path) -> None:
