@@ -205,7 +205,7 @@ class Slider:
         before = value = self.value(x)
         step, smallest = FIRST_STEP * self.surface.size, SMALLEST_STEP * self.surface.size
         done = 0
-        for done in range(1, iterations + 1):
+        for done in range(1, iterations + 1 if len(x) else 1):  # nothing to move: every point fixed or on a curve
             g = self.projected(x, self.gradient(x))
             direction = g / max(np.linalg.norm(g, axis=1).max(), 1e-300)
             while step > smallest:

@@ -88,3 +88,12 @@ def test_plans_on_32_and_128_sections_agree(parts):
     """The same cylinder tessellated at 32 and 128 sections: the minimal plans' worst predicted 1-σ within 10 %."""
     worst = [plan(parts("cylinder", n), Budget(6, 3), certify_steps=0).worst_relative_std for n in (32, 128)]
     assert worst[1] == pytest.approx(worst[0], rel=0.10)
+
+
+def test_triaxials_on_a_turned_part_need_one_hit_on_a_block(parts):
+    """Triaxials see every motion: no accelerometer on a block, one hit on one to drive the rotation about the axis;
+    every point sits on a curve or an end face, and those on the curve stay where their gap was measured."""
+    body = parts("shaft", 16)
+    p = plan(body, Budget(6, 3, 3), certify_steps=0)
+    assert on_blocks(p) == (0, 1)
+    assert edge_margin(body, p) > -1e-9 and np.isfinite(p.worst_relative_std)

@@ -17,7 +17,8 @@ import numpy as np
 
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
-from massline.identify.diagnose.effects import named
+from massline.identify.diagnose.effects import held, named
+from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.shapes import channel_factor, objective, outfits
 from massline.identify.pipeline import Identification, identify_recording
 from massline.identify.suspicions import beyond_chance
@@ -89,6 +90,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                     shape = outfits(without, after, finding)
                     if shape is not None:  # a factor at its place explains as much: the name is not proven
                         withdrawn.append(replace(finding, evidence={**evidence, "outfitted_by": shape}))
+                        marked += as_gain(finding, shape)
                         continue
         marked.append(finding)
     if withdrawn:
@@ -113,6 +115,18 @@ def each_left_out(recording, faults: list, band, transverse: float, before: Iden
         rest = faults[:k] + faults[k + 1 :]
         out.append(attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest)))
     return out
+
+
+def as_gain(finding, shape: dict) -> list:
+    """The gain a one-channel factor is: a positive factor on one sensor's row, the shape that outfitted
+    ``finding`` there, is the library's ``sensor_gain`` itself (to be proven as every fault is, and stated as
+    identify reads it); [] for any other shape (a hit's column, several channels, a sign), or with no
+    ``sensor_gain`` in the registry."""
+    if not held("sensor_gain") or shape["columns"] or len(shape["rows"]) != 1 or not shape["factors"][0] > 0:
+        return []
+    evidence = {"instead_of": finding.effect, "outfitted": shape}
+    return [Finding("sensor_gain", tuple(shape["rows"]), None, {"gain": shape["factors"][0], "gain_std": np.nan},
+                    evidence)]  # fmt: skip
 
 
 def by_identify(finding, without: Identification | None):

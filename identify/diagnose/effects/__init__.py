@@ -51,6 +51,11 @@ def named(name: str) -> type[Effect]:
     return BY_NAME[name]
 
 
+def held(name: str) -> bool:
+    """Whether the registry holds the effect ``name`` now (a test may take one out)."""
+    return any(cls.name == name for cls in EFFECTS)
+
+
 def simulated() -> tuple[type[Effect], ...]:
     """The effects ``massline simulate --effect`` conceals."""
     return tuple(cls for cls in EFFECTS if cls.simulated)
