@@ -90,7 +90,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="candidate points spread area-uniformly on the surface, a count (default 400)",
     )
-    parser.add_argument("--axes", action="store_true", help="also allow global-axis directions (mounting blocks)")
+    parser.add_argument(
+        "--axes",
+        action="store_true",
+        help="also allow global-axis directions (mounting blocks); without it a turned part, whose normals all meet "
+        "its axis, gets blocks along its rotation: one line and one hit (three and two when diagnosable)",
+    )
     _repeatable_six(parser, "--exclude-box", ("X0", "Y0", "Z0", "X1", "Y1", "Z1"), "no candidate in this box")
     parser.add_argument(
         "--exclude-faces", type=count(0, 2**31), nargs="+", default=[], metavar="F", help="face indices to avoid"

@@ -33,7 +33,12 @@ def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.
 
 def predicted_std(model: RigidModel, F: np.ndarray) -> dict:
     """1-σ of every property (identify's std keys) for information F (scaled)."""
-    C = property_covariance(model, np.linalg.inv(F))
+    return covariance_std(model, np.linalg.inv(F))
+
+
+def covariance_std(model: RigidModel, covariance: np.ndarray) -> dict:
+    """1-σ of every property (identify's std keys) for the parameters' ``covariance`` (scaled)."""
+    C = property_covariance(model, covariance)
     return std_of(np.sqrt(np.clip(np.diag(C), 0, None)), planar=model.planar)
 
 

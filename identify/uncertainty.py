@@ -28,7 +28,7 @@ from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
 from massline.identify.massline_fit import BandFit
-from massline.core.accuracy import predicted_std
+from massline.core.accuracy import covariance_std
 from massline.core.errors import MasslineError
 from massline.core.masslines import Masslines
 from massline.core.properties import VECTOR_SIZE, property_vector, std_of
@@ -114,7 +114,7 @@ def combined_std(result: Estimate, bodies: list[RigidBody], draws: int) -> dict:
     of the information's and the spread of the bootstrap ``bodies`` (the information's alone when fewer than
     half the ``draws`` gave a body)."""
     planar = result.model.planar
-    informed = predicted_std(result.model, np.linalg.inv(result.covariance))
+    informed = covariance_std(result.model, result.covariance)  # not through its inverse: near-singular ones
     if len(bodies) < max(draws // 2, 2):
         return informed
     reference = property_vector(result.body, planar)
