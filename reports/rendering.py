@@ -198,7 +198,9 @@ def render_views(scene: Scene) -> list[Rendering]:
     plotter.set_background("white")
     body = pv.wrap(scene.mesh)
     plotter.add_mesh(body, color=BODY, smooth_shading=False, ambient=0.25, opacity=scene.opacity)
-    plotter.add_mesh(body.extract_feature_edges(30.0), color=EDGES, line_width=1.5)
+    edges = body.extract_feature_edges(30.0)
+    if edges.n_points:  # a part rounded all over (a filleted box) has none
+        plotter.add_mesh(edges, color=EDGES, line_width=1.5)
     for kind in COLOURS:
         glyphs = [
             pv.Arrow(

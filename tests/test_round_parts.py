@@ -9,10 +9,12 @@ table (four parts × 16, 32, 128 sections × default, minimal, triaxial).
 
 from __future__ import annotations
 
+import json
 from functools import lru_cache
 
 import numpy as np
 import pytest
+from test_cli import massline
 
 from massline.meshes.loader import BodyMesh, load_body
 from massline.meshes.round_parts import PARTS, STEEL
@@ -97,3 +99,16 @@ def test_triaxials_on_a_turned_part_need_one_hit_on_a_block(parts):
     p = plan(body, Budget(6, 3, 3), certify_steps=0)
     assert on_blocks(p) == (0, 1)
     assert edge_margin(body, p) > -1e-9 and np.isfinite(p.worst_relative_std)
+
+
+@pytest.mark.slow
+def test_a_part_rounded_all_over_is_planned_and_rendered(tmp_path):
+    """A box with every edge filleted has no sharp edge at all: planned (its flat faces and fillets), its report
+    rendered without edge lines, its mounts in plan.json."""
+    path = tmp_path / "box.stl"
+    PARTS["filleted box"](32).export(path)
+    run = massline("plan", path, "--units", "m", "--density", STEEL, "--minimal", "--out", tmp_path / "plan")
+    assert run.returncode == 0, run.stderr
+    doc = json.loads((tmp_path / "plan" / "plan.json").read_text())
+    assert (tmp_path / "plan" / "report.html").stat().st_size > 0
+    assert {line["mount"]["kind"] for line in doc["sensors"]} <= {"flat", "film", "pad"}
