@@ -112,11 +112,13 @@ def blocks_note(console: Console, result) -> None:
     if not missed:
         return
     used = [sum(m.kind == "block" for m in mounts(result, k)) for k in (0, 1)]
+    axis = " (a turned part's axis)" if all("rotation" in m for m in missed) else ""
     console.print(
-        f"[yellow]mounting blocks:[/] no surface normal reads or drives the {' or the '.join(sorted(missed))} (a "
-        f"turned part's axis), so {used[0]} accelerometer line(s) and {used[1]} hit(s) sit on blocks glued to the "
-        f"surface, read or struck on their sides along it (mount \"block\"): as few as the motion needs (one line "
-        f"and one hit read and drive it, three lines and two hits check each other), the rest on the surface"
+        f"[yellow]mounting blocks:[/] no surface normal reads or drives the {' or the '.join(sorted(missed))}{axis}, "
+        f"so {used[0]} "
+        f"accelerometer line(s) and {used[1]} hit(s) sit on blocks glued to the surface, read or struck on their "
+        f"sides along it (mount \"block\"): as few as the motion needs (one line and one hit read and drive it, three "
+        f"lines and two hits check each other; more where fewer leave no well-posed layout), the rest on the surface"
     )
 
 

@@ -72,6 +72,7 @@ class PlannerSettings:
     diagnosable: bool = False
     work: Work | None = None
     footprints: Footprints | None = None
+    blocks: tuple | None = None
 
     def planner(self, sensor_side: CandidateLines, exciter_side: CandidateLines) -> Planner:
         """The planner of these settings over the given candidate lines."""
@@ -87,6 +88,7 @@ class PlannerSettings:
             diagnosable=self.diagnosable,
             work=self.work,
             footprints=self.footprints,
+            blocks=self.blocks,
         )
 
 
@@ -107,9 +109,11 @@ class Planner:
         diagnosable: bool = False,
         work: Work | None = None,
         footprints: Footprints | None = None,
+        blocks: tuple | None = None,
     ):
         self.model, self.budget, self.noise, self.criterion = model, budget, noise, criterion
         self.diagnosable = diagnosable
+        self.blocks = BLOCKS[diagnosable] if blocks is None else blocks  # lines and hits on mounting blocks
         self.work = Work(EVALUATIONS, "diagnosability evaluations") if work is None else work
         self.s, self.e = sensor_side, exciter_side
         self.s_coords = model.coordinates(sensor_side.lines)
@@ -154,15 +158,16 @@ class Planner:
     @property
     def sensor_budgets(self) -> tuple:
         """Candidates to choose per group (uniaxial, triaxial, on blocks): on blocks as few as the motion the
-        normals miss needs (``BLOCKS``: one line reads it, three check each other), the rest on the surface."""
-        blocks = self._blocks(self.s, BLOCKS[self.diagnosable][0])
+        normals miss needs (``blocks``, by default ``BLOCKS``: one line reads it, three check each other), the rest
+        on the surface."""
+        blocks = self._blocks(self.s, self.blocks[0])
         return (self.budget.sensors - blocks, self.budget.triaxial) + ((blocks,) if blocks else ())
 
     @property
     def exciter_budgets(self) -> tuple:
         """Hits to choose per group (on the surface, -, on blocks): on blocks one drives the motion the normals
         miss, two check each other (``BLOCKS``)."""
-        blocks = self._blocks(self.e, BLOCKS[self.diagnosable][1])
+        blocks = self._blocks(self.e, self.blocks[1])
         return (self.budget.exciters - blocks,) + ((0, blocks) if blocks else ())
 
     @staticmethod

@@ -25,8 +25,10 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Callable
 
-from massline.placement.alternation import EVALUATIONS, SAMPLES, WORKING_SET, Planner, PlannerSettings
-from massline.placement.candidates import CandidateLines
+import numpy as np
+
+from massline.placement.alternation import BLOCKS, EVALUATIONS, SAMPLES, WORKING_SET, Planner, PlannerSettings
+from massline.placement.candidates import BLOCK, CandidateLines
 from massline.placement.certification import CERTIFY_STEPS, certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.diagnosability import UndiagnosableError
@@ -37,6 +39,8 @@ from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.placement.work import Reached, Work
+
+MORE_BLOCKS = 2  # block lines and hits beyond the least the motion needs, tried when no layout is found
 
 __all__ = [  # the planner's vocabulary, from here as from the modules that define it
     "WORKING_SET", "Budget", "CandidateLines", "Found", "Planner", "PlannerSettings",
@@ -124,6 +128,27 @@ def searched(settings: PlannerSettings, planner: Planner, starts: int, seed: int
     return sensors, exciters
 
 
+def with_blocks(
+    settings: PlannerSettings, sensor_side: CandidateLines, exciter_side: CandidateLines, starts: int, seed: int,
+    progress,
+) -> tuple[PlannerSettings, Planner, tuple[list, list]]:
+    """The settings, D planner and searched layout with as few lines and hits on mounting blocks as give one
+    (``alternation.BLOCKS``, then up to ``MORE_BLOCKS`` more of each where the candidates have blocks: the idler
+    riser's one block line leaves its kinematics ill-conditioned)."""
+    least = BLOCKS[settings.diagnosable]
+    has_blocks = bool(np.any(sensor_side.group == BLOCK) or np.any(exciter_side.group == BLOCK))
+    for more in range(MORE_BLOCKS + 1 if has_blocks else 1):
+        tried = replace(settings, blocks=(least[0] + more, least[1] + more))
+        planner = replace(tried, criterion=D).planner(sensor_side, exciter_side)
+        planner.check_directions()
+        try:
+            return tried, planner, searched(tried, planner, starts, seed, progress)
+        except MasslineError:
+            if more == MORE_BLOCKS or not has_blocks:
+                raise
+    raise AssertionError("unreachable")
+
+
 def certified(
     settings: PlannerSettings, planner: Planner, layout: tuple[list, list], relaxation: str, steps: int
 ) -> tuple[list, list, dict, dict, Reached]:
@@ -186,9 +211,7 @@ def plan_on_candidates(
         work=work,
         footprints=footprints,
     )
-    planner = replace(settings, criterion=D).planner(sensor_side, exciter_side)
-    planner.check_directions()
-    layout = searched(settings, planner, starts, seed, progress)
+    settings, planner, layout = with_blocks(settings, sensor_side, exciter_side, starts, seed, progress)
     planner.work = Work(EVALUATIONS, planner.work.unit)  # the certificate's checks: bounded by its steps instead
     progress("certifying", 0.85)
     sensors, exciters, bounds, d_bounds, certificate = certified(settings, planner, layout, relaxation, certify_steps)
