@@ -399,7 +399,7 @@ class Planner:
 
     def sampled(self, count: int, seed: int, keep: int) -> list[tuple[list, list]]:
         """The ``keep`` best of ``count`` random layouts (``seed``): admitted ones when any is, else those nearest
-        to diagnosable; evaluated together (``count`` units of work). Each
+        to diagnosable; evaluated together (``count`` units of work, fewer where less is left). Each
         side's budget is drawn group by group, a candidate as likely as its kinematic leverage among all of them
         (``line_leverages``): the few lines that alone see a motion (a shaft's end faces for its axial
         translation, the blocks for its axial rotation) are drawn as often as a diagnosable layout needs them.
@@ -414,7 +414,7 @@ class Planner:
         def draw() -> tuple[list, list]:
             return tuple(_drawn(rng, side, budgets, w) for (side, budgets, _), w in zip(sides, weights))
 
-        layouts = [draw() for _ in range(count)]
+        layouts = [draw() for _ in range(min(count, max(self.work.limit - self.work.spent, 0)))]  # within the work
         violations = self.violations(layouts)
         admitted = [c for c, v in zip(layouts, violations) if v == 0 and self.admits(*c)]
         nearest = [layouts[k] for k in np.argsort(violations, kind="stable")]
