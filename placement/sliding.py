@@ -263,10 +263,12 @@ def slide(
     anchors : (Sites, Sites), optional
         The fixed accelerometers' and hits' points (m) and outward normals, whose footprints the points keep off.
     """
-    on_curves = [np.where((n >= 0) & surface.curved[points.faces[np.maximum(n, 0)]], -1, n) for n in nodes]
-    mounts = Mounts.of(surface, points, tuple(on_curves), options.clearances)
+    pinned = [(n >= 0) & surface.curved[points.faces[np.maximum(n, 0)]] for n in nodes]
+    mounts = Mounts.of(surface, points, tuple(np.where(p, -1, n) for p, n in zip(pinned, nodes)), options.clearances)
+    anchors = (Sites.none(), Sites.none()) if anchors is None else anchors
+    held = [Sites(points.points[np.unique(n[p])], points.normals[np.unique(n[p])]) for p, n in zip(pinned, nodes)]
     slider = Slider(
         surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion,
-        admissible=admissible, anchors=(Sites.none(), Sites.none()) if anchors is None else anchors,
-    )  # fmt: skip
+        admissible=admissible, anchors=(anchors[0] + held[0], anchors[1] + held[1]),
+    )  # fmt: skip  (the points on curves are anchors too: the others keep off their footprints)
     return slider.run()
