@@ -6,6 +6,7 @@ budget over given candidate lines, solved in turn (greedy, then exchanges) until
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -14,6 +15,7 @@ from massline.placement.candidates import BLOCK, CandidateLines
 from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import H_MAX, R_MAX, confusion, excesses
 from massline.placement.footprints import Footprints, conflicts, hits_blocked, sensors_blocked
+from massline.placement.random_layouts import drawn
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel, weighted_sensitivities
 from massline.placement.plans import Budget
@@ -26,7 +28,6 @@ WORKING_SET = 2000  # candidates per side the combinatorial search runs on
 RELIEF = 20  # sensor lines tried for the channels that cannot be checked, beside the most informative exchanges
 EVALUATIONS = 1_000_000  # diagnosability evaluations a planner may spend when not given a budget of its own
 BLOCKS = {False: (1, 1), True: (3, 2)}  # lines and hits on mounting blocks: to identify, to diagnose
-SAMPLES = 4000  # random layouts drawn, evaluated together, where the walk towards diagnosable finds none
 
 
 def _stacked(side: CandidateLines, coords: np.ndarray, fixed: np.ndarray, chosen: list) -> np.ndarray:
@@ -37,24 +38,6 @@ def _stacked(side: CandidateLines, coords: np.ndarray, fixed: np.ndarray, chosen
         raise ValueError("selections of different groups position by position cannot be stacked")
     rows = coords[members[:, members[0] >= 0]]
     return np.concatenate([np.broadcast_to(fixed, (len(chosen),) + fixed.shape), rows], axis=1)
-
-
-def _drawn(rng: np.random.Generator, side: CandidateLines, budgets: tuple, weights: np.ndarray | None = None) -> list:
-    """A random selection of ``side``'s candidates, ``budgets[g]`` of each group g, group by group, each as likely
-    as its ``weights`` (None: all alike)."""
-    chosen = []
-    for g, k in enumerate(budgets):
-        pool = np.flatnonzero(side.group == g)
-        p = None if weights is None or not k else weights[pool] / weights[pool].sum()
-        chosen += [int(i) for i in rng.choice(pool, k, replace=False, p=p)]
-    return chosen
-
-
-def line_leverages(side: CandidateLines, coords: np.ndarray) -> np.ndarray:
-    """Each candidate's kinematic leverage among all of ``side``'s, Σ over its lines of cᵀ (CᵀC)⁻¹ c (C: every
-    line's coordinates ``coords``): high where few candidates see its motion."""
-    h = np.einsum("lq,qr,lr->l", coords, np.linalg.pinv(coords.T @ coords), coords)
-    return np.append(h, 0.0)[side.members].sum(axis=1) + 1e-12
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -155,7 +138,7 @@ class Planner:
                 f"({param('options.axes')}), a smaller {param('options.sensor_base')} or fewer exclusions"
             )
 
-    @property
+    @cached_property
     def sensor_budgets(self) -> tuple:
         """Candidates to choose per group (uniaxial, triaxial, on blocks): on blocks as few as the motion the
         normals miss needs (``blocks``, by default ``BLOCKS``: one line reads it, three check each other), the rest
@@ -163,7 +146,7 @@ class Planner:
         blocks = self._blocks(self.s, self.blocks[0])
         return (self.budget.sensors - blocks, self.budget.triaxial) + ((blocks,) if blocks else ())
 
-    @property
+    @cached_property
     def exciter_budgets(self) -> tuple:
         """Hits to choose per group (on the surface, -, on blocks): on blocks one drives the motion the normals
         miss, two check each other (``BLOCKS``)."""
@@ -397,34 +380,11 @@ class Planner:
             pick(len(self.e), lambda: self.exciter_problem(self.sensor_rows(ref_s))),
         )
 
-    def sampled(self, count: int, seed: int, keep: int) -> list[tuple[list, list]]:
-        """The ``keep`` best of ``count`` random layouts (``seed``): admitted ones when any is, else those nearest
-        to diagnosable; evaluated together (``count`` units of work, fewer where less is left). Each
-        side's budget is drawn group by group, a candidate as likely as its kinematic leverage among all of them
-        (``line_leverages``): the few lines that alone see a motion (a shaft's end faces for its axial
-        translation, the blocks for its axial rotation) are drawn as often as a diagnosable layout needs them.
-        Where the walk towards diagnosable stalls, such layouts can still be common enough to draw: on a
-        32-section cylinder 27 of 4000 such 9 × 5 layouts are admitted (5 drawn uniformly)."""
-        rng = np.random.default_rng(seed)
-        sides = ((self.s, self.sensor_budgets, self.s_coords), (self.e, self.exciter_budgets, self.e_coords))
-        if any(np.sum(side.group == g) < k for side, budgets, _ in sides for g, k in enumerate(budgets)):
-            return []
-        weights = [line_leverages(side, coords) for side, _, coords in sides]
-
-        def draw() -> tuple[list, list]:
-            return tuple(_drawn(rng, side, budgets, w) for (side, budgets, _), w in zip(sides, weights))
-
-        layouts = [draw() for _ in range(min(count, max(self.work.limit - self.work.spent, 0)))]  # within the work
-        violations = self.violations(layouts)
-        admitted = [c for c, v in zip(layouts, violations) if v == 0 and self.admits(*c)]
-        nearest = [layouts[k] for k in np.argsort(violations, kind="stable")]
-        return (admitted or nearest)[:keep]
-
     def starts(self, n_random: int, seed: int) -> list:
         """Exciter sets to start from: greedy against a spread of reference sensors, and random ones."""
         rng = np.random.default_rng(seed)
         reference = rng.choice(len(self.s), min(len(self.s), 50), replace=False)
         ep = self.exciter_problem(self.sensor_rows(reference))
         starts = [greedy(ep)]
-        starts += [_drawn(rng, self.e, self.exciter_budgets) for _ in range(n_random)]
+        starts += [drawn(rng, self.e, self.exciter_budgets) for _ in range(n_random)]
         return starts

@@ -27,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from massline.placement.alternation import BLOCKS, EVALUATIONS, SAMPLES, WORKING_SET, Planner, PlannerSettings
+from massline.placement.alternation import BLOCKS, EVALUATIONS, WORKING_SET, Planner, PlannerSettings
 from massline.placement.candidates import BLOCK, CandidateLines
 from massline.placement.certification import CERTIFY_STEPS, certify_criterion, certify_d
 from massline.placement.criteria import CRITERIA, D
@@ -36,6 +36,7 @@ from massline.placement.footprints import Footprints
 from massline.core.errors import MasslineError, param
 from massline.core.information import NoiseModel
 from massline.placement.plans import Budget, Plan, assessed, fixed_nodes
+from massline.placement.random_layouts import SAMPLES, sampled
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.placement.work import Reached, Work
@@ -99,15 +100,15 @@ def searched(settings: PlannerSettings, planner: Planner, starts: int, seed: int
     """The layout (candidate indices) the search finds on the working sets of ``planner`` (the settings' by D,
     over every candidate), carried on among every candidate when the working sets hold fewer: by D, then
     (A, E) by the settings' criterion from there. Where diagnosability is asked, the alternation starts from
-    the most informative exciters and from the random layouts nearest to diagnosable (``Planner.sampled``: the
-    diagnosable ones where any was drawn), not from random exciters: the walk towards diagnosable from the most
-    informative layout stalls on a turned part, whose diagnosable layouts need lines that add little
-    information (the blocks, the end faces)."""
+    the most informative exciters and from the random layouts nearest to diagnosable
+    (:func:`.random_layouts.sampled`: the diagnosable ones where any was drawn), not from random exciters: the
+    walk towards diagnosable from the most informative layout stalls on a turned part, whose diagnosable layouts
+    need lines that add little information (the blocks, the end faces)."""
     d_settings, sides = replace(settings, criterion=D), (planner.s, planner.e)
     s_work, e_work = planner.working_sets(seed)
     subsets = sides[0].subset(s_work), sides[1].subset(e_work)
     searcher = d_settings.planner(*subsets)
-    drawn = searcher.sampled(SAMPLES, seed, starts - 1) if settings.diagnosable else []
+    drawn = sampled(searcher, SAMPLES, seed, starts - 1) if settings.diagnosable else []
     begin = [(start,) for start in searcher.starts(0 if drawn else starts - 1, seed)] + [(e, s) for s, e in drawn]
     best = _search(searcher, begin, progress)
     if settings.criterion is not D:
@@ -132,21 +133,27 @@ def with_blocks(
     settings: PlannerSettings, sensor_side: CandidateLines, exciter_side: CandidateLines, starts: int, seed: int,
     progress,
 ) -> tuple[PlannerSettings, Planner, tuple[list, list]]:
-    """The settings, D planner and searched layout with as few lines and hits on mounting blocks as give one
-    (``alternation.BLOCKS``, then up to ``MORE_BLOCKS`` more of each where the candidates have blocks: the idler
-    riser's one block line leaves its kinematics ill-conditioned)."""
+    """The settings, D planner and searched layout with as few lines and hits on mounting blocks as give a
+    well-posed one (``alternation.BLOCKS``, then up to ``MORE_BLOCKS`` more of each where the candidates have
+    blocks: the idler riser's one block line leaves its kinematics ill-conditioned); a budget with no diagnosable
+    layout is refused as it is (the diagnosable search tries the next budget)."""
     least = BLOCKS[settings.diagnosable]
-    has_blocks = bool(np.any(sensor_side.group == BLOCK) or np.any(exciter_side.group == BLOCK))
-    for more in range(MORE_BLOCKS + 1 if has_blocks else 1):
+
+    def with_more(more: int) -> tuple[PlannerSettings, Planner]:
         tried = replace(settings, blocks=(least[0] + more, least[1] + more))
-        planner = replace(tried, criterion=D).planner(sensor_side, exciter_side)
-        planner.check_directions()
+        return tried, replace(tried, criterion=D).planner(sensor_side, exciter_side)
+
+    tried, planner = with_more(0)
+    planner.check_directions()
+    has_blocks = bool(np.any(sensor_side.group == BLOCK) or np.any(exciter_side.group == BLOCK))
+    for more in range(1, MORE_BLOCKS + 1 if has_blocks else 1):
         try:
             return tried, planner, searched(tried, planner, starts, seed, progress)
-        except MasslineError:
-            if more == MORE_BLOCKS or not has_blocks:
-                raise
-    raise AssertionError("unreachable")
+        except UndiagnosableError:  # no diagnosable layout of this budget: the next budget's to find, not more blocks
+            raise
+        except MasslineError:  # no well-posed layout at all
+            tried, planner = with_more(more)
+    return tried, planner, searched(tried, planner, starts, seed, progress)
 
 
 def certified(

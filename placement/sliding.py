@@ -266,7 +266,7 @@ def slide(
     pinned = [(n >= 0) & surface.curved[points.faces[np.maximum(n, 0)]] for n in nodes]
     mounts = Mounts.of(surface, points, tuple(np.where(p, -1, n) for p, n in zip(pinned, nodes)), options.clearances)
     anchors = (Sites.none(), Sites.none()) if anchors is None else anchors
-    held = [Sites(points.points[np.unique(n[p])], points.normals[np.unique(n[p])]) for p, n in zip(pinned, nodes)]
+    held = [Sites(points.points[k], points.normals[k]) for k in (np.unique(n[p]) for p, n in zip(pinned, nodes))]
     slider = Slider(
         surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion,
         admissible=admissible, anchors=(anchors[0] + held[0], anchors[1] + held[1]),
