@@ -16,8 +16,6 @@ import trimesh
 
 from massline.core.errors import MasslineError, param
 from massline.meshes.loader import validate_solid
-from massline.placement.candidates import SENSOR_BASE
-from massline.placement.mountable import PAD_GAP, SHARP_EDGE_DEG
 
 SIZE_PER_THICKNESS = 4.0  # element size / mean thickness 2V/A
 SPANS = 16  # elements, at least, along the largest extent
@@ -26,8 +24,10 @@ GRADING = 0.3  # netgen's default: how fast elements may grow away from a small 
 FEATURE_DOFS = 2 * MAX_DOFS  # a default mesh beyond this was refined by small features: meshed again, graded faster
 FEATURE_GRADING = 0.6  # featuretype.STL: 78 400 → 42 300 DOF, its first 3 modes +0.36 %, +0.29 %, +0.56 %
 CURVE_ANGLE = 0.7  # rad of a curve one element may span: its chord then lies within 6 % of the radius
-MOUNTABLE_RADIUS = SENSOR_BASE**2 / (8 * PAD_GAP)  # m, 12.5 mm: a default base's sagitta is a pad's gap
-CREASE_DEG = (1.0, SHARP_EDGE_DEG)  # degrees between neighbouring facets of a tessellated curve (sharper: an edge)
+MOUNTABLE_RADIUS = 12.5e-3  # m: curves this round hold a 10 mm accelerometer base on a 1 mm pad (placement's
+# SENSOR_BASE² / (8 PAD_GAP), restated: the simulator imports nothing of placement, tests/test_effects_registry.py)
+CREASE_DEG = (1.0, 30.0)  # degrees between neighbouring facets of a tessellated curve (sharper: an edge, as
+# placement's SHARP_EDGE_DEG)
 DOFS_PER_VOLUME, DOFS_PER_AREA = 4.8, 21.0  # fitted n_dofs ≈ 4.8 V/h³ + 21 A/h² (netgen, P2; ±30 %)
 FACET = "facet normal 0 0 0\nouter loop\n" + "vertex %.17g %.17g %.17g\n" * 3 + "endloop\nendfacet\n"  # ASCII STL facet
 
