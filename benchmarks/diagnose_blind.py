@@ -5,8 +5,8 @@ Each case is what a user runs: ``massline plan BODY`` (the default, diagnosable 
 fault concealed at a random line, then ``diagnose`` with the mesh's body. Each case's outcome is the first
 fault named (effect and channel or hit), ``unexplained`` at the place it locates, or nothing.
 
-    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--first-seed 0] [--faults A,B] [--without EFFECT]
-        [--no-clean] [--out DIR]
+    python benchmarks/diagnose_blind.py [--bodies bracket,plate] [--seeds 2] [--first-seed 0] [--faults A,B]
+        [--without EFFECT] [--no-clean] [--jobs 2] [--out DIR]
 
 ``--faults ''`` runs the clean files alone: the false-alarm rate, over as many seeds as it needs.
 
@@ -23,6 +23,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from collections import Counter
 from pathlib import Path
 
@@ -41,6 +42,7 @@ FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % 
     "sensor_mass_loading": ("0.01", "sensor"),
     "excitation_direction": ("8", "hit"),
     "excitation_location": ("0.008", "hit"),
+    "channel_swap": ("", "sensor"),  # two channels' labels exchanged, the pair drawn from the seed
 }
 CLEAN = {  # the conditions clean files are run under (the faulty ones: the plan's soft cord)
     "cord": [],
@@ -80,7 +82,9 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     style = extra if isinstance(extra, str) else "-".join(extra).replace("=", "").replace(":", "") or "cord"
     path = folder / f"{plan.parent.name}-{fault or 'clean'}-{seed}-{style}.uff"
     effect = []
-    if fault:
+    if fault == "channel_swap":
+        effect = ["--effect", "channel_swap@" + ",".join(map(str, swapped(plan, seed)))]
+    elif fault:
         size, _ = FAULTS[fault]
         effect = ["--effect", f"{fault}={size}" if size else fault]
     extra = stiff_cord(plan) if extra == "stiff" else extra
@@ -93,6 +97,12 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     seconds = time.perf_counter() - start
     return {"body": body, "fault": fault or "none", "truth": truth, "outcome": outcome(found), "seconds": seconds,
             "before": found.chi2["before"], "after": found.chi2["after"], "worse": worse(found, mesh.nominal)}  # fmt: skip
+
+
+def swapped(plan: Path, seed: int) -> list[int]:
+    """Two of the plan's channels (1-based) drawn from ``seed``: the swap concealed."""
+    channels = len(json.loads(plan.read_text())["sensors"])  # one entry per channel, a triaxial's three too
+    return sorted(int(c) + 1 for c in np.random.default_rng(seed).choice(channels, 2, replace=False))
 
 
 def worse(found, bare) -> float:
@@ -157,6 +167,20 @@ def summary(rows: list, without: str | None) -> str:
     return "\n".join(out)
 
 
+def without(effect: str | None) -> None:
+    """Take ``effect`` out of the diagnosis's registry (in each worker too)."""
+    if effect:
+        registry.EFFECTS = tuple(e for e in registry.EFFECTS if e.name != effect)
+
+
+def attempted(job: tuple) -> dict | str:
+    """One case's row, or the simulator's refusal as text."""
+    try:
+        return case(*job)
+    except RuntimeError as refused:
+        return str(refused)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="bracket,structure,plate")
@@ -165,13 +189,13 @@ def main() -> None:
     parser.add_argument("--faults", default=",".join(FAULTS), help="concealed faults, comma-separated ('': clean only)")
     parser.add_argument("--without", default=None, help="an effect taken out of the diagnosis's registry")
     parser.add_argument("--no-clean", action="store_true", help="faulty cases only")
+    parser.add_argument("--jobs", type=int, default=2, help="cases run at once (default 2)")
     parser.add_argument("--out", default=None, help="folder for the plans and files (default: a temporary one)")
     args = parser.parse_args()
-    if args.without:
-        registry.EFFECTS = tuple(e for e in registry.EFFECTS if e.name != args.without)
+    without(args.without)
     folder = Path(args.out or tempfile.mkdtemp(prefix="blind-"))
     folder.mkdir(parents=True, exist_ok=True)
-    rows = []
+    jobs = []
     for body in args.bodies.split(","):
         plan = planned(body, folder)
         planar = body == "plate"
@@ -179,11 +203,14 @@ def main() -> None:
         cases = [] if args.no_clean else [(None, s, extra) for s in seeds for extra in CLEAN.values()]
         faults = [f for f in args.faults.split(",") if f and not (planar and f in ("sensor_direction",))]
         cases += [(f, s, []) for f in faults for s in seeds]
-        for fault, seed, extra in cases:
-            try:
-                row = case(plan, fault, seed, extra, folder)
-            except RuntimeError as refused:  # the simulator's refusal (a cord that no longer holds the body level)
-                print(f"{body:>9} {fault or 'none':>22} seed {seed}: not simulated ({refused})", flush=True)
+        jobs += [(plan, fault, seed, extra, folder) for fault, seed, extra in cases]
+    rows = []
+    with ProcessPoolExecutor(args.jobs, initializer=without, initargs=(args.without,)) as pool:
+        for job, row in zip(jobs, pool.map(attempted, jobs)):
+            plan, fault, seed, extra, _ = job
+            body = plan.parent.name.removeprefix("plan-")
+            if isinstance(row, str):  # the simulator's refusal (a cord that no longer holds the body level)
+                print(f"{body:>9} {fault or 'none':>22} seed {seed}: not simulated ({row})", flush=True)
                 continue
             rows.append(row)
             print(f"{body:>9} {row['fault']:>22} seed {seed} {' '.join(extra) if isinstance(extra, list) else extra:>20}: {row['outcome']} "

@@ -9,8 +9,10 @@ over m ≥ 0. The gauge is named when
 * the drop χ²(0) − χ²(m̂) is beyond chance for one parameter (p < CHANCE), counted in the misfit's own units
   (divided by the reduced χ² left at m̂ when that is above 1),
 * m̂ lies SIGMAS of its 1-σ from zero (1-σ from χ²'s curvature, scaled as the drop),
-* and the gauge explains the misfit: the reduced χ² left at m̂ is at most EXPLAINED of χ²(0)'s, or within
-  chance of 1 (a sensor's gain fault, which one mass per drive point cannot make, is left to the search).
+* the gauge explains the misfit: the reduced χ² left at m̂ is at most EXPLAINED of χ²(0)'s, or within
+  chance of 1 (a sensor's gain fault, which one mass per drive point cannot make, is left to the search),
+* and it is a gauge: lighter than LARGEST of the bare body fitted with it, not only of identify's (two swapped
+  channels on the structure made identify's body 6,494 kg, and a "gauge" of 201 kg left a bare body of 0 kg).
 
 The body fitted with it is the bare body; the recording is then shifted column by column onto that body's
 masslines (by the fitted model: ΔH_ij = ℓ_iᵀ (M⁻¹ − M_j⁻¹) ℓ_j) for the search of the other effects.
@@ -98,7 +100,8 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
     std = np.sqrt(2 * spread / curvature) if curvature > 0 else np.inf
     beyond_chance = (before - after) / spread > chi2_distribution.isf(CHANCE, 1)
     explains = fit.chi2 <= max(EXPLAINED * without.chi2, chi2_distribution.isf(CHANCE, fit.dof) / fit.dof)
-    if not (beyond_chance and explains and m >= SIGMAS * std and m < 0.99 * largest):
+    plausible = m < 0.99 * min(largest, LARGEST * fit.body.mass)  # the bare body too carries it: a gauge, not a body
+    if not (beyond_chance and explains and plausible and m >= SIGMAS * std):
         return None
     return GaugeMass(mass=m, std=float(std), chi2_before=before, chi2_after=after, fit=fit)
 
