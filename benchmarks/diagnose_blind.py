@@ -43,6 +43,7 @@ FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % 
     "excitation_direction": ("8", "hit"),
     "excitation_location": ("0.008", "hit"),
     "channel_swap": ("", "sensor"),  # two channels' labels exchanged, the pair drawn from the seed
+    "excitation_mass_loading": ("0.02", "drive"),  # a shaker test with 20 g gauges (--gauge-mass): every column
 }
 CLEAN = {  # the conditions clean files are run under (the faulty ones: the plan's soft cord)
     "cord": [],
@@ -82,7 +83,9 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     style = extra if isinstance(extra, str) else "-".join(extra).replace("=", "").replace(":", "") or "cord"
     path = folder / f"{plan.parent.name}-{fault or 'clean'}-{seed}-{style}.uff"
     effect = []
-    if fault == "channel_swap":
+    if fault == "excitation_mass_loading":
+        effect = ["--gauge-mass", FAULTS[fault][0]]
+    elif fault == "channel_swap":
         effect = ["--effect", "channel_swap@" + ",".join(map(str, swapped(plan, seed)))]
     elif fault:
         size, _ = FAULTS[fault]
@@ -131,11 +134,14 @@ def outcome(found) -> tuple:
 
 
 def placed(row: dict) -> bool:
-    """Whether the outcome's place is the concealed fault's (any of its lines)."""
+    """Whether the outcome's place is the concealed fault's (any of its lines; a gauge's: every drive point, a
+    misfit found anywhere on the excitation side, or spread)."""
+    kind, effect, channels, hits = row["outcome"]
+    if FAULTS[row["fault"]][1] == "drive":
+        return effect == "excitation_mass_loading" or kind == "unexplained" and not channels
     lines = set()
     for e in row["truth"]["effects"]:
         lines |= set(e.get("lines") or [])
-    _, _, channels, hits = row["outcome"]
     where = hits if FAULTS[row["fault"]][1] == "hit" else channels
     return bool(lines & set(where))
 

@@ -299,7 +299,8 @@ def diagnose_recording(
 
     after, findings, withdrawn, left = proven(found)
     if left is not None and left.parameters["shape"] != "spread":  # the place is known: the library tried there
-        candidates = at_place(result, left.channels, left.parameters["hits"])
+        p = left.parameters
+        candidates = at_place(result, (*left.channels, *p.get("also_channels", ())), p["hits"] + p.get("also_hits", []))
         placed = best_undone(recording, found, candidates, identify_band, transverse, known)
         if placed:
             tried = proven(found + placed)

@@ -18,10 +18,13 @@ def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
     and those faults: the data put the fault there, and a fault elsewhere is a stand-in for it (a hit moved to
     absorb a channel's gain). Faults with no place (a gauge on every drive point) stay, unless the misfit is one
     channel's: a gauge's mass is on the excitation side, and one channel's misfit is not (an 8 mm sensor offset
-    took a gauge's mass for 94 % of its χ² and left the rest 150× the noise)."""
+    took a gauge's mass for 94 % of its χ² and left the rest 150× the noise). Where several places each hold it
+    (the rest fit within chance without either), a fault at any of them stays (a tilted sensor on the structure,
+    whose misfit leaving out the one channel that checks it fitted as well, had been set aside)."""
     if misfit is None or misfit.parameters["shape"] == "spread":
         return found, []
-    channels, hits = set(misfit.channels), set(misfit.parameters["hits"])
+    p = misfit.parameters  # the place, and any other whose absence leaves the rest within chance too
+    channels, hits = {*misfit.channels, *p.get("also_channels", ())}, {*p["hits"], *p.get("also_hits", ())}
 
     def elsewhere(f) -> bool:
         if f.kind != "fault":

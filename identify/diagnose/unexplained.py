@@ -93,8 +93,10 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
     named faults undone), or None when its reduced χ² is within chance.
 
     ``channels``: the rows beyond chance; ``parameters``: the hits beyond chance (0-based), the shape (a key of
-    ``SHAPES``) and each channel's and hit's share of the misfit; ``evidence``: the reduced χ² and its dof, and
-    the faults the search proposed but identify's χ² did not prove (``withdrawn``: their effect names).
+    ``SHAPES``), each channel's and hit's share of the misfit, and the other channels and hits whose absence
+    leaves the rest within chance too (``also_channels``, ``also_hits``: a tilted sensor on the structure left the
+    rest within chance without it and without the one channel that checked it); ``evidence``: the reduced χ² and
+    its dof, and the faults the search proposed but identify's χ² did not prove (``withdrawn``: their effect names).
     """
     best = found.best
     if not beyond_chance(best.chi2, best.dof):
@@ -115,6 +117,12 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
         "explained_without_hit": np.where(np.isfinite(columns), 1 - columns / total, np.nan).tolist(),
     }
     channels = [channel] if shape in ("one_channel", "one_frf") or (shape == "spread" and checked["channel"]) else []
+    fitting = {  # the other places whose absence leaves the rest within chance too: the data cannot tell them apart
+        "also_channels": [i for i in np.argsort(rows) if i not in channels and within_chance(rows[i], row_dof[i])],
+        "also_hits": [j for j in np.argsort(columns) if j not in parameters["hits"]
+                      and within_chance(columns[j], column_dof[j])],
+    }  # fmt: skip
+    parameters.update({key: [int(k) for k in places] for key, places in fitting.items()})
     evidence = {"chi2_reduced": best.chi2, "dof": best.dof, "withdrawn": sorted({f.effect for f in withdrawn}),
                 "outfitted": outfitted(withdrawn)}  # fmt: skip
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
@@ -153,6 +161,8 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
     where = f"{'the largest part' if p['shape'] == 'spread' else 'most of it'} at {' and '.join(places)}: "
     where = where if places else "the layout cannot place it (no channel or hit can be left out and checked): "
+    also = [f"sensor {sensors[c]}" for c in p.get("also_channels", [])] + [f"hit {hits[j]}" for j in p.get("also_hits", [])]
+    where = where.replace(": ", f" (or {' or '.join(also)}, which the data cannot tell apart): ", 1) if also else where
     factors = e.get("outfitted") or []
     tried = [t for t in e.get("withdrawn") or [] if t not in {f["effect"] for f in factors}]
     unproven = f"; {' and '.join(tried)} fitted part of it but did not explain identify's misfit" if tried else ""
