@@ -16,7 +16,9 @@ from conftest import bundled
 from test_diagnose import twelve_lines
 
 import massline.identify.diagnose.effects as registry
+from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.notes import finding_note, verdict
+from massline.identify.diagnose.placed import where_the_misfit_is
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.diagnose.shapes import channel_factor, objective
 from massline.identify.diagnose.unexplained import unexplained
@@ -150,9 +152,6 @@ def test_with_only_the_gain_out_of_the_library_no_other_name_takes_it(structure,
 def test_a_gauge_is_no_stand_in_for_one_channels_misfit():
     """A gauge's mass (no place: every drive point) is withdrawn when leaving one channel out explains the file's
     misfit, kept when leaving one hit out does; a fault at the misfit's channel stays."""
-    from massline.identify.diagnose.finding import Finding
-    from massline.identify.diagnose.placed import where_the_misfit_is
-
     gauge = Finding("excitation_mass_loading", (), None, {"mass_kg": 0.02}, {})
     here = Finding("sensor_location", (3,), None, {}, {})
     channel = Finding("unexplained", (3,), None, {"shape": "one_channel", "hits": []}, {})
@@ -181,3 +180,16 @@ def test_a_fault_named_where_the_misfit_still_is_explained_only_part_of_it():
     assert at_the_misfit([location, gain, sign, hit], at_frf) == [location]
     assert at_the_misfit([location, hit], at_hit) == [hit]
     assert at_the_misfit([location, hit], spread) == [] and at_the_misfit([location], None) == []
+
+
+def test_a_fault_stays_at_any_place_that_holds_the_whole_misfit():
+    """Where leaving out channel 6 or channel 9 each leaves the rest within chance, a fault at either stays and
+    one at a third channel is a stand-in, set aside (the structure's 8° tilt on channel 9 had been set aside for
+    channel 6, the one channel that checks it)."""
+    misfit = Finding("unexplained", (5,), None, {"hits": [], "shape": "one_channel", "also_channels": [8],
+                                                  "also_hits": []})  # fmt: skip
+    at_nine, at_six, at_three = (Finding("sensor_direction", (k,), None, {}) for k in (8, 5, 2))
+    kept, aside = where_the_misfit_is([at_nine, at_six, at_three], misfit)
+    assert kept == [at_nine, at_six] and aside == [at_three]
+    kept, aside = where_the_misfit_is([at_nine], replace(misfit, parameters={**misfit.parameters, "also_channels": []}))
+    assert kept == [] and aside == [at_nine]
