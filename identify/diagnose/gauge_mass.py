@@ -36,7 +36,7 @@ CHANCE = 1e-3  # tail probability beyond which a drop in χ² is no longer chanc
 SIGMAS = 5.0  # the gauge's mass must be this many σ from zero
 EXPLAINED = 0.1  # and leave at most this share of the reduced χ² without it (or be within chance of 1)
 UNFIT = 1e300  # χ² of a gauge no body fits (finite: the bounded search compares it)
-LARGEST = 0.05  # the heaviest gauge weighed, as a share of the body's mass per drive point
+LARGEST = 0.2  # the heaviest gauge weighed, as a share of the body's mass per drive point (the bracket's 20 g: 5.8 %)
 
 
 @dataclass(frozen=True, eq=False)
