@@ -87,8 +87,10 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
     largest = LARGEST * without.body.mass
     best = minimize_scalar(chi2_at, bounds=(0.0, largest), method="bounded", options={"xatol": 1e-5 * largest})
     m, before = float(best.x), chi2_sum(without)
-    fit = fitted(m) if m > 0 else None
-    if fit is None or not np.isfinite(fit.chi2):
+    if not (m > 0 and best.fun < UNFIT):  # no gauge, or no body fits with any gauge tried (a swapped pair)
+        return None
+    fit = fitted(m)
+    if not np.isfinite(fit.chi2):
         return None
     after = chi2_sum(fit)
     spread = max(fit.chi2, 1.0)  # the misfit's own units

@@ -72,8 +72,9 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
         start.append(np.sum(a * m / s**2) / denominator if denominator > 0 else 1.0)
     start = np.array(start)
     simplex = np.vstack([start] + [start + 0.05 * np.abs(start).clip(0.1) * e for e in np.eye(len(start))])
-    found_min = minimize(cost, start, method="Nelder-Mead", options={"initial_simplex": simplex, "xatol": 1e-6,
-                                                                     "fatol": 1e-6, "maxfev": MAX_TRIALS})  # fmt: skip
+    with np.errstate(invalid="ignore"):  # trials no body fits cost inf: the simplex's spread is then nan
+        options = {"initial_simplex": simplex, "xatol": 1e-6, "fatol": 1e-6, "maxfev": MAX_TRIALS}
+        found_min = minimize(cost, start, method="Nelder-Mead", options=options)
     if not np.isfinite(found_min.fun):
         return np.inf, np.full(len(places), np.nan)
     return float(found_min.fun), np.asarray(found_min.x)
