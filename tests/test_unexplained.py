@@ -21,7 +21,7 @@ from massline.identify.diagnose.notes import finding_note, verdict
 from massline.identify.diagnose.placed import where_the_misfit_is
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.diagnose.shapes import channel_factor, objective
-from massline.identify.diagnose.unexplained import unexplained
+from massline.identify.diagnose.unexplained import refused_misfit, sentence, unexplained
 from massline.identify.diagnose.effects import parse_effect
 from massline.identify.pipeline import identify_recording
 from massline.placement.hand_layouts import structure_exciters
@@ -193,3 +193,13 @@ def test_a_fault_stays_at_any_place_that_holds_the_whole_misfit():
     assert kept == [at_nine, at_six] and aside == [at_three]
     kept, aside = where_the_misfit_is([at_nine], replace(misfit, parameters={**misfit.parameters, "also_channels": []}))
     assert kept == [] and aside == [at_nine]
+
+
+def test_a_file_identify_refuses_is_unexplained_at_the_channel_the_screen_puts_it():
+    """No rigid body fits (a flipped channel with sensor_polarity out of the library): the misfit is reported
+    whole, at the channel farthest from the others' rigid motion, never silence."""
+    found = refused_misfit({"channel_consistency": [0.01, 0.9, 0.05]})
+    assert found.kind == "unexplained" and found.channels == (1,) and found.parameters["shape"] == "refused"
+    text = sentence(found, ["1:+Z", "2:+Z", "3:+Z"], ["101:+Z"])
+    assert "no rigid body" in text and "sensor 2:+Z" in text and "none is named" in text
+    assert refused_misfit({"channel_consistency": None}).channels == ()

@@ -29,7 +29,7 @@ from massline.identify.diagnose.targeted import at_place
 from massline.identify.diagnose.placed import at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified_after
 from massline.identify.suspicions import beyond_chance
-from massline.identify.diagnose.unexplained import unexplained
+from massline.identify.diagnose.unexplained import refused_misfit, unexplained
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
     Identification,
@@ -319,6 +319,8 @@ def diagnose_recording(
         findings = faults_first(findings + [loading.finding()])
     if mains is not None:
         findings = findings + [mains_finding(mains)]
+    if before is None and not any(f.kind == "fault" for f in findings):  # refused, and no fault named undoes it
+        left = refused_misfit(screens, withdrawn)
     findings = faults_first(findings + ([] if left is None else [left]))
     return DiagnosisRun(
         recording=recording,

@@ -45,6 +45,8 @@ SHAPES = {
     "(the channel's gain or direction where the others barely check it, the hit's place or force, their cables)",
     "spread": "no one channel or hit holds it (physics the rigid model leaves out: the support acting through "
     "the body's flexibility, elastic modes in the band, several faults at once)",
+    "refused": "the channel farthest from the others' rigid motion (a flipped or swapped channel, or a band across a "
+    "resonance)",
 }
 
 
@@ -128,6 +130,18 @@ def unexplained(found, withdrawn: list = ()) -> Finding | None:
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
 
 
+def refused_misfit(screens: dict, withdrawn: list = ()) -> Finding:
+    """The ``unexplained`` finding of a file identify refuses (no rigid body fits its masslines) where no fault
+    named undoes it: the misfit is there, whole, and the model-free screen places it at the channel farthest
+    from the others' rigid motion (``screens``' LOCO misfit; no channel where the layout has no redundancy)."""
+    misfit = screens.get("channel_consistency")
+    channels = [] if not misfit or not np.isfinite(misfit).any() else [int(np.nanargmax(misfit))]
+    parameters = {"hits": [], "shape": "refused", "also_channels": [], "also_hits": []}
+    evidence = {"chi2_reduced": np.nan, "dof": 0.0, "withdrawn": sorted({f.effect for f in withdrawn}),
+                "outfitted": outfitted(withdrawn)}  # fmt: skip
+    return Finding("unexplained", tuple(channels), None, parameters, evidence)
+
+
 def outfitted(withdrawn: list) -> list[dict]:
     """The withdrawn faults a factor at their place fitted as well (:func:`.shapes.outfits`): effect, place,
     factors."""
@@ -161,7 +175,8 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     places = [f"sensor {sensors[c]}" for c in finding.channels] + [f"hit {hits[j]}" for j in p["hits"]]
     where = f"{'the largest part' if p['shape'] == 'spread' else 'most of it'} at {' and '.join(places)}: "
     where = where if places else "the layout cannot place it (no channel or hit can be left out and checked): "
-    also = [f"sensor {sensors[c]}" for c in p.get("also_channels", [])] + [f"hit {hits[j]}" for j in p.get("also_hits", [])]
+    also = [f"sensor {sensors[c]}" for c in p.get("also_channels", [])]
+    also += [f"hit {hits[j]}" for j in p.get("also_hits", [])]
     where = where.replace(": ", f" (or {' or '.join(also)}, which the data cannot tell apart): ", 1) if also else where
     factors = e.get("outfitted") or []
     tried = [t for t in e.get("withdrawn") or [] if t not in {f["effect"] for f in factors}]
@@ -177,6 +192,9 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
             f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}; {none}"
         )
+    if p["shape"] == "refused":
+        where = f"most of it at {' and '.join(places)}, {SHAPES['refused']}" if places else "the layout cannot place it"
+        return f"unexplained: identify finds no rigid body that fits the masslines; {where}{unproven}; {none}"
     return (
         f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
         f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}; "
