@@ -21,6 +21,8 @@ from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
 from massline.identify.diagnose.effect_model import Layout
+from massline.identify.diagnose.effects import held
+from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_pattern
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
@@ -29,7 +31,7 @@ from massline.identify.diagnose.targeted import at_place
 from massline.identify.diagnose.placed import at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified_after
 from massline.identify.suspicions import beyond_chance
-from massline.identify.diagnose.unexplained import refused_misfit, unexplained
+from massline.identify.diagnose.unexplained import excess_over_mesh, refused_misfit, unexplained
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
     Identification,
@@ -279,7 +281,7 @@ def diagnose_recording(
         used = before.band if before else choose_band(f, cleaned.frf, cleaned.sensors, cleaned.exciters, planar)
     estimation = used if before is None else before.band
     gauge = None
-    if before is not None and not exciter_mass:
+    if before is not None and not exciter_mass and held(ExcitationMassLoading.name):
         gauge = gauge_mass(before.data, before.sigma, planar, transverse, before.best)
     searched = cleaned if gauge is None else shifted(cleaned, gauge)  # the other effects, on the bare body
     data = BandData.from_recording(f, searched.frf, used.low, used.high)
@@ -312,6 +314,8 @@ def diagnose_recording(
         set_aside = set_aside + partial
         after, findings, withdrawn, left = proven(found)
     loading = None if not measures_a_body(after, nominal) else weighed_loading(after, result, nominal, transverse)
+    if loading is not None and not held(loading.finding().effect):  # the mesh's excess, its effect not in the library
+        left, loading = excess_over_mesh(loading, withdrawn), None
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column
         after, findings, withdrawn, left = proven(found + [loading.finding()])
         findings, loading = faults_first(findings), None

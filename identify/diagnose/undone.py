@@ -60,8 +60,10 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     it (:func:`explains_the_misfit`). A gain is stated as identify reads it (:func:`by_identify`), and the other
     faults are proven with it so stated.
     When identify refuses the corrected recording, the properties stay ``before`` and the findings as they came
-    (no finding says it moved them). ``known``: identify's options for the masses the engineer gave
-    (``sensor_mass``, ``exciter_mass``).
+    (no finding says it moved them); where identify refused the file as it came too, the faults undid nothing
+    identify can see and are withdrawn (a swapped pair on the structure, the swap out of the library, had been
+    named a sensor's direction that left identify refusing the file). ``known``: identify's options for the
+    masses the engineer gave (``sensor_mass``, ``exciter_mass``).
     """
     faults = undoable(findings)
     if not faults:
@@ -73,7 +75,9 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     if read_again and len(faults) > 1:  # a gain read again: the others' leave-one-out with it
         withouts = each_left_out(recording, faults, band, transverse, before, known)
     after = attempt(corrected(recording, faults), band, transverse, 100, **known | identify_options(faults))
-    if after is None:
+    if after is None:  # identify refuses the corrected recording: where it refused the file too, nothing is proven
+        if before is None:
+            return None, [f for f in findings if f not in faults], faults
         return before, findings, []
     findings, proof = stated, {id(f): without for f, without in zip(faults, withouts)}
     marked, withdrawn = [], []

@@ -45,6 +45,7 @@ SHAPES = {
     "(the channel's gain or direction where the others barely check it, the hit's place or force, their cables)",
     "spread": "no one channel or hit holds it (physics the rigid model leaves out: the support acting through "
     "the body's flexibility, elastic modes in the band, several faults at once)",
+    "against_mesh": "the body identified is heavier than the mesh's in the pattern of a mass there",
     "refused": "the channel farthest from the others' rigid motion (a flipped or swapped channel, or a band across a "
     "resonance)",
 }
@@ -142,6 +143,19 @@ def refused_misfit(screens: dict, withdrawn: list = ()) -> Finding:
     return Finding("unexplained", tuple(channels), None, parameters, evidence)
 
 
+def excess_over_mesh(loading, withdrawn: list = ()) -> Finding:
+    """The ``unexplained`` finding of a body heavier than the mesh's in the pattern of a loading
+    (:mod:`.mass_loading`) whose effect the library does not hold: where (the housing's channels, or the drive
+    points), and how much."""
+    finding = loading.finding()
+    grams = finding.parameters.get("mass_kg", sum(finding.parameters.get("masses_kg", [0.0])))
+    parameters = {"hits": [], "shape": "against_mesh", "also_channels": [], "also_hits": [], "mass_kg": grams,
+                  "excitation_side": loading.side == "excitation"}  # fmt: skip
+    evidence = {"chi2_reduced": np.nan, "dof": 0.0, "withdrawn": sorted({f.effect for f in withdrawn}),
+                "outfitted": outfitted(withdrawn), "against_mesh_chi2": finding.evidence["chi2_before"]}  # fmt: skip
+    return Finding("unexplained", tuple(int(c) for c in finding.channels), None, parameters, evidence)
+
+
 def outfitted(withdrawn: list) -> list[dict]:
     """The withdrawn faults a factor at their place fitted as well (:func:`.shapes.outfits`): effect, place,
     factors."""
@@ -191,6 +205,12 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
         return (
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
             f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}; {none}"
+        )
+    if p["shape"] == "against_mesh":
+        where = " and ".join(places) if places else ("the drive points" if p["excitation_side"] else "no one place")
+        return (
+            f"unexplained: the body identified is {1e3 * p['mass_kg']:.3g} g heavier than the mesh's, in the pattern "
+            f"of a mass at {where}{unproven}; {none}"
         )
     if p["shape"] == "refused":
         where = f"most of it at {' and '.join(places)}, {SHAPES['refused']}" if places else "the layout cannot place it"
