@@ -58,9 +58,11 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
     and ``columns`` (hits, 0-based) scaled by its own best factor, and the factors (rows', then columns');
     (inf, nan) where the rest cannot be estimated.
 
-    The factors start at the closed form above with θ fixed at identify's, and are then polished by Nelder–Mead
-    on the objective, θ estimated again at each trial: θ takes up part of a faulty channel's misfit, so
-    alternating the two creeps (a 10 % gain read as 5 % after twelve rounds)."""
+    The factors start at the closed form above with θ fixed at identify's, or at ±1 (its signs, or their
+    opposite) where that costs less, and are then polished by Nelder–Mead on the objective, θ estimated again at
+    each trial: θ takes up part of a faulty channel's misfit, so alternating the two creeps (a 10 % gain read as
+    5 % after twelve rounds), and a flipped channel bends θ so far that the closed form starts Nelder–Mead off it
+    (a factor of 7.8e5 where −1 fits)."""
     data, sigma, best = found.data, found.sigma, found.best
     places = [(0, i) for i in rows] + [(1, j) for j in columns]
     cost = _scaling(found, places)
@@ -71,6 +73,8 @@ def scaled(found, rows: tuple = (), columns: tuple = ()) -> tuple[float, np.ndar
         denominator = np.sum(m**2 / s**2)
         start.append(np.sum(a * m / s**2) / denominator if denominator > 0 else 1.0)
     start = np.array(start)
+    unit = np.where(start < 0, -1.0, 1.0)  # no fault, or a flipped sign: the closed form is bent by θ taking it up
+    start = min((start, unit, -unit), key=lambda x: cost(x))
     simplex = np.vstack([start] + [start + 0.05 * np.abs(start).clip(0.1) * e for e in np.eye(len(start))])
     with np.errstate(invalid="ignore"):  # trials no body fits cost inf: the simplex's spread is then nan
         options = {"initial_simplex": simplex, "xatol": 1e-6, "fatol": 1e-6, "maxfev": MAX_TRIALS}

@@ -20,7 +20,7 @@ from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very stro
 from massline.identify.diagnose.effects import held, named
 from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.sensor_offset import read_offset
-from massline.identify.diagnose.shapes import channel_factor, objective, outfits
+from massline.identify.diagnose.shapes import channel_factor, objective, outfits, place_of
 from massline.identify.pipeline import Identification, identify_recording
 from massline.identify.suspicions import beyond_chance
 from massline.core.errors import MasslineError
@@ -80,7 +80,8 @@ def identified_after(recording, findings: list, band, transverse: float, before:
             return None, [f for f in findings if f not in faults], faults
         return before, findings, []
     findings, proof = stated, {id(f): without for f, without in zip(faults, withouts)}
-    marked, withdrawn = [], []
+    marked, withdrawn, gains = [], [], set()
+    sharing = shared_places(recording, faults, band, transverse, known)
     for finding in findings:
         if id(finding) in proof and before is not None:
             without = proof[id(finding)]
@@ -92,10 +93,13 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                     if gain < EVIDENCE:  # nan (no redundancy): nothing can check it
                         withdrawn.append(finding)
                         continue
-                    shape = outfits(without, after, finding)
+                    place = place_of(finding)
+                    here, standing = sharing.get(place, (without, finding))  # several faults there: all at once
+                    shape = outfits(here, after, standing)
                     if shape is not None:  # a factor at its place explains as much: the name is not proven
                         withdrawn.append(replace(finding, evidence={**evidence, "outfitted_by": shape}))
-                        marked += as_gain(finding, shape)
+                        marked += [] if place in gains else as_gain(finding, shape)
+                        gains.add(place)
                         continue
         marked.append(finding)
     if withdrawn:
@@ -107,6 +111,28 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                                           before, known)  # fmt: skip
         return again, kept, stand_ins
     return after, marked, []
+
+
+def shared_places(recording, faults: list, band, transverse: float, known: dict) -> dict:
+    """For each place that holds several faults: identify with the faults elsewhere undone, and one finding
+    standing for them all (their values summed), for :func:`.shapes.outfits` to weigh them together against one
+    factor there (None where identify refuses). Weighed one by one, each with the other undone, neither was
+    outfitted: a 10 % gain on the structure's channel 3, the gain out of the library, was named a 23 mm offset
+    with a tilt at that channel, each proven with the other, where the factor alone fits as well (χ² 5.63 against
+    5.72)."""
+    by_place = {}
+    for f in faults:
+        by_place.setdefault(place_of(f), []).append(f)
+    out = {}
+    for place, here in by_place.items():
+        if len(here) < 2 or not any(place):
+            continue
+        rest = [f for f in faults if place_of(f) != place]
+        values = sum(f.evidence.get("values", 0) for f in here)
+        stand = replace(here[0], evidence={**here[0].evidence, "values": values})
+        without = attempt(corrected(recording, rest), band, transverse, 0, **known | identify_options(rest))
+        out[place] = (without, stand) if without is not None else None
+    return {place: v for place, v in out.items() if v is not None}
 
 
 def each_left_out(recording, faults: list, band, transverse: float, before: Identification | None,
