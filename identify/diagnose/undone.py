@@ -55,7 +55,8 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     with how far undoing it moved the properties and how much of identify's χ² it explains (identify with all
     faults undone against with all but that one; no bootstrap); and the faults withdrawn.
 
-    A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again;
+    A fault that explains less than ``EVIDENCE`` of identify's χ² is withdrawn, and the others identified again
+    (and a gain of negative factor, which is a sign: the polarity out of the library was named a gain of −0.998);
     so are all of them when together they leave identify's χ² beyond chance having explained less than ``MOST`` of
     it (:func:`explains_the_misfit`). A gain is stated as identify reads it (:func:`by_identify`), and the other
     faults are proven with it so stated.
@@ -83,6 +84,9 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     marked, withdrawn, gains = [], [], set()
     sharing = shared_places(recording, faults, band, transverse, known)
     for finding in findings:
+        if finding.effect == "sensor_gain" and not finding.parameters.get("gain", 1.0) > 0:  # a sign, not a gain
+            withdrawn.append(finding)
+            continue
         if id(finding) in proof and before is not None:
             without = proof[id(finding)]
             if without is not None:
@@ -171,7 +175,7 @@ def by_identify(finding, without: Identification | None):
         return finding
     line_std = finding.parameters.get("gain_std", np.nan)
     gain, std = channel_factor(without, finding.channels[0], line_std if np.isfinite(line_std) else None)
-    if not np.isfinite(gain):
+    if not np.isfinite(gain) or gain <= 0:  # a sign is no gain: left to the line-level's, withdrawn if negative
         return finding
     std = std if np.isfinite(std) and std > 0 else line_std  # no curvature to read: the line-level fit's 1-σ
     return replace(finding, parameters={**finding.parameters, "gain": gain, "gain_std": std})
