@@ -85,9 +85,6 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     marked, withdrawn, gains = [], [], set()
     sharing = shared_places(recording, faults, band, transverse, known)
     for finding in findings:
-        if not sized(finding):  # a sign read as a gain, or an offset within its own σ of none
-            withdrawn.append(finding)
-            continue
         if id(finding) in proof and before is not None:
             without = proof[id(finding)]
             if without is not None:
@@ -106,6 +103,9 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                         marked += [] if place in gains else as_gain(finding, shape)
                         gains.add(place)
                         continue
+        if not sized(finding):  # a sign read as a gain, or an offset within its own σ of none
+            withdrawn.append(finding)
+            continue
         marked.append(finding)
     if withdrawn:
         again, kept, more = identified_after(recording, marked, band, transverse, before, known)
