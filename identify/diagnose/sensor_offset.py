@@ -21,7 +21,7 @@ import numpy as np
 from massline.core.information import sensitivities
 from massline.core.lines import Lines
 from massline.core.masslines import Masslines
-from massline.identify.diagnose.effects.base import offset_parameters
+from massline.identify.diagnose.effects.base import moved_lines, offset_parameters
 from massline.identify.diagnose.shapes import objective
 from massline.identify.diagnose.unexplained import estimated
 
@@ -35,8 +35,7 @@ def offset_basis(directions: np.ndarray) -> np.ndarray:
     if len(directions) > 1:
         return np.eye(3)
     d = directions[0] / np.linalg.norm(directions[0])
-    u = np.linalg.svd(d[None, :])[2][1:]  # the two unit vectors ⊥ d
-    return u
+    return np.linalg.svd(d[None, :])[2][1:]  # the two unit vectors ⊥ d
 
 
 def masslines_at(model, sensors: Lines, exciters: Lines, riding) -> np.ndarray:
@@ -66,9 +65,7 @@ def on_body(model, data: Masslines, sigma: np.ndarray, riding, channels: list) -
 
 def moved_channels(data: Masslines, channels: list, offset: np.ndarray) -> Masslines:
     """The masslines with ``channels``' points moved by ``offset`` (m)."""
-    points = data.sensors.points.copy()
-    points[channels] += offset
-    sensors = Lines(points, data.sensors.directions, data.sensors.triaxial)
+    sensors = moved_lines(data.sensors, channels, point=data.sensors.points[channels] + offset)
     return Masslines(data.values, sensors, data.exciters)
 
 
@@ -92,8 +89,9 @@ def read_offset(finding, without):
             fit = estimated(without, moved_channels(data, channels, offset), sigma, riding)
             if fit is None:
                 break
-            if best is None or objective(fit) < best[0]:
-                best = (objective(fit), offset, fit)
+            cost = objective(fit)
+            if best is None or cost < best[0]:
+                best = (cost, offset, fit)
             offset = on_body(fit.model, data, sigma, riding, channels)[0]
             if not np.all(np.isfinite(offset)):
                 break
