@@ -98,7 +98,7 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     start = time.perf_counter()
     found = diagnose_recording(path, None, mesh.nominal)
     seconds = time.perf_counter() - start
-    return {"body": body, "fault": fault or "none", "truth": truth, "outcome": outcome(found), "seconds": seconds,
+    return {"body": body, "fault": fault or "none", "condition": style, "truth": truth, "outcome": outcome(found), "seconds": seconds,
             "before": found.chi2["before"], "after": found.chi2["after"], "worse": worse(found, mesh.nominal)}  # fmt: skip
 
 
@@ -159,7 +159,12 @@ def summary(rows: list, without: str | None) -> str:
     alarms = sum(r["outcome"][0] == "fault" for r in clean)
     out.append(f"false alarms: {alarms} of {len(clean)} clean files got a fault named")
     faulty = [r for r in rows if r["fault"] != "none"]
-    if without:
+    if without and without not in FAULTS:  # test physics: the clean files that carry it (a mains file; every file)
+        held = [r for r in clean if without != "mains_interference" or r["condition"].startswith("--effect-mains")]
+        named = sum(r["outcome"][0] == "fault" for r in held)
+        told = sum(r["outcome"][0] == "unexplained" for r in held)
+        out.append(f"without {without}: {named} of {len(held)} files that carry it got a fault named, {told} unexplained")
+    elif without:
         held = [r for r in faulty if r["fault"] == without]
         good = sum(r["outcome"][0] == "unexplained" and placed(r) for r in held)
         out.append(f"without {without}: {good} of {len(held)} files got unexplained at the right place")

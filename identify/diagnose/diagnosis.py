@@ -36,7 +36,7 @@ from cvxpy.error import SolverError
 
 from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score, with_model_form
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
-from massline.identify.diagnose.effects import named
+from massline.identify.diagnose.effects import held, named
 from massline.identify.diagnose.finding import Finding, accepted_finding, faults_first
 from massline.identify.diagnose.screens import (
     channel_consistency,
@@ -235,7 +235,7 @@ def forward_stage(band: BandData, start: Fit, noise: float, shared: bool) -> tup
         options = [
             (refit(current, band, laws | {law}, current.blocks, shared), law, laws | {law})
             for law in TAIL_LAWS
-            if law not in laws
+            if law not in laws and held(law)  # a law taken out of the registry is physics the search does not know
         ]
         tilts = [s for s in ranked[REFITS:] if named(s[1].effect).widens_prior and s[0] > EVIDENCE]
         ranked = ranked[:REFITS] + tilts

@@ -23,12 +23,13 @@ from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_n
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import held
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
+from massline.identify.diagnose.effects.mains_interference import MainsInterference
 from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_pattern
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
-from massline.identify.diagnose.placed import at_the_misfit, same_place, where_the_misfit_is
+from massline.identify.diagnose.placed import beside_a_spread_misfit, at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified_after
 from massline.identify.suspicions import beyond_chance
 from massline.identify.diagnose.unexplained import excess_over_mesh, refused_misfit, unexplained
@@ -264,7 +265,7 @@ def diagnose_recording(
     on its own lines, :mod:`massline.identify.tails`).
     """
     recording, notes = usable_lines(as_recording(recording))
-    cleaned, mains, aside = without_mains(recording)
+    cleaned, mains, aside = without_mains(recording) if held(MainsInterference.name) else (recording, None, ())
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)
     layout = Layout.of(recording.sensors, recording.exciters, planar)
@@ -308,7 +309,7 @@ def diagnose_recording(
             tried = proven(found + placed)
             if any(same_place(f, placed[0]) for f in tried[1]):
                 found, (after, findings, withdrawn, left) = found + placed, tried
-    partial = at_the_misfit(findings, left)
+    partial = at_the_misfit(findings, left) or beside_a_spread_misfit(findings, left)
     if partial:  # named where the misfit still is: part of it fitted, the place's misfit not explained
         found = [f for f in found if not any(same_place(f, p) for p in partial)]
         set_aside = set_aside + partial
