@@ -163,7 +163,7 @@ def summary(rows: list, without: str | None) -> str:
         held = [r for r in clean if without != "mains_interference" or r["condition"].startswith("--effect-mains")]
         named = sum(r["outcome"][0] == "fault" for r in held)
         told = sum(r["outcome"][0] == "unexplained" for r in held)
-        out.append(f"without {without}: {named} of {len(held)} files that carry it got a fault named, {told} unexplained")
+        out.append(f"without {without}: {named} of {len(held)} files carrying it got a fault named, {told} unexplained")
     elif without:
         held = [r for r in faulty if r["fault"] == without]
         good = sum(r["outcome"][0] == "unexplained" and placed(r) for r in held)
