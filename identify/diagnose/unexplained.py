@@ -88,14 +88,9 @@ def leave_one_out(found, axis: int) -> tuple[np.ndarray, np.ndarray]:
         elif np.isfinite(e.chi2) and e.dof > 0:
             left.append(e.chi2 * e.dof), dof.append(e.dof)
         else:
-            total, n = prior_checked(e, kept(found.sigma, axis, k))
+            total, n = prior_checked(e, np.delete(found.sigma, k, axis=axis))
             left.append(total if n > 0 else np.inf), dof.append(float(max(n, 0)))
     return np.array(left), np.array(dof)
-
-
-def kept(sigma: np.ndarray, axis: int, k: int) -> np.ndarray:
-    """``sigma`` without row (``axis`` 0) or column (``axis`` 1) ``k``."""
-    return np.delete(sigma, k, axis=axis)
 
 
 def prior_checked(e: Estimate, sigma: np.ndarray) -> tuple[float, int]:
