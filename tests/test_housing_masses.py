@@ -64,8 +64,6 @@ def test_identify_with_each_housing_is_inside_the_bounds(mixed):
 
 
 def test_the_mesh_names_the_loaded_housings(mixed):
-    if mixed[0] == "bracket":  # the drive points' pattern fits best there and hides the housings' own masses
-        pytest.xfail("on the bracket's footprint-constrained layout the loading is not named (issue 27)")
     name, body, masses, recording = mixed
     run_ = diagnose_recording(recording, None, body.nominal)
     faults = [f for f in run_.findings if f.kind == "fault"]

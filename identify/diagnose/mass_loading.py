@@ -167,7 +167,7 @@ def mass_loading(
     chi2_after, every, channels, points, mass, std, side = fits[0]
     explains = chi2_after < max(chi2_distribution.isf(CHANCE, p - 1), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
-    each = each_housing(delta, information, planar, sensors, nominal, chi2_before) if side == "sensor" else None
+    each = each_housing(delta, information, planar, sensors, nominal, chi2_before)  # also where a gauge fits best
     if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
         return each
     within_chance = chi2_after < chi2_distribution.isf(CHANCE, p - 1)
