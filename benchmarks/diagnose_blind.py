@@ -107,8 +107,9 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     start = time.perf_counter()
     found = diagnose_recording(path, None, mesh.nominal)
     seconds = time.perf_counter() - start
-    return {"body": body, "fault": fault or "none", "condition": style, "truth": truth, "heavy": heavy(plan), "outcome": outcome(found), "seconds": seconds,
-            "before": found.chi2["before"], "after": found.chi2["after"], "worse": worse(found, mesh.nominal)}  # fmt: skip
+    return {"body": body, "fault": fault or "none", "condition": style, "truth": truth, "heavy": heavy(plan),
+            "outcome": outcome(found), "seconds": seconds, "before": found.chi2["before"], "after": found.chi2["after"],
+            "worse": worse(found, mesh.nominal)}  # fmt: skip
 
 
 def swapped(plan: Path, seed: int) -> list[int]:
