@@ -19,7 +19,7 @@ from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import held, named
 from massline.identify.diagnose.finding import Finding
-from massline.identify.diagnose.sensor_offset import read_offset
+from massline.identify.diagnose.offsets import read_offset
 from massline.identify.diagnose.shapes import channel_factor, objective, outfits, place_of
 from massline.identify.pipeline import Identification, identify_recording
 from massline.identify.suspicions import beyond_chance
@@ -180,9 +180,10 @@ def as_gain(finding, shape: dict) -> list:
 def by_identify(finding, without: Identification | None):
     """A gain as identify's estimator reads it: the channel's factor on identify's objective with the other faults
     undone (``without``), θ estimated again (:func:`.shapes.channel_factor`), in place of the line-level fit's, so
-    that the gain stated is the one whose undoing gives the properties after; a sensor's offset likewise, on the
-    body the other channels give (:func:`.sensor_offset.read_offset`); other findings as they are."""
-    if without is not None and finding.effect == "sensor_location":
+    that the gain stated is the one whose undoing gives the properties after; a sensor's or a hit's offset
+    likewise, on the body the other channels (or hits) give (:func:`.offsets.read_offset`); other findings as
+    they are."""
+    if without is not None and finding.effect in ("sensor_location", "excitation_location"):
         return read_offset(finding, without)
     if finding.effect != "sensor_gain" or without is None:
         return finding
