@@ -10,14 +10,16 @@ import numpy as np
 from rich.console import Console
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
-from massline.options import SEED, count, finite, fraction, real
+from massline.options import SEED, checked, count, finite, fraction, real
 from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import EVALUATIONS, cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
+from massline.core.housing_masses import HousingMasses, sensor_mass_token
 from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
+from massline.core.numbering import point_groups
 from massline.meshes.loader import UNITS
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.mounts import mounts
@@ -31,7 +33,9 @@ from massline.plan_console import (
     std_table,
 )
 from massline.placement.planner import Budget
+from massline.virtual.acquisition import accelerometer_masses
 from massline.virtual.fe_process import FEInProcess
+from massline.virtual.housing_loading import loading, loading_sentence
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -125,6 +129,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="keep at least D from every edge, sensors and hits alike (mesh units; default: half the base or tip)",
     )
     _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted, snapped onto the surface")
+    parser.add_argument(
+        "--sensor-mass",
+        nargs="+",
+        type=checked(sensor_mass_token),
+        default=[],
+        metavar="KG [POINT=KG ...]",
+        help="mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for a --fixed-sensor "
+        "point whose housing differs (numbered 1, 2, … in the order given): the plan states how they load the "
+        "body and simulate puts them on (default 0)",
+    )
     _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
     add_criterion_arguments(parser)
     parser.add_argument("--seed", type=SEED, default=0, metavar="N", help="seed of the surface sampling (default 0)")
@@ -196,6 +210,21 @@ def chosen_budget(args: argparse.Namespace, planar: bool) -> Budget | None:
     )
 
 
+def planned_housings(tokens: list, fixed: Lines | None) -> HousingMasses:
+    """``--sensor-mass``, refused before any work where a POINT names no ``--fixed-sensor`` point (the planner
+    numbers its own points only once it has chosen them)."""
+    masses = HousingMasses.parse(tokens)
+    known = 0 if fixed is None else int(point_groups(fixed).max()) + 1
+    unknown = sorted(k for k in masses.by_label if not 1 <= k <= known)
+    if unknown:
+        which = f"the --fixed-sensor points are 1 to {known}" if known else "no --fixed-sensor is given"
+        raise MasslineError(
+            f"--sensor-mass {unknown[0]}=…: POINT names a --fixed-sensor point ({which}; the plan numbers its own "
+            "points once it has chosen them): give one KG for every housing, or the fixed sensor's number"
+        )
+    return masses
+
+
 def available_memory() -> float:
     """Bytes the system can give a process without swapping (MemAvailable), or inf when unknown."""
     try:
@@ -243,6 +272,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         "fixed_sensors": _fixed(args.fixed_sensor, scale, "--fixed-sensor"),
         "fixed_exciters": _fixed(args.fixed_exciter, scale, "--fixed-exciter"),
     }
+    housings = planned_housings(args.sensor_mass, fixed["fixed_sensors"])
     fe_solve = FEInProcess(body, str(args.mesh))  # beside the search: the plan takes the longer, not the sum
     try:
         result = searched(args, body, options, noise, budget, fixed, console, fe_solve.check)
@@ -259,10 +289,14 @@ def run(args: argparse.Namespace, console: Console) -> None:
     diagnosability_note(console, result)
     with progress_bar(console) as progress:
         fe = fe_solve.result(progress)
-        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe)
+        carried = accelerometer_masses(result.sensors, housings)
+        test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe, housings=carried)
         say_material(console, fe)
     say_fe_model(console, fe)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    if housings.any:
+        doc["loading"] = loading(body.nominal, result.sensors, housings, doc["predicted_std"])
+        console.print(loading_sentence(doc["loading"]))
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)
     write_atomic(target, to_json(doc), args.force)

@@ -24,6 +24,7 @@ from massline.options import SEED, checked, count, fraction, positive, real
 from massline.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
 from massline.core.housing_masses import HousingMasses, sensor_mass_token
+from massline.virtual.housing_loading import planned_masses, tokens
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
 from massline.meshes.loader import MAX_MASS_KG
@@ -89,7 +90,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=[],
         metavar="KG [POINT=KG ...]",
         help="mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for an accelerometer "
-        "whose housing differs (the plan's point labels, e.g. 0.008 1=0.025) (default 0)",
+        "whose housing differs (the plan's point labels, e.g. 0.008 1=0.025) (default: the plan's --sensor-mass, "
+        "else 0)",
     )
     parser.add_argument(
         "--gauge-mass",
@@ -180,11 +182,11 @@ def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
     return table
 
 
-def departures(args: argparse.Namespace) -> str:
+def departures(args: argparse.Namespace, doc: dict) -> str:
     """The options that make this test differ from the one plan.json predicted its band for."""
     given = {
         "--suspension": args.suspension,
-        "--sensor-mass": args.sensor_mass,
+        "--sensor-mass": HousingMasses.parse(args.sensor_mass) != planned_masses(doc),
         "--gauge-mass": args.gauge_mass,
         "--rigid": args.rigid,
         "--modes": args.modes != MODES,
@@ -197,6 +199,7 @@ def departures(args: argparse.Namespace) -> str:
 def run(args: argparse.Namespace, console: Console) -> None:
     plan_path = Path(args.plan)
     sensors, exciters, doc = read_plan(plan_path)
+    args.sensor_mass = args.sensor_mass or tokens(planned_masses(doc)).split()  # the plan's housings by default
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
     named = {} if args.check else recording_outputs(Path(args.out), len(exciters) if args.split_runs else 0)
@@ -214,10 +217,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         say_fe_model(console, setup.fe)
     console.print(band_table(list(setup.rows)))
     expected = setup.expected
-    if expected is not None and departures(args):
+    if expected is not None and departures(args, doc):
         console.print(
             f"plan.json predicts {band_phrase(expected)} for {setup.planned_support.describe()} on the bare body; "
-            f"this test departs from it ({departures(args)}), so its band is predicted again above",
+            f"this test departs from it ({departures(args, doc)}), so its band is predicted again above",
             soft_wrap=True,
         )
     if args.plot:

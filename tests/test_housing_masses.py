@@ -5,6 +5,8 @@ identify: the bare body inside the bounds; with the mesh and no masses given, th
 (non-negative, with its ±) from the body's excess over the mesh and names the loaded ones.
 """
 
+import json
+
 import numpy as np
 import pytest
 from conftest import bundled
@@ -92,3 +94,39 @@ def test_unknown_labels_are_refused_on_the_command_line(tmp_path, capsys):
     capsys.readouterr()
     assert run_cli(["identify", str(tmp_path / "t.uff"), "--sensor-mass", "0.008", "99=0.02"]) == 2
     assert "no accelerometer is at point 99" in capsys.readouterr().err
+
+
+FIXED = ["--fixed-sensor", "-0.009087", "0.011157", "0.054492", "0.5691", "0.5774", "0.5855"]  # on the bracket
+
+
+def test_the_plan_states_the_housings_loading_and_simulate_puts_them_on(tmp_path, capsys):
+    """``plan --sensor-mass 0.008 1=0.025`` (point 1 the fixed sensor's): plan.json's ``loading`` is the tested body's
+    change from the bare one, exactly (θ_tested = θ_bare + Σ m_k φ(r_k)), the console says it with the option
+    that takes it off, and ``simulate`` without --sensor-mass puts the plan's housings on."""
+    plan = tmp_path / "plan"
+    given = ["--sensor-mass", "0.008", "1=0.025"]
+    assert run_cli(["plan", "bracket", "--minimal", *FIXED, *given, "--out", str(plan)]) == 0
+    assert "identify --sensor-mass 0.008 1=0.025 takes them off" in capsys.readouterr().out.replace("\n", " ")
+    doc = json.loads((plan / "plan.json").read_text())
+    found, body = doc["loading"], bundled("bracket").nominal
+    sensors = np.array([s["point"] for s in doc["sensors"]])
+    points, first = np.unique(np.array([s["node"] for s in doc["sensors"]]), return_index=True)
+    masses = np.where(points == 1, 0.025, 0.008)
+    assert found["housings"] == len(points) and found["total_kg"] == pytest.approx(masses.sum(), rel=1e-12)
+    assert found["mass_percent"] == pytest.approx(100 * masses.sum() / body.mass, rel=1e-9)
+    cog = (body.mass * body.cog + masses @ sensors[first]) / (body.mass + masses.sum())
+    assert found["cog_shift_mm"] == pytest.approx(1e3 * np.linalg.norm(cog - body.cog), rel=1e-9)
+    assert found["in_predicted_std"]["mass"] == pytest.approx(masses.sum() / doc["predicted_std"]["mass"], rel=1e-9)
+    out = tmp_path / "t.uff"
+    assert run_cli(["simulate", str(plan / "plan.json"), "--rigid", "--out", str(out)]) == 0
+    truth = json.loads(out.with_suffix(".truth.json").read_text())
+    assert truth["sensor_mass"] == {"default": 0.008, "by_point": {"1": 0.025}}
+
+
+@pytest.mark.parametrize("fixed", [FIXED, []])
+def test_the_plan_refuses_a_point_no_fixed_sensor_has_before_any_work(tmp_path, capsys, fixed):
+    plan = tmp_path / "plan"
+    code = run_cli(["plan", "bracket", "--minimal", *fixed, "--sensor-mass", "0.008", "2=0.025", "--out", str(plan)])
+    err = capsys.readouterr().err
+    assert code == 2 and "--sensor-mass 2=…" in err and len(err.strip().splitlines()) == 1
+    assert not (plan / "plan.json").exists()

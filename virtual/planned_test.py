@@ -107,7 +107,7 @@ def plan_fe_model(body: BodyMesh, mesh_name: str | None, progress=None) -> FEMod
 
 
 def plan_test(
-    body: BodyMesh, mesh_name: str | None, sensors, exciters, progress=None, fe: FEModel | None = None
+    body: BodyMesh, mesh_name: str | None, sensors, exciters, progress=None, fe: FEModel | None = None, housings=None
 ) -> tuple[dict, FEModel]:
     """Choose the support a test of ``sensors`` × ``exciters`` hangs ``body`` on, and predict its band.
 
@@ -123,6 +123,8 @@ def plan_test(
         ``progress(stage, done, total)`` over the FE solve (module docstring).
     fe : FEModel, optional
         The free body's elastic modes to predict on; default: :func:`plan_fe_model` (solved or read back here).
+    housings : (masses (k,) kg, points (k, 3) m), optional
+        The accelerometers' housings the test carries (:func:`massline.virtual.acquisition.accelerometer_masses`).
 
     Returns
     -------
@@ -133,7 +135,9 @@ def plan_test(
     """
     fe = plan_fe_model(body, mesh_name, progress) if fe is None else fe
     modes, material = fe.modes, fe.material
-    models = [SuspendedBody(body.nominal, modes, s) for s in support_candidates(body.mesh, body.nominal)]
+    housings = (np.zeros(0), np.zeros((0, 3))) if housings is None else housings
+    carried = SuspendedBody(body.nominal, None, Suspension(), *housings).loaded  # what the support holds level
+    models = [SuspendedBody(body.nominal, modes, s, *housings) for s in support_candidates(body.mesh, carried)]
     (chosen, band), *others = choose_support(models, sensors, exciters)
     elastic = {
         "element_size": modes.element_size,
