@@ -12,6 +12,9 @@ from massline.identify.diagnose.shapes import SCALE_EFFECTS
 from massline.identify.diagnose.undone import proven_by_mesh, undoable
 
 
+GROSS = 10.0  # reduced χ² left beyond which a misfit no one place holds still condemns the faults at its places
+
+
 def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
     """The findings, less the faults named away from the one channel or hit that holds identify's whole misfit
     (``misfit``: the file's :func:`.unexplained.unexplained`; the rest fit within chance without that place),
@@ -45,14 +48,18 @@ def at_the_misfit(findings: list, left) -> list:
     leave is another misfit, reported beside them (a −11.7 % gain on the structure's channel 1, read as ×0.881,
     left 3.5× χ²'s dof at that channel's one FRF with one hit, which one more factor did not lower); a gain that
     leaves its whole row beyond chance is no factor on that row, and goes (with the sensor offset out of the
-    library, an offset was named a gain that left χ² 9.7× its dof at its channel). Where the data cannot tell the
-    place from others (``also_channels``, ``also_hits``), a fault at any of them is one named where the misfit may
-    still be (with the gauge's mass out of the library, a 20 g gauge at the bracket's every drive point was named a
-    5° tilt of hit 3 that left χ² 167, which leaving out hit 1, 3 or 4 brought within chance)."""
+    library, an offset was named a gain that left χ² 9.7× its dof at its channel). Where the misfit left is gross
+    (reduced χ² above ``GROSS``) and the data cannot tell its place from others (``also_channels``, ``also_hits``),
+    a fault at any of them is one named where the misfit may still be (with the gauge's mass out of the library, a
+    20 g gauge at the bracket's every drive point was named a 5° tilt of hit 3 that left χ² 167, which leaving out
+    hit 1, 3 or 4 brought within chance); a small one that many places could each hold is not (a bracket's 9 mm
+    sensor offset left χ² 2.1 that 7 channels and 4 hits could each take)."""
     if left is None or left.parameters["shape"] not in ("one_channel", "one_hit", "one_frf"):
         return []
-    p = left.parameters  # the place, and any other whose absence leaves the rest within chance too
-    channels, hits = {*left.channels, *p.get("also_channels", ())}, {*p["hits"], *p.get("also_hits", ())}
+    p = left.parameters  # the place, and where the misfit left is gross any other the data cannot tell from it
+    channels, hits = set(left.channels), set(p["hits"])
+    if left.evidence["chi2_reduced"] > GROSS:
+        channels, hits = channels | set(p.get("also_channels", ())), hits | set(p.get("also_hits", ()))
     here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
     row_left = left.parameters["shape"] == "one_channel"
     kept = tuple(e for e in SCALE_EFFECTS if e != "sensor_gain") if row_left else SCALE_EFFECTS
