@@ -152,8 +152,8 @@ def placed(row: dict) -> bool:
     """Whether the outcome's place is the concealed fault's (any of its lines; a gauge's: every drive point, a
     misfit found anywhere on the excitation side, or spread)."""
     kind, effect, channels, hits = row["outcome"]
-    if FAULTS[row["fault"]][1] == "drive":
-        return effect == "excitation_mass_loading" or kind == "unexplained" and not channels
+    if FAULTS[row["fault"]][1] == "drive":  # a finding that names a drive point (or no channel) is on that side
+        return effect == "excitation_mass_loading" or kind == "unexplained" and (bool(hits) or not channels)
     if FAULTS[row["fault"]][1] == "housings":
         return bool(set(row["heavy"]) & set(channels))
     lines = set()
