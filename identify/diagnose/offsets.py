@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.optimize import minimize
 
 from massline.core.information import sensitivities
 from massline.core.lines import Lines
@@ -139,7 +140,8 @@ def read_offset(finding, without):
     Two starts, the line-level fit's offset and the one the body of the other channels (or hits) gives (the
     faulty place left out, so that it does not bend the body), each refined by ``ROUNDS`` of: identify's body on
     every line with the offset applied, then the offset on that body (exact, :func:`on_body`). The one of least
-    identify objective (masslines and transverse prior, :func:`.shapes.objective`) is kept."""
+    identify objective (masslines and transverse prior, :func:`.shapes.objective`) is kept and taken to the
+    profile's minimum (:func:`profile_minimum`)."""
     data, sigma, riding = without.data, without.sigma, without.best.riding
     place = Place("sensor", tuple(finding.channels)) if finding.channels else Place("exciter", (finding.exciter,))
     others = estimated(without, *place.others(data, sigma, riding))
@@ -159,10 +161,31 @@ def read_offset(finding, without):
                 break
     if best is None:
         return finding
-    cost, offset, fit = best
-    std = profiled_std(lambda moved: estimated(without, place.moved(data, moved), sigma, riding), offset, cost,
-                       offset_basis(place.lines(data).directions), fit.chi2)  # fmt: skip
+    fitted = lambda moved: estimated(without, place.moved(data, moved), sigma, riding)  # noqa: E731
+    basis = offset_basis(place.lines(data).directions)
+    cost, offset, fit = profile_minimum(fitted, best, basis)
+    std = profiled_std(fitted, offset, cost, basis, fit.chi2)
     return replace(finding, parameters={**finding.parameters, **offset_parameters(offset, np.linalg.norm(offset), std)})
+
+
+def profile_minimum(fitted, start: tuple, basis: np.ndarray) -> tuple:
+    """(objective, offset, estimate) at the least of identify's objective profiled over the body (``fitted``,
+    as in :func:`profiled_std`), from ``start`` (the alternation's best) along ``basis``: Nelder–Mead over the
+    offset's two or three components. The alternation alone converges slowly where the offset and the channels'
+    transverse readings trade (the structure's 8 mm hit offset: 8.54 mm after four rounds, χ² 8.2)."""
+    cost0, offset0, fit0 = start
+
+    def cost(v: np.ndarray) -> float:
+        fit = fitted(offset0 + basis.T @ v)
+        return np.inf if fit is None else objective(fit)
+
+    simplex = np.vstack([np.zeros(len(basis)), PROFILE * np.eye(len(basis))])
+    found = minimize(cost, np.zeros(len(basis)), method="Nelder-Mead",
+                     options={"initial_simplex": simplex, "xatol": 1e-7, "fatol": 1e-4, "maxfev": 200})  # fmt: skip
+    if not found.fun < cost0:
+        return start
+    offset = offset0 + basis.T @ found.x
+    return float(found.fun), offset, fitted(offset)
 
 
 def profiled_std(fitted, offset: np.ndarray, cost: float, basis: np.ndarray, chi2: float) -> np.ndarray:
