@@ -180,6 +180,24 @@ def test_a_fault_named_where_the_misfit_still_is_explained_only_part_of_it():
     assert at_the_misfit([location, gain, sign, hit], at_frf) == [location]
     assert at_the_misfit([location, hit], at_hit) == [hit]
     assert at_the_misfit([location, hit], spread) == [] and at_the_misfit([location], None) == []
+    tied = {"shape": "one_hit", "hits": [0], "also_hits": [2, 3]}  # hits 1, 3 and 4 each hold the rest
+    assert at_the_misfit([hit], Finding("unexplained", (), None, tied, {"chi2_reduced": 167.0})) == [hit]
+    assert at_the_misfit([hit], Finding("unexplained", (), None, tied, {"chi2_reduced": 2.1})) == []
+
+
+def test_faults_beside_a_misfit_no_place_holds_are_withdrawn():
+    """Beyond chance and spread with the faults undone: every fault named beside it goes (it explained part of a
+    misfit the library does not); within chance (None) or at one place, none."""
+    from massline.identify.diagnose.finding import Finding
+    from massline.identify.diagnose.placed import beside_a_spread_misfit
+
+    tilt = Finding("excitation_direction", (), 2, {}, {})
+    gain = Finding("sensor_gain", (3,), None, {"gain": 0.9}, {})
+    tail = Finding("suspension", (), None, {}, {})  # test physics: its kind from the registry
+    spread = Finding("unexplained", (), None, {"shape": "spread", "hits": [0]}, {"chi2_reduced": 167.0})
+    at_hit = Finding("unexplained", (), None, {"shape": "one_hit", "hits": [2]}, {"chi2_reduced": 5.0})
+    assert beside_a_spread_misfit([tilt, gain, tail], spread) == [tilt, gain]
+    assert beside_a_spread_misfit([tilt, gain], at_hit) == [] and beside_a_spread_misfit([tilt], None) == []
 
 
 def test_a_fault_stays_at_any_place_that_holds_the_whole_misfit():

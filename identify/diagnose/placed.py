@@ -58,7 +58,7 @@ def at_the_misfit(findings: list, left) -> list:
         return []
     p = left.parameters  # the place, and where the misfit left is gross any other the data cannot tell from it
     channels, hits = set(left.channels), set(p["hits"])
-    if left.evidence["chi2_reduced"] > GROSS:
+    if left.evidence.get("chi2_reduced", 0.0) > GROSS:
         channels, hits = channels | set(p.get("also_channels", ())), hits | set(p.get("also_hits", ()))
     here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
     row_left = left.parameters["shape"] == "one_channel"
