@@ -228,15 +228,20 @@ def claim_exports(args: argparse.Namespace, others: dict) -> None:
     claim_outputs([*others.items(), *(("--export", path) for path in args.export)], args.force)
 
 
+def add_sensor_mass_argument(parser: argparse.ArgumentParser, metavar: str, help: str) -> None:
+    """``--sensor-mass KG [LABEL=KG ...]`` (plan, simulate, identify, diagnose): each accelerometer housing's mass,
+    the default first, each token checked as it is read (:meth:`HousingMasses.parse` reads the list)."""
+    parser.add_argument(
+        "--sensor-mass", nargs="+", type=checked(sensor_mass_token), default=[], metavar=metavar, help=help
+    )
+
+
 def add_instrumentation_arguments(parser: argparse.ArgumentParser) -> None:
     """What the instrumentation put on the body: the accelerometers' housings and the force gauges' mass."""
-    parser.add_argument(
-        "--sensor-mass",
-        nargs="+",
-        type=checked(sensor_mass_token),
-        default=[],
-        metavar="KG [NODE=KG ...]",
-        help="mass of each accelerometer housing, kg (a triaxial counts once), then NODE=KG for a point whose "
+    add_sensor_mass_argument(
+        parser,
+        "KG [NODE=KG ...]",
+        "mass of each accelerometer housing, kg (a triaxial counts once), then NODE=KG for a point whose "
         "housing differs (node labels as in the file, e.g. 0.004 1=0.025): the FRFs weigh the body with them on; "
         "the properties reported are the bare body's (default 0)",
     )

@@ -10,12 +10,12 @@ import numpy as np
 from rich.console import Console
 
 from massline.meshargs import add_mesh_arguments, body_from_arguments
-from massline.options import SEED, checked, count, finite, fraction, real
+from massline.options import SEED, add_sensor_mass_argument, count, finite, fraction, real
 from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import EVALUATIONS, cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
-from massline.core.housing_masses import HousingMasses, sensor_mass_token
+from massline.core.housing_masses import HousingMasses
 from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
@@ -129,13 +129,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="keep at least D from every edge, sensors and hits alike (mesh units; default: half the base or tip)",
     )
     _repeatable_six(parser, "--fixed-sensor", LINE, "an accelerometer already mounted, snapped onto the surface")
-    parser.add_argument(
-        "--sensor-mass",
-        nargs="+",
-        type=checked(sensor_mass_token),
-        default=[],
-        metavar="KG [POINT=KG ...]",
-        help="mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for a --fixed-sensor "
+    add_sensor_mass_argument(
+        parser,
+        "KG [POINT=KG ...]",
+        "mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for a --fixed-sensor "
         "point whose housing differs (numbered 1, 2, … in the order given): the plan states how they load the "
         "body and simulate puts them on (default 0)",
     )
@@ -295,7 +292,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     say_fe_model(console, fe)
     doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
     if housings.any:
-        doc["loading"] = loading(body.nominal, result.sensors, housings, doc["predicted_std"])
+        doc["loading"] = loading(body.nominal, carried, housings, doc["predicted_std"])
         console.print(loading_sentence(doc["loading"]))
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)

@@ -20,11 +20,11 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from massline.options import SEED, checked, count, fraction, positive, real
+from massline.options import SEED, add_sensor_mass_argument, count, fraction, positive, real
 from massline.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
-from massline.core.housing_masses import HousingMasses, sensor_mass_token
-from massline.virtual.housing_loading import planned_masses, tokens
+from massline.core.housing_masses import HousingMasses
+from massline.virtual.housing_loading import planned_masses
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs, to_json, write_atomic
 from massline.meshes.loader import MAX_MASS_KG
@@ -83,13 +83,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME=SIZE@WHERE",
         help=effect_help(),
     )
-    parser.add_argument(
-        "--sensor-mass",
-        nargs="+",
-        type=checked(sensor_mass_token),
-        default=[],
-        metavar="KG [POINT=KG ...]",
-        help="mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for an accelerometer "
+    add_sensor_mass_argument(
+        parser,
+        "KG [POINT=KG ...]",
+        "mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for an accelerometer "
         "whose housing differs (the plan's point labels, e.g. 0.008 1=0.025) (default: the plan's --sensor-mass, "
         "else 0)",
     )
@@ -182,11 +179,16 @@ def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
     return table
 
 
+def sensor_masses(args: argparse.Namespace, doc: dict) -> HousingMasses:
+    """The housings the test carries: ``--sensor-mass``'s, else the plan's (plan.json's ``loading``)."""
+    return HousingMasses.parse(args.sensor_mass) if args.sensor_mass else planned_masses(doc)
+
+
 def departures(args: argparse.Namespace, doc: dict) -> str:
     """The options that make this test differ from the one plan.json predicted its band for."""
     given = {
         "--suspension": args.suspension,
-        "--sensor-mass": HousingMasses.parse(args.sensor_mass) != planned_masses(doc),
+        "--sensor-mass": sensor_masses(args, doc) != planned_masses(doc),
         "--gauge-mass": args.gauge_mass,
         "--rigid": args.rigid,
         "--modes": args.modes != MODES,
@@ -199,7 +201,6 @@ def departures(args: argparse.Namespace, doc: dict) -> str:
 def run(args: argparse.Namespace, console: Console) -> None:
     plan_path = Path(args.plan)
     sensors, exciters, doc = read_plan(plan_path)
-    args.sensor_mass = args.sensor_mass or tokens(planned_masses(doc)).split()  # the plan's housings by default
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
     named = {} if args.check else recording_outputs(Path(args.out), len(exciters) if args.split_runs else 0)
@@ -207,7 +208,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters), args.fmax, args.lines)
     body = plan_mesh(doc, plan_path)
-    options = {"suspension": args.suspension, "sensor_mass": HousingMasses.parse(args.sensor_mass), "rigid": args.rigid}
+    housings = sensor_masses(args, doc)
+    options = {"suspension": args.suspension, "sensor_mass": housings, "rigid": args.rigid}
     options |= {"n_modes": args.modes, "fe_size": args.fe_size, "material": args.material}
     with progress_bar(console) as progress:
         setup = set_up_test(doc, sensors, exciters, body, progress=progress, **options)
@@ -231,7 +233,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         console.print(f"wrote {args.plot}")
     if args.check:
         return
-    recording, truth = record_test(setup, effects, acquisition(args), args.seed, plan_path)
+    recording, truth = record_test(setup, effects, acquisition(args, housings), args.seed, plan_path)
     for warning in truth["warnings"]:
         console.print(f"warning: {warning}", markup=False, soft_wrap=True)
     options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
@@ -266,8 +268,9 @@ def gauge_effects(args: argparse.Namespace) -> tuple:
     return (parse_effect(f"excitation_mass_loading={args.gauge_mass!r}@all"),)
 
 
-def acquisition(args: argparse.Namespace) -> Acquisition:
-    """The test as the options set it up; what they leave out is chosen as a lab would (virtual.analyser)."""
+def acquisition(args: argparse.Namespace, housings: HousingMasses) -> Acquisition:
+    """The test as the options set it up, carrying ``housings``; what they leave out is chosen as a lab would
+    (virtual.analyser)."""
     impact = None
     if args.impact is not None:
         impact = ImpactTest(pulse=None if args.impact == AUTO else args.impact * 1e-3, averages=args.averages)
@@ -276,7 +279,7 @@ def acquisition(args: argparse.Namespace) -> Acquisition:
         lines=args.lines,
         noise=Noise(args.noise, args.noise_floor),
         impact=impact,
-        sensor_mass=HousingMasses.parse(args.sensor_mass),
+        sensor_mass=housings,
         dc_line=not args.no_dc,
     )
 

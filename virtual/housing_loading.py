@@ -17,9 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from massline.core.housing_masses import HousingMasses
-from massline.core.lines import Lines
 from massline.core.rigid_body import RigidBody
-from massline.virtual.acquisition import accelerometer_masses, sensor_mass_payload
+from massline.virtual.acquisition import sensor_mass_payload
 from massline.virtual.simulation import loaded_body
 
 
@@ -41,16 +40,16 @@ def tokens(masses: HousingMasses) -> str:
     return " ".join([f"{masses.default:g}"] + [f"{k}={m:g}" for k, m in sorted(masses.by_label.items())])
 
 
-def loading(nominal: RigidBody, sensors: Lines, masses: HousingMasses, predicted_std: dict | None = None) -> dict:
-    """plan.json's ``loading``: the body as tested with ``masses`` on ``sensors``' housings against ``nominal``
-    (the bare body).
+def loading(nominal: RigidBody, housings: tuple, masses: HousingMasses, predicted_std: dict | None = None) -> dict:
+    """plan.json's ``loading``: the body as tested with its ``housings`` (masses (k,) kg and points (k, 3) m, of
+    ``masses`` on the plan's sensors, :func:`massline.virtual.acquisition.accelerometer_masses`) against
+    ``nominal`` (the bare body).
 
     Returns the housings' count and total (kg), the tested body's mass change (kg and %), its CoG's shift (mm),
     its principal moments' changes (%, each in ascending order), the option that gives them to identify, and,
     with the plan's ``predicted_std`` (plan.json's: 1-σ in kg, m and kg·m²), each change in those 1-σ (the CoG's:
     its largest component's).
     """
-    housings = accelerometer_masses(sensors, masses)
     tested = loaded_body(nominal, housings, masses)
     moments = tested.principal_moments - nominal.principal_moments
     out = {

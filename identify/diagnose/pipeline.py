@@ -316,10 +316,10 @@ def diagnose_recording(
         after, findings, withdrawn, left = proven(found)
     loading = None if not measures_a_body(after, nominal) else weighed_loading(after, result, nominal, transverse)
     if loading is not None and not held(loading.finding().effect):  # the mesh's excess, its effect not in the library
-        if loading.side == "excitation":  # located before any hit's fault that absorbs part of it is kept
-            stand_ins = [f for f in found if f.kind == "fault" and f.exciter is not None]
-            found = [f for f in found if not any(f is s for s in stand_ins)]
-            after, findings, withdrawn, _ = proven(found) if stand_ins else (after, findings, withdrawn, None)
+        stand_ins = [f for f in found if f.kind == "fault" and f.exciter is not None]
+        if loading.side == "excitation" and stand_ins:  # located before any hit's fault that absorbs part of it
+            found = [f for f in found if f not in stand_ins]
+            after, findings, withdrawn, _ = proven(found)
             withdrawn = withdrawn + stand_ins
         left, loading = excess_over_mesh(loading, withdrawn), None
     if loading is not None and loading.side == "excitation":  # undone by identify, column by column

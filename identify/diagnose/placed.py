@@ -75,7 +75,7 @@ def beside_a_spread_misfit(findings: list, left) -> list:
     """The faults named while identify's misfit with every fault undone is still beyond chance and held by no one
     channel or hit (``left``: :func:`.unexplained.unexplained` of that, shape ``spread``): a residual with structure
     left. Each fault explained part of a misfit no fault in the library explains, so none is what the data prove
-    (with the gauge's mass out of the library, a 20 g gauge at the bracket's every drive point was named an 8° tilt
+    (with the gauge's mass out of the library, a 20 g gauge at the bracket's every drive point was named a 5° tilt
     of hit 3, χ² 6,714 → 167). Faults the mesh proves (an excess over its mass) stay: the masslines alone cannot
     show them."""
     if left is None or left.parameters["shape"] != "spread":

@@ -101,8 +101,7 @@ def prior_checked(e: Estimate, sigma: np.ndarray) -> tuple[float, int]:
     properties. On the structure's default plan with its tilted hit left out it is 0.05 of its 17 dof; with any
     other hit left out, 6.3–11.2."""
     z = e.residual / sigma
-    readings = float(np.sum(e.transverse**2)) / e.prior**2 if e.prior > 0 else 0.0
-    return float(np.nansum(z**2)) + readings, int(np.isfinite(z).sum()) - e.model.p
+    return float(np.nansum(z**2) + np.sum(tilts(e))), int(np.isfinite(z).sum()) - e.model.p
 
 
 def within_chance(total: float, dof: float) -> bool:
