@@ -13,7 +13,7 @@ from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import as_recording
-from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
 from massline.core.housing_masses import HousingMasses
 from massline.options import (
     BAND_EDGE,
@@ -41,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the band the diagnosis examines, Hz (the plan's; default identify's); the properties are identify's",
     )
     add_nominal_arguments(parser)
+    add_support_arguments(parser)
     add_instrumentation_arguments(parser)
     parser.add_argument(
         "--transverse",
@@ -90,11 +91,13 @@ def run(args: argparse.Namespace, console: Console) -> None:
     claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report})
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
+    setup = support_setup(args, mesh)
     recording = as_recording(args.uff)
     check_exportable(args.export, recording)
+    support = support_model(setup, console)
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         known = {"sensor_mass": HousingMasses.parse(args.sensor_mass), "exciter_mass": args.exciter_mass}
-        found = diagnose_recording(recording, args.band, nominal, args.transverse, **known)
+        found = diagnose_recording(recording, args.band, nominal, args.transverse, **known, support=support)
     zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
     for note in found.notes:
         console.print(f"note: {note}")

@@ -18,7 +18,7 @@ from massline.identify.pipeline import (
 )
 from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
-from massline.meshargs import add_nominal_arguments, nominal_mesh
+from massline.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
 from massline.options import (
     BAND_EDGE,
     MAX_DRAWS,
@@ -73,6 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         f"{100 * RELATIVE_SD:g} %% of KG, a trade-class bench scale near its capacity)",
     )
     add_nominal_arguments(parser)
+    add_support_arguments(parser)
     parser.add_argument(
         "--json",
         metavar="OUT",
@@ -102,11 +103,12 @@ def run(args: argparse.Namespace, console: Console) -> None:
     check_band(args.band)
     sensor_mass, weighed = HousingMasses.parse(args.sensor_mass), args.weighed_mass
     mesh = nominal_mesh(args)
+    setup = support_setup(args, mesh)
     recording = as_recording(args.uff)
     check_exportable(args.export, recording)
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
-        exciter_mass=args.exciter_mass, weighed=weighed,
+        exciter_mass=args.exciter_mass, weighed=weighed, support=support_model(setup, console),
     )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit

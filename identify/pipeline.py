@@ -21,6 +21,7 @@ from massline.identify.repeats import repeat_warnings
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings, file_labels
+from massline.identify.support_fit import SupportFit, taken_off
 from massline.identify.suspicions import (
     band_warnings,
     coherence_warnings,
@@ -178,6 +179,7 @@ class Identification:
     weighed: WeighedMass | None = None
     exciter_mass: float = 0.0
     mains: MainsLines | None = None
+    support_fit: SupportFit | None = None
 
     @property
     def payload(self) -> dict:
@@ -193,6 +195,7 @@ class Identification:
         found["exciter_mass"] = self.exciter_mass
         found["runs"] = list(self.recording.runs)  # the files merged, one per run (empty: one file)
         found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
+        found["support_model"] = None if self.support_fit is None else self.support_fit.payload
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
@@ -262,6 +265,7 @@ def identify_recording(
     sensor_mass: float | HousingMasses = 0.0,
     exciter_mass: float = 0.0,
     weighed: WeighedMass | None = None,
+    support=None,
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
 
@@ -270,9 +274,57 @@ def identify_recording(
     off the body as tested (:mod:`.sensor_mass`);
     ``exciter_mass``: each force gauge's structure-side mass (kg), riding at its drive point while it drives, so
     that each column is fitted on its own body and the one reported is without them (:mod:`.exciter_mass`);
-    ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`).
+    ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`);
+    ``support``: the support and the body's elastic modes as the mesh's FE model gives them
+    (:class:`massline.virtual.support_model.SupportModel`): each FRF's departure from its massline is taken off
+    first (:mod:`.support_fit`), and ``support_fit`` says how.
     """
-    recording, notes = usable_lines(as_recording(recording))
+    options = dict(transverse=transverse, sensor_mass=sensor_mass, exciter_mass=exciter_mass, weighed=weighed)
+    if support is None:
+        return identified(as_recording(recording), band, draws=draws, method=method, **options)
+    corrected, fit = support_corrected(as_recording(recording), band, support, **options)
+    found = identified(corrected, band, draws=draws, method=method, **options)
+    return replace(found, support_fit=fit, notes=found.notes + (CodedWarning("support_modelled", fit.note),))
+
+
+def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:
+    """``recording`` with the ``support`` model's departure from the masslines taken off (:mod:`.support_fit`),
+    begun from identify's body on it as recorded (the mesh's where identify refuses it), and how it was fitted;
+    ``options``: :func:`identified`'s (transverse, sensor_mass, exciter_mass, weighed)."""
+    recorded = support_resonances(recording, support)
+    try:
+        start, plain = identified(recording, band, draws=0, **options).best.body, True
+    except MasslineError:  # a band squeezed past use: begin from the mesh's body
+        start, plain = support.body, False
+    once = lambda r, b: identified(r, b, draws=0, **options)  # noqa: E731
+    corrected, fit = taken_off(recording, support, once, start, recorded, band)
+    return corrected, fit if plain else replace(fit, moved=np.nan)
+
+
+def support_resonances(recording: Recording, support) -> tuple[float, float]:
+    """(top support mode, first elastic mode) the record resolves, Hz (nan: none), read around the band the
+    support model predicts for the mesh's body (:func:`.resonances.bounding_modes`)."""
+    top, elastic = support.resonances(support.body)
+    middle = np.sqrt(top * elastic)
+    usable, _ = usable_lines(recording)
+    planar = is_planar(usable.sensors, usable.exciters)
+    band = Band(middle / 1.2, middle * 1.2, np.nan, np.nan, "support model")
+    return bounding_modes(usable.frequencies, usable.frf, band, usable.sensors, usable.exciters, planar)
+
+
+def identified(
+    recording: Recording,
+    band=None,
+    transverse: float = TRANSVERSE,
+    *,
+    draws: int = 100,
+    method: str = "best",
+    sensor_mass: float | HousingMasses = 0.0,
+    exciter_mass: float = 0.0,
+    weighed: WeighedMass | None = None,
+) -> Identification:
+    """:func:`identify_recording` of ``recording`` as it is (no support model)."""
+    recording, notes = usable_lines(recording)
     recording, mains, aside = without_mains(recording)
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)

@@ -29,6 +29,7 @@ CODES = {
     "nominal_mass_mismatch": "the mass is far from the nominal mesh's (--mesh)",
     "dc_line_set_aside": "the file's lines at or below 0 Hz were set aside",
     "mains_set_aside": "the lines of mains interference (a fundamental and its harmonics) were set aside",
+    "support_modelled": "the support's departure from the masslines, modelled with the mesh's FE model, was taken off",
     "identify_no_band": "identify found no band: the properties are on the given band",
     "identify_refused": "identify refuses the file as it came",
     "frf_missing": "response-reference pairs without an FRF (or lines in the band): estimated from those present",

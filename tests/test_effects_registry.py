@@ -68,6 +68,9 @@ class OneMode:
     def shapes_at(self, points: np.ndarray) -> np.ndarray:
         return np.stack([np.zeros(len(points)), np.zeros(len(points)), 30.0 * points[:, 0] ** 2], axis=1)[None]
 
+    def nearest(self, points: np.ndarray) -> np.ndarray:
+        return points
+
 
 def argument(cls) -> str:
     """A sample ``--effect`` argument: on line 3 (exciter 2), a swap of 3 and 8, at 50 Hz (a frequency effect)."""

@@ -9,11 +9,16 @@ elastic modes (mass-normalised). A point r of the body moves by
 and the model's matrices are
 
     M = blockdiag(M_O, I) + Σ_s m_s Ψ(r_s)ᵀ Ψ(r_s)          (added sensor masses)
-    K = blockdiag(K_g + Σ_a P(a)ᵀ K_a P(a), diag ω_r²)        (support springs, gravity)
-    D = blockdiag(η_s Σ_a P(a)ᵀ K_a P(a), diag η_r ω_r²)      (hysteretic damping)
+    K = blockdiag(K_g, diag ω_r²) + Σ_a Ψ_aᵀ K_a Ψ_a           (gravity, elastic modes, support springs)
+    D = η_s Σ_a Ψ_aᵀ K_a Ψ_a + blockdiag(0, diag η_r ω_r²)      (hysteretic damping)
 
-The supports act on the rigid motion only: a cord is many orders softer than
-the body, and its attachment (a bridle apex) need not lie in the solid.
+A support acts on the elastic modes too: Ψ_a = [P(a), Φ(a')] takes the rigid
+motion at the support point a (a bridle apex may lie off the solid) and the
+elastic motion at a', the point of the solid nearest to it, where the cord or
+the pad passes its force in. Through the body's static flexibility this adds
+−(A_ia K_a R_aj + R_ia K_a A_aj) to every massline (A the rigid accelerance,
+R = Φ Λ⁻¹ Φᵀ the elastic modes' flexibility): of the order of (f_support/f₁)²,
+a per cent for a cord whose bounce is a tenth of the first elastic mode.
 
 so that the accelerance between a sensor (point r_i, reading vector n_i) and a
 force (point r_j, unit direction d_j) is, as the paper's eq. (14) writes it,
@@ -46,7 +51,7 @@ class SuspendedBody:
     ----------
     body : RigidBody
         Nominal rigid-body properties (mass matrix about O).
-    modes : object with ``omega`` (n,) rad/s and ``shapes_at(points) -> (n, p, 3)``, or None
+    modes : object with ``omega`` (n,) rad/s, ``shapes_at(points) -> (n, p, 3)`` and ``nearest(points)``, or None
         Free-free elastic modes, mass-normalised; None for a rigid body.
     suspension : Suspension
         The support; ``Suspension()`` is the free body.
@@ -88,9 +93,18 @@ class SuspendedBody:
         n = 6 + self.n_elastic
         K = np.zeros((n, n))
         for point, k in self.suspension.point_springs(self.loaded):
-            P = point_map(point)
-            K[:6, :6] += P.T @ k @ P
+            psi = self.support_shape(point)
+            K += psi.T @ k @ psi
         return K
+
+    def support_shape(self, point: np.ndarray) -> np.ndarray:
+        """Ψ_a (3, 6 + n) at a support point (m): its rigid motion, and the elastic motion of the solid's point
+        nearest to it (the point itself where it lies on or in the solid)."""
+        rigid = point_map(point)
+        if self.modes is None:
+            return rigid
+        solid = self.modes.nearest(point[None])
+        return np.hstack([rigid, self.modes.shapes_at(solid)[:, 0, :].T])
 
     @cached_property
     def mass_matrix(self) -> np.ndarray:

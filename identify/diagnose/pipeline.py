@@ -42,6 +42,7 @@ from massline.identify.pipeline import (
     identify_recording,
     is_planar,
     properties_payload,
+    support_corrected,
     usable_lines,
     without_mains,
 )
@@ -249,6 +250,7 @@ def diagnose_recording(
     *,
     sensor_mass: float | HousingMasses = 0.0,
     exciter_mass: float = 0.0,
+    support=None,
 ) -> DiagnosisRun:
     """identify, then the diagnosis on ``band`` (lo, hi) Hz or identify's, then identify on the recording
     with the faults undone; ``nominal`` (the mesh's body) lets the accelerometers' mass loading be found.
@@ -263,8 +265,18 @@ def diagnose_recording(
     and the mains interference is a test-physics finding. ``recording`` may be the path of a Universal File, or
     several (one per run: pairs not measured and FRFs on a coarser axis are NaN, and the diagnosis reads each FRF
     on its own lines, :mod:`massline.identify.tails`).
+
+    ``support``: the support and the elastic modes as the mesh's FE model gives them, whose departure from the
+    masslines is taken off the recording first, as identify takes it off (:func:`.support_corrected`); the
+    recording diagnosed is the corrected one.
     """
-    recording, notes = usable_lines(as_recording(recording))
+    recording, modelled = as_recording(recording), ()
+    if support is not None:
+        recording, fit = support_corrected(recording, band, support, transverse=transverse, sensor_mass=sensor_mass,
+                                           exciter_mass=exciter_mass)  # fmt: skip
+        modelled = (CodedWarning("support_modelled", fit.note),)
+    recording, notes = usable_lines(recording)
+    notes = modelled + notes
     cleaned, mains, aside = without_mains(recording) if held(MainsInterference.name) else (recording, None, ())
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)

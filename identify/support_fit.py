@@ -1,0 +1,169 @@
+"""The support's action on the body, modelled with the mesh's FE model and taken off the FRFs (stiff cords, foam).
+
+On a stiff support the band is squeezed between the support's top mode and the first elastic mode, and the
+support acts through the body's static flexibility too: every FRF departs from its massline by δ_ij(f; θ), of
+the order of the massline itself near the band's edges, and a massline fit that reads the departure as tails
+(:mod:`.massline_fit`) is off by per cents. With a model of the support and of the elastic modes (``model``:
+:class:`massline.virtual.support_model.SupportModel`, built from the mesh and the support's description), the
+departure is computed for the body θ identified so far and taken off the recording, and θ is identified again
+on H − δ(θ), until it stops moving: a fixed point, where H − δ(θ) has the masslines of θ.
+
+What the description leaves uncertain is fitted to the record before each step: the springs' stiffness (one
+scale on every spring) by the FRFs around the support's top resonance, the elastic modes' frequencies (one
+scale, √ of Young's modulus over the one assumed) by the FRFs around the first elastic resonance, each where
+the record resolves that resonance (:mod:`.resonances`), else left as described.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from massline.core.masslines import synthesise
+from massline.core.rigid_body import RigidBody
+from massline.identify.resonances import PRECISION
+from massline.uff.recording import Recording
+
+WINDOW = 1.15  # the FRFs within this factor of a resonance's frequency fit its scale
+GRID = 41  # scales tried before the one-dimensional search between the best one's neighbours
+MOVED = 1e-6  # the fixed point: the mass moved less than this fraction and the CoG less than this many m
+STEPS = 15  # identifications at most before the fixed point is declared not reached
+
+
+@dataclass(frozen=True)
+class SupportFit:
+    """How the support model was fitted and what taking its departure off did.
+
+    Attributes
+    ----------
+    stiffness, frequency : float
+        Fitted scales on the support's springs and on the elastic natural frequencies (1: as described).
+    recorded, modelled : (float, float)
+        (top support mode, first elastic mode), Hz: the record's (nan where it resolves none) and the model's.
+    departure : (float, float)
+        The median and the largest |δ_ij(f)| in the band identified, over the masslines' RMS scale.
+    moved : float
+        The mass identified on H − δ over the one identified on H, minus 1.
+    steps : int
+        Identifications run; ``converged`` whether the fixed point was reached within STEPS.
+    """
+
+    stiffness: float
+    frequency: float
+    recorded: tuple
+    modelled: tuple
+    departure: tuple
+    moved: float
+    steps: int
+    converged: bool
+
+    @property
+    def note(self) -> str:
+        top, elastic = self.modelled
+        return (
+            f"the support and the elastic modes modelled with the mesh's FE model (springs × {self.stiffness:.3g}: "
+            f"top support mode {top:.4g} Hz; elastic frequencies × {self.frequency:.3g}: first {elastic:.4g} Hz) "
+            f"moved the FRFs off their masslines by a median {self.departure[0]:.2%} of their scale in the band "
+            f"(up to {self.departure[1]:.3g}×); taken off, the mass moves by {self.moved:+.2%} from identify's on the "
+            "FRFs as recorded" + ("" if self.converged else f" (not settled after {self.steps} steps)")
+        )
+
+    @property
+    def payload(self) -> dict:
+        return {
+            "stiffness_scale": self.stiffness,
+            "frequency_scale": self.frequency,
+            "recorded_hz": [None if np.isnan(f) else f for f in self.recorded],
+            "modelled_hz": list(self.modelled),
+            "departure_median": self.departure[0],
+            "departure_max": self.departure[1],
+            "mass_moved": self.moved,
+            "steps": self.steps,
+            "converged": self.converged,
+        }
+
+
+def misfit(model, body: RigidBody, recording: Recording, near: np.ndarray, scales: tuple) -> float:
+    """Σ |H − A(θ) − δ(θ)|² over the lines ``near`` (a mask) and the pairs present, (m/s²/N)²."""
+    f = recording.frequencies[near]
+    rest = recording.frf[:, :, near] - synthesise(body, recording.sensors, recording.exciters).values[:, :, None]
+    rest = rest - model.departure(body, f, recording.sensors, recording.exciters, *scales)
+    return float(np.nansum(np.abs(rest) ** 2))
+
+
+def fitted_scale(model, body: RigidBody, recording: Recording, scales: list, which: int, recorded: float) -> float:
+    """The scale ``which`` (0: stiffness, 1: frequency) that fits the FRFs within WINDOW of the ``recorded``
+    resonance (Hz), the other as in ``scales``; unchanged where the record resolves none.
+
+    The peak's line places the mode within half a line spacing Δf of it (:mod:`.resonances`), so the scale is
+    searched where it puts the model's resonance within 2 Δf of the peak: on GRID points, then between the best
+    one's neighbours (a lightly damped elastic mode's misfit is a notch a few Δf wide)."""
+    if not np.isfinite(recorded):
+        return scales[which]
+    modelled = model.resonances(body, *scales)[which]
+    power = 2.0 if which == 0 else 1.0  # a spring's mode moves with √k, an elastic one with the scale itself
+    start = np.log(scales[which]) + power * np.log(recorded / modelled)
+    f = recording.frequencies
+    near = (f >= recorded / WINDOW) & (f <= recorded * WINDOW)
+    spacing = float(np.max(np.diff(f[near]))) if near.sum() > 1 else PRECISION * recorded
+
+    def objective(log_scale: float) -> float:
+        trial = list(scales)
+        trial[which] = np.exp(log_scale)
+        return misfit(model, body, recording, near, tuple(trial))
+
+    grid = start + np.linspace(-1.0, 1.0, GRID) * power * 2 * spacing / recorded
+    best = int(np.argmin([objective(x) for x in grid]))
+    bounds = (grid[max(best - 1, 0)], grid[min(best + 1, GRID - 1)])
+    found = minimize_scalar(objective, bounds=bounds, method="bounded", options={"xatol": 1e-7})
+    return float(np.exp(found.x))
+
+
+def departure_scale(delta: np.ndarray, recording: Recording, body: RigidBody, band: tuple) -> tuple[float, float]:
+    """The median and the largest |δ| over the lines of ``band`` (Hz) and the pairs, each over the masslines' RMS
+    scale of ``body``."""
+    f = recording.frequencies
+    inside = (f >= band[0]) & (f <= band[1])
+    scale = np.sqrt(np.mean(synthesise(body, recording.sensors, recording.exciters).values ** 2))
+    if not inside.any():
+        return np.nan, np.nan
+    size = np.abs(delta[:, :, inside]) / scale
+    return float(np.nanmedian(size)), float(np.nanmax(size))
+
+
+def taken_off(
+    recording: Recording, model, identify_once, start: RigidBody, recorded: tuple, band: tuple | None = None
+) -> tuple[Recording, SupportFit]:
+    """``recording`` with the support model's departure taken off at the fixed point, and how it was fitted.
+
+    ``identify_once(recording, band)`` identifies the body as tested (what the masslines weigh: its
+    ``best.body``) on ``band`` (lo, hi) Hz, or on the band it chooses when None; the band chosen on the first
+    corrected recording is kept for the steps after it (a band that moves from step to step moves the fixed point
+    by the noise). ``start``: the body to begin from (identify's on the raw record, or the mesh's);
+    ``recorded``: (top support mode, first elastic mode) the raw record resolves, Hz (nan: none).
+    """
+    body = start
+    scales, converged, steps = [1.0, 1.0], False, 0
+    while steps < STEPS and not converged:
+        for which in (0, 1):
+            scales[which] = fitted_scale(model, body, recording, scales, which, recorded[which])
+        delta = model.departure(body, recording.frequencies, recording.sensors, recording.exciters, *scales)
+        corrected = replace(recording, frf=recording.frf - delta)
+        found, steps = identify_once(corrected, band), steps + 1
+        band = band or (found.band.low, found.band.high)
+        again, reported = found.best.body, (found.band.low, found.band.high)
+        converged = abs(again.mass / body.mass - 1) < MOVED and np.linalg.norm(again.cog - body.cog) < MOVED
+        body = again
+    fit = SupportFit(
+        stiffness=scales[0],
+        frequency=scales[1],
+        recorded=tuple(recorded),
+        modelled=model.resonances(body, *scales),
+        departure=departure_scale(delta, recording, body, reported),
+        moved=body.mass / start.mass - 1,
+        steps=steps,
+        converged=converged,
+    )
+    return corrected, fit
