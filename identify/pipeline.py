@@ -21,7 +21,7 @@ from massline.identify.repeats import repeat_warnings
 from massline.identify.massline_fit import BandFit, fit_band
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.sensor_mass import Housings, file_labels
-from massline.identify.support_fit import SupportFit, taken_off
+from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import (
     band_warnings,
     coherence_warnings,
@@ -291,25 +291,15 @@ def support_corrected(recording: Recording, band, support, **options) -> tuple[R
     """``recording`` with the ``support`` model's departure from the masslines taken off (:mod:`.support_fit`),
     begun from identify's body on it as recorded (the mesh's where identify refuses it), and how it was fitted;
     ``options``: :func:`identified`'s (transverse, sensor_mass, exciter_mass, weighed)."""
-    recorded = support_resonances(recording, support)
     try:
         start, plain = identified(recording, band, draws=0, **options).best.body, True
     except MasslineError:  # a band squeezed past use: begin from the mesh's body
         start, plain = support.body, False
+    usable, _ = usable_lines(recording)
+    recorded = record_resonances(usable, start, is_planar(usable.sensors, usable.exciters))
     once = lambda r, b: identified(r, b, draws=0, **options)  # noqa: E731
     corrected, fit = taken_off(recording, support, once, start, recorded, band)
     return corrected, fit if plain else replace(fit, moved=np.nan)
-
-
-def support_resonances(recording: Recording, support) -> tuple[float, float]:
-    """(top support mode, first elastic mode) the record resolves, Hz (nan: none), read around the band the
-    support model predicts for the mesh's body (:func:`.resonances.bounding_modes`)."""
-    top, elastic = support.resonances(support.body)
-    middle = np.sqrt(top * elastic)
-    usable, _ = usable_lines(recording)
-    planar = is_planar(usable.sensors, usable.exciters)
-    band = Band(middle / 1.2, middle * 1.2, np.nan, np.nan, "support model")
-    return bounding_modes(usable.frequencies, usable.frf, band, usable.sensors, usable.exciters, planar)
 
 
 def identified(

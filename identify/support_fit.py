@@ -23,10 +23,14 @@ from scipy.optimize import minimize_scalar
 
 from massline.core.masslines import synthesise
 from massline.core.rigid_body import RigidBody
-from massline.identify.resonances import PRECISION
+from massline.core.plate import plate_coordinates
+from massline.identify.resonances import PRECISION, RIGID, peaks, resolved, rigid_misfit
 from massline.uff.recording import Recording
 
 WINDOW = 1.15  # the FRFs within this factor of a resonance's frequency fit its scale
+RELIANT = 0.3  # a line whose model departure exceeds this share of its pair's massline scale is left out
+PLACINGS = 10  # steps at most that put the model's resonance on the record's peak before the search
+SPREAD = 0.03  # the support's top mode searched this fraction either side (the record's peak may be a close one's)
 GRID = 41  # scales tried before the one-dimensional search between the best one's neighbours
 MOVED = 1e-6  # the fixed point: the mass moved less than this fraction and the CoG less than this many m
 STEPS = 15  # identifications at most before the fixed point is declared not reached
@@ -66,8 +70,9 @@ class SupportFit:
             f"the support and the elastic modes modelled with the mesh's FE model (springs × {self.stiffness:.3g}: "
             f"top support mode {top:.4g} Hz; elastic frequencies × {self.frequency:.3g}: first {elastic:.4g} Hz) "
             f"moved the FRFs off their masslines by a median {self.departure[0]:.2%} of their scale in the band "
-            f"(up to {self.departure[1]:.3g}×); taken off, the mass moves by {self.moved:+.2%} from identify's on the "
-            "FRFs as recorded" + ("" if self.converged else f" (not settled after {self.steps} steps)")
+            f"(up to {self.departure[1]:.3g}×); taken off, "
+            + ("the FRFs as recorded fit no body" if np.isnan(self.moved) else
+               f"the mass moves by {self.moved:+.2%} from identify's on the FRFs as recorded") + ("" if self.converged else f" (not settled after {self.steps} steps)")
         )
 
     @property
@@ -81,7 +86,7 @@ class SupportFit:
             "departure_max": self.departure[1],
             "mass_moved": self.moved,
             "steps": self.steps,
-            "converged": self.converged,
+            "converged": bool(self.converged),
         }
 
 
@@ -94,19 +99,27 @@ def misfit(model, body: RigidBody, recording: Recording, near: np.ndarray, scale
 
 
 def fitted_scale(model, body: RigidBody, recording: Recording, scales: list, which: int, recorded: float) -> float:
-    """The scale ``which`` (0: stiffness, 1: frequency) that fits the FRFs within WINDOW of the ``recorded``
-    resonance (Hz), the other as in ``scales``; unchanged where the record resolves none.
+    """The scale ``which`` (0: stiffness, 1: frequency) that fits the FRFs up to WINDOW above the ``recorded``
+    top support mode (Hz: every support mode, and below them the springs alone, whatever the body), or within
+    WINDOW of the first elastic one, the other scale as in ``scales``; unchanged where the record resolves none.
 
     The peak's line places the mode within half a line spacing Δf of it (:mod:`.resonances`), so the scale is
-    searched where it puts the model's resonance within 2 Δf of the peak: on GRID points, then between the best
-    one's neighbours (a lightly damped elastic mode's misfit is a notch a few Δf wide)."""
+    searched where it puts the model's resonance within 2 Δf of the peak (and the support's top mode within
+    SPREAD: two close modes make one peak): on GRID points, then between the best one's neighbours (a lightly
+    damped elastic mode's misfit is a notch a few Δf wide)."""
     if not np.isfinite(recorded):
         return scales[which]
-    modelled = model.resonances(body, *scales)[which]
     power = 2.0 if which == 0 else 1.0  # a spring's mode moves with √k, an elastic one with the scale itself
-    start = np.log(scales[which]) + power * np.log(recorded / modelled)
+    trial = list(scales)
+    for _ in range(PLACINGS):  # gravity's share of the support's stiffness does not scale: a few steps
+        modes = model.resonances(body, *trial)
+        modelled = modes[1] if which else modes[0][-1]
+        trial[which] *= (recorded / modelled) ** power
+        if abs(np.log(recorded / modelled)) < 1e-5:
+            break
+    start = np.log(trial[which])
     f = recording.frequencies
-    near = (f >= recorded / WINDOW) & (f <= recorded * WINDOW)
+    near = (f >= (recorded / WINDOW if which else 0.0)) & (f <= recorded * WINDOW)
     spacing = float(np.max(np.diff(f[near]))) if near.sum() > 1 else PRECISION * recorded
 
     def objective(log_scale: float) -> float:
@@ -114,7 +127,7 @@ def fitted_scale(model, body: RigidBody, recording: Recording, scales: list, whi
         trial[which] = np.exp(log_scale)
         return misfit(model, body, recording, near, tuple(trial))
 
-    grid = start + np.linspace(-1.0, 1.0, GRID) * power * 2 * spacing / recorded
+    grid = start + np.linspace(-1.0, 1.0, GRID) * power * max(2 * spacing / recorded, 0.0 if which else SPREAD)
     best = int(np.argmin([objective(x) for x in grid]))
     bounds = (grid[max(best - 1, 0)], grid[min(best + 1, GRID - 1)])
     found = minimize_scalar(objective, bounds=bounds, method="bounded", options={"xatol": 1e-7})
@@ -133,34 +146,80 @@ def departure_scale(delta: np.ndarray, recording: Recording, body: RigidBody, ba
     return float(np.nanmedian(size)), float(np.nanmax(size))
 
 
+def record_resonances(recording: Recording, body: RigidBody, planar: bool) -> tuple[float, float]:
+    """(top support mode, first elastic mode) of the whole record, Hz (nan where it resolves none).
+
+    Its peaks that stand out of the masslines of ``body`` (:func:`.resonances.peaks`); a peak whose shape one
+    rigid motion explains at the sensors and the hits is a support mode (:func:`.resonances.rigid_misfit`), the
+    first other one above them the first elastic mode. On a stiff support the support's modes need not lie below
+    any band a guess would give: the record as a whole is read."""
+    f, frf = recording.frequencies, recording.frf
+    S, E = (plate_coordinates(lines) if planar else lines.coordinates for lines in (recording.sensors,
+                                                                                    recording.exciters))  # fmt: skip
+    level = np.linalg.norm(synthesise(body, recording.sensors, recording.exciters).values)
+    found = [k for k in peaks(f, frf, level) if f[k] > 0]
+    rigid = [k for k in found if rigid_misfit(frf[:, :, k], S, E) < RIGID]
+    elastic = [k for k in found if k not in rigid and (not rigid or k > max(rigid))]
+    top = float(f[max(rigid)]) if rigid and resolved(f, max(rigid)) else np.nan
+    first = float(f[elastic[0]]) if elastic and resolved(f, elastic[0]) else np.nan
+    return top, first
+
+
+def top_and_elastic(resonances: tuple) -> tuple[float, float]:
+    """(top support mode, first elastic mode), Hz, of the model's ``resonances`` (:meth:`SupportModel.resonances`)."""
+    modes, elastic = resonances
+    return float(modes[-1]), float(elastic)
+
+
+def model_reliant(springs: np.ndarray, masslines: np.ndarray) -> np.ndarray:
+    """(n_s, n_e, n_f) bool: the lines of each FRF where the rigid body's departure on the support's springs
+    (``springs``, the model without elastic modes) exceeds RELIANT of its pair's scale (the root of its row's and
+    its column's RMS massline): there the FRF follows the springs more than the body's mass (below a stiff bounce
+    it is the springs' whatever the mass), and what is left once the departure is taken off would be the model's
+    own massline: identified there, any body would be a fixed point. An elastic mode's tail adds to the massline
+    instead of taking its place, and its lines stay."""
+    rows = np.sqrt(np.mean(masslines**2, axis=1))
+    columns = np.sqrt(np.mean(masslines**2, axis=0))
+    scale = np.sqrt(np.outer(rows, columns))
+    return np.abs(springs) > RELIANT * scale[:, :, None]
+
+
 def taken_off(
     recording: Recording, model, identify_once, start: RigidBody, recorded: tuple, band: tuple | None = None
 ) -> tuple[Recording, SupportFit]:
-    """``recording`` with the support model's departure taken off at the fixed point, and how it was fitted.
+    """``recording`` with the support model's departure taken off at the fixed point, and the lines that rely on
+    the model more than on the body left out (NaN: :func:`model_reliant`), and how it was fitted.
 
     ``identify_once(recording, band)`` identifies the body as tested (what the masslines weigh: its
     ``best.body``) on ``band`` (lo, hi) Hz, or on the band it chooses when None; the band chosen on the first
     corrected recording is kept for the steps after it (a band that moves from step to step moves the fixed point
     by the noise). ``start``: the body to begin from (identify's on the raw record, or the mesh's);
-    ``recorded``: (top support mode, first elastic mode) the raw record resolves, Hz (nan: none).
+    ``recorded``: (top support mode, first elastic mode) the raw record resolves, Hz (nan: none). The scales are
+    fitted on the whole record (its resonances), the body on the lines kept.
     """
-    body = start
+    body, reliant = start, None
     scales, converged, steps = [1.0, 1.0], False, 0
     while steps < STEPS and not converged:
         for which in (0, 1):
             scales[which] = fitted_scale(model, body, recording, scales, which, recorded[which])
         delta = model.departure(body, recording.frequencies, recording.sensors, recording.exciters, *scales)
-        corrected = replace(recording, frf=recording.frf - delta)
+        if reliant is None:  # fixed at the first step: lines that come and go move the fixed point by the noise
+            springs = model.departure(body, recording.frequencies, recording.sensors, recording.exciters, *scales,
+                                      elastic=False)  # fmt: skip
+            reliant = model_reliant(springs, synthesise(body, recording.sensors, recording.exciters).values)
+        corrected = replace(recording, frf=np.where(reliant, np.nan, recording.frf - delta),
+                            coherence=None if recording.coherence is None else
+                            np.where(reliant, np.nan, recording.coherence))  # fmt: skip
         found, steps = identify_once(corrected, band), steps + 1
         band = band or (found.band.low, found.band.high)
         again, reported = found.best.body, (found.band.low, found.band.high)
-        converged = abs(again.mass / body.mass - 1) < MOVED and np.linalg.norm(again.cog - body.cog) < MOVED
+        converged = bool(abs(again.mass / body.mass - 1) < MOVED and np.linalg.norm(again.cog - body.cog) < MOVED)
         body = again
     fit = SupportFit(
         stiffness=scales[0],
         frequency=scales[1],
         recorded=tuple(recorded),
-        modelled=model.resonances(body, *scales),
+        modelled=top_and_elastic(model.resonances(body, *scales)),
         departure=departure_scale(delta, recording, body, reported),
         moved=body.mass / start.mass - 1,
         steps=steps,

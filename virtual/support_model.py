@@ -72,16 +72,18 @@ class SupportModel:
     suspension: Suspension
     body: RigidBody
 
-    def body_on_it(self, body: RigidBody, stiffness: float = 1.0, frequency: float = 1.0) -> SuspendedBody:
+    def body_on_it(
+        self, body: RigidBody, stiffness: float = 1.0, frequency: float = 1.0, elastic: bool = True
+    ) -> SuspendedBody:
         """``body`` (the body as tested) hung level on the support, springs × ``stiffness``, the elastic modes'
-        frequencies × ``frequency``."""
+        frequencies × ``frequency`` (no elastic modes unless ``elastic``)."""
         support = hung_over(stiffer(self.suspension, stiffness), body.cog)
-        return SuspendedBody(body, ScaledModes(self.modes, frequency), support)
+        return SuspendedBody(body, ScaledModes(self.modes, frequency) if elastic else None, support)
 
-    def resonances(self, body: RigidBody, stiffness: float = 1.0, frequency: float = 1.0) -> tuple[float, float]:
-        """(top support mode, first elastic mode) of ``body`` on it, Hz."""
+    def resonances(self, body: RigidBody, stiffness: float = 1.0, frequency: float = 1.0) -> tuple[np.ndarray, float]:
+        """(the six support modes (6,), the first elastic mode) of ``body`` on it, Hz."""
         f = self.body_on_it(body, stiffness, frequency).natural_frequencies
-        return float(f[5]), float(f[6])
+        return f[:6], float(f[6])
 
     def departure(
         self,
@@ -91,16 +93,18 @@ class SupportModel:
         exciters: Lines,
         stiffness: float = 1.0,
         frequency: float = 1.0,
+        elastic: bool = True,
     ) -> np.ndarray:
         """δ_ij(f) = H_ij(f) − A_ij, (m/s²)/N, shape (n_s, n_e, n_f): how far each FRF of ``body`` on the support
-        lies from its massline at ``frequencies`` (Hz; 0 at a 0 Hz line, which holds no massline)."""
+        lies from its massline at ``frequencies`` (Hz; 0 at a 0 Hz line, which holds no massline); with
+        ``elastic`` False, the rigid body's on the support alone."""
         f = np.asarray(frequencies, dtype=float)
         positive = f > 0
         delta = np.zeros((len(sensors.points), len(exciters.points), len(f)), dtype=complex)
         if not positive.any():
             return delta
         lines = (sensors.points, sensors.directions, exciters.points, exciters.directions)
-        held = self.body_on_it(body, stiffness, frequency).accelerance(f[positive], *lines)
+        held = self.body_on_it(body, stiffness, frequency, elastic).accelerance(f[positive], *lines)
         massline = SuspendedBody(body).accelerance(f[positive][:1], *lines)
         delta[:, :, positive] = held - massline
         return delta
