@@ -284,22 +284,24 @@ def identify_recording(
         return identified(as_recording(recording), band, draws=draws, method=method, **options)
     corrected, fit = support_corrected(as_recording(recording), band, support, **options)
     found = identified(corrected, band, draws=draws, method=method, **options)
-    return replace(found, support_fit=fit, notes=found.notes + (CodedWarning("support_modelled", fit.note),))
+    notes = found.notes + (CodedWarning("support_modelled", fit.note),)
+    return replace(found, support_fit=fit, notes=notes, warnings=found.warnings + fit.warnings)
 
 
 def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:
     """``recording`` with the ``support`` model's departure from the masslines taken off (:mod:`.support_fit`),
-    begun from identify's body on it as recorded (the mesh's where identify refuses it), and how it was fitted;
-    ``options``: :func:`identified`'s (transverse, sensor_mass, exciter_mass, weighed)."""
+    begun from the mesh's body (identify's on a stiff support's record can be far off, and the support's modes
+    placed with it farther), and how it was fitted, with how far the mass moved from identify's on the record as
+    it came (nan where identify refuses it); ``options``: :func:`identified`'s (transverse, sensor_mass,
+    exciter_mass, weighed)."""
     try:
-        start, plain = identified(recording, band, draws=0, **options).best.body, True
-    except MasslineError:  # a band squeezed past use: begin from the mesh's body
-        start, plain = support.body, False
+        plain = identified(recording, band, draws=0, **options).best.body
+    except MasslineError:  # a band squeezed past use
+        plain = None
     usable, _ = usable_lines(recording)
-    recorded = record_resonances(usable, start, is_planar(usable.sensors, usable.exciters))
+    recorded = record_resonances(usable, support.body, is_planar(usable.sensors, usable.exciters))
     once = lambda r, b: identified(r, b, draws=0, **options)  # noqa: E731
-    corrected, fit = taken_off(recording, support, once, start, recorded, band)
-    return corrected, fit if plain else replace(fit, moved=np.nan)
+    return taken_off(recording, support, once, support.body, recorded, band, plain)
 
 
 def identified(

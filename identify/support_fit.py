@@ -24,15 +24,19 @@ from scipy.optimize import minimize_scalar
 from massline.core.masslines import synthesise
 from massline.core.rigid_body import RigidBody
 from massline.core.plate import plate_coordinates
+from massline.identify.warning_codes import CodedWarning
 from massline.identify.resonances import PRECISION, RIGID, peaks, resolved, rigid_misfit
 from massline.uff.recording import Recording
 
+RELIANCE = 0.05  # a median departure in the band beyond this share of the masslines: the properties rest on the model
 WINDOW = 1.15  # the FRFs within this factor of a resonance's frequency fit its scale
+ABOVE = 1.5  # lines this factor above the record's top support mode weigh the body in every FRF: none left out
 RELIANT = 0.3  # a line whose model departure exceeds this share of its pair's massline scale is left out
 PLACINGS = 10  # steps at most that put the model's resonance on the record's peak before the search
 SPREAD = 0.03  # the support's top mode searched this fraction either side (the record's peak may be a close one's)
 GRID = 41  # scales tried before the one-dimensional search between the best one's neighbours
-MOVED = 1e-6  # the fixed point: the mass moved less than this fraction and the CoG less than this many m
+MOVED = 0.01  # the fixed point: a step moved the mass and each CoG coordinate by less than this many of their 1-σ
+FLOOR = 1e-5  # … a 1-σ taken no smaller than this fraction of the mass and this many m (a noiseless record's is 0)
 STEPS = 15  # identifications at most before the fixed point is declared not reached
 
 
@@ -74,6 +78,20 @@ class SupportFit:
             + ("the FRFs as recorded fit no body" if np.isnan(self.moved) else
                f"the mass moves by {self.moved:+.2%} from identify's on the FRFs as recorded") + ("" if self.converged else f" (not settled after {self.steps} steps)")
         )
+
+    @property
+    def warnings(self) -> tuple:
+        """Where the properties rest on the model: its departure from the masslines in the band is beyond RELIANCE
+        (its median), or the fixed point was not reached."""
+        said = []
+        if self.departure[0] > RELIANCE or not self.converged:
+            said.append(CodedWarning("support_model_reliance", (
+                f"the support and the elastic modes move the band's FRFs off their masslines by a median "
+                f"{self.departure[0]:.1%}: the properties rest on the support model taken off (springs and elastic "
+                "frequencies fitted to the record's resonances), whose own error the ± does not hold"
+                + ("" if self.converged else f", and its fixed point was not reached in {self.steps} steps")
+                + "; a softer support opens a band that needs none")))  # fmt: skip
+        return tuple(said)
 
     @property
     def payload(self) -> dict:
@@ -185,7 +203,13 @@ def model_reliant(springs: np.ndarray, masslines: np.ndarray) -> np.ndarray:
 
 
 def taken_off(
-    recording: Recording, model, identify_once, start: RigidBody, recorded: tuple, band: tuple | None = None
+    recording: Recording,
+    model,
+    identify_once,
+    start: RigidBody,
+    recorded: tuple,
+    band: tuple | None = None,
+    plain: RigidBody | None = None,
 ) -> tuple[Recording, SupportFit]:
     """``recording`` with the support model's departure taken off at the fixed point, and the lines that rely on
     the model more than on the body left out (NaN: :func:`model_reliant`), and how it was fitted.
@@ -193,12 +217,15 @@ def taken_off(
     ``identify_once(recording, band)`` identifies the body as tested (what the masslines weigh: its
     ``best.body``) on ``band`` (lo, hi) Hz, or on the band it chooses when None; the band chosen on the first
     corrected recording is kept for the steps after it (a band that moves from step to step moves the fixed point
-    by the noise). ``start``: the body to begin from (identify's on the raw record, or the mesh's);
+    by the noise). ``start``: the body to begin from (the mesh's); ``plain``: identify's on the record as it came
+    (None where it refuses it), which ``moved`` is from;
     ``recorded``: (top support mode, first elastic mode) the raw record resolves, Hz (nan: none). The scales are
-    fitted on the whole record (its resonances), the body on the lines kept.
+    fitted on the whole record (its resonances), the body on the lines kept. Each step moves the body to the one
+    identified, or a share of the way once a step moved it more than the one before (halved each time: near the
+    support's modes the correction can move more than the body, and the plain map overshoots).
     """
     body, reliant = start, None
-    scales, converged, steps = [1.0, 1.0], False, 0
+    scales, converged, steps, relaxation, last = [1.0, 1.0], False, 0, 1.0, np.inf
     while steps < STEPS and not converged:
         for which in (0, 1):
             scales[which] = fitted_scale(model, body, recording, scales, which, recorded[which])
@@ -207,21 +234,27 @@ def taken_off(
             springs = model.departure(body, recording.frequencies, recording.sensors, recording.exciters, *scales,
                                       elastic=False)  # fmt: skip
             reliant = model_reliant(springs, synthesise(body, recording.sensors, recording.exciters).values)
+            reliant &= (recording.frequencies < ABOVE * recorded[0])[None, None, :] if np.isfinite(recorded[0]) else False
         corrected = replace(recording, frf=np.where(reliant, np.nan, recording.frf - delta),
                             coherence=None if recording.coherence is None else
                             np.where(reliant, np.nan, recording.coherence))  # fmt: skip
         found, steps = identify_once(corrected, band), steps + 1
         band = band or (found.band.low, found.band.high)
         again, reported = found.best.body, (found.band.low, found.band.high)
-        converged = bool(abs(again.mass / body.mass - 1) < MOVED and np.linalg.norm(again.cog - body.cog) < MOVED)
-        body = again
+        sigma = np.maximum(np.concatenate([[found.std["mass"]], found.std["cog"]]), [FLOOR * body.mass, *[FLOOR] * 3])
+        moved = np.abs(np.concatenate([[again.mass - body.mass], again.cog - body.cog]))
+        converged = bool(np.all(moved <= MOVED * sigma))
+        if np.max(moved / sigma) > last:  # the steps grow: a map that overshoots, damped
+            relaxation /= 2
+        last = np.max(moved / sigma)
+        body = RigidBody.from_theta(body.theta + relaxation * (again.theta - body.theta))
     fit = SupportFit(
         stiffness=scales[0],
         frequency=scales[1],
         recorded=tuple(recorded),
         modelled=top_and_elastic(model.resonances(body, *scales)),
         departure=departure_scale(delta, recording, body, reported),
-        moved=body.mass / start.mass - 1,
+        moved=np.nan if plain is None else body.mass / plain.mass - 1,
         steps=steps,
         converged=converged,
     )

@@ -62,12 +62,16 @@ NUMBERS = {
         "--mass": ["-1", "0", NAN, INF],
         "--weighed-mass": ["-1", "0", NAN, INF, "4±-1", "4±nan"],
         "--band": ["-1 40", "0 40", "nan 40", "5 inf", "40 5", "5 1e12"],
+        "--suspension": ["cord:k=-1", "cord:k=nan", "cord:L=0", "foam:k=inf", "foam:shear=-1", "cord:at=nan;0;0"],
+        "--material": ["0,0.3", "nan,0.3", "70e9,0.6"],
     },
     "diagnose": {
         "--transverse": ["-1", NAN, INF, "5"],
         "--band": ["-1 40", "nan 40", "40 5", "5 inf"],
         "--density": ["-1", "0", NAN, INF],
         "--mass": ["-1", "0", NAN, INF],
+        "--suspension": ["cord:k=0", "foam:loss=-1"],
+        "--material": ["1e300,0.3"],
     },
     "demo": {"--seed": ["-1", NAN, INF, "1e30"]},
 }
@@ -83,6 +87,9 @@ MEANINGS = [
     ("simulate", ["--sensor-mass", "5"], "--sensor-mass", "as much as the body"),
     ("simulate", ["--fe-size", "1e-5"], "--fe-size", "degrees of freedom"),
     ("identify", ["--mesh", "structure", "--density", "nan"], "--density", "value"),
+    ("identify", ["--suspension", "cord"], "--suspension", "needs --mesh"),
+    ("diagnose", ["--suspension", "foam"], "--suspension", "needs --mesh"),
+    ("identify", ["--mesh", "structure", "--material", "steel"], "--material", "give --suspension"),
 ]
 
 
@@ -143,9 +150,9 @@ def numeric_cases():
 @pytest.mark.parametrize("command,option,values", list(numeric_cases()))
 def test_an_invalid_number_is_refused_with_its_range(command, option, values, inputs, tmp_path, capsys):
     argv = base(command, inputs, tmp_path)
-    if command in ("identify", "diagnose") and option in ("--density", "--mass"):
-        argv += ["--mesh", "structure"]
-    if option == "--material":
+    if command in ("identify", "diagnose") and option in ("--density", "--mass", "--suspension", "--material"):
+        argv += ["--mesh", "structure"] + (["--suspension", "cord"] if option == "--material" else [])
+    if option == "--material" and command == "simulate":
         argv.remove("--rigid")  # a rigid body's test reads no material
     line = refused([*argv, option, *values], capsys, tmp_path, inputs["folder"])
     assert option in line and any(sign in line for sign in RANGE), line

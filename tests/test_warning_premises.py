@@ -48,6 +48,8 @@ from massline.uff.reader import read_uff
 from massline.uff.writer import write_runs, write_uff
 from massline.virtual.acquisition import Acquisition, run
 from massline.virtual.measurement import ImpactTest, Noise
+from massline.virtual.planned_test import plan_fe_model
+from massline.virtual.support_model import SupportModel
 from massline.virtual.suspension import Cord, Foam, Suspension
 
 GIVEN = {"given_band_near_support", "given_band_near_elastic"}
@@ -314,6 +316,26 @@ def test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some
     assert "repeat_disagrees" in codes_of(identify_recording([tmp_path / "a.uff", tmp_path / "c.uff"], BAND).warnings)
 
 
+def test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band():
+    """No support model: no "support_modelled" note. The structure on a soft cord, its model given: the note, and
+    no "support_model_reliance" (its FRFs leave their masslines by a per mille in the band); the check itself
+    warns where the median departure is beyond 5 % or the fixed point was not reached."""
+    mesh = bundled("structure")
+    body, modes = mesh.nominal, plan_fe_model(mesh, "structure").modes
+    soft = Suspension.parse("cord", mesh.mesh, body)
+    quiet = Acquisition(noise=Noise(0.005, 0.0), dc_line=False)
+    recording, _ = run(body, structure_sensors(), structure_exciters(), modes, soft, (), quiet, 1)
+    plain = identify_recording(recording, draws=0)
+    assert "support_modelled" not in codes_of(plain.notes) and not plain.support_fit
+    modelled = identify_recording(recording, draws=0, support=SupportModel(modes, soft, body))
+    assert "support_modelled" in codes_of(modelled.notes)
+    assert "support_model_reliance" not in codes_of(modelled.warnings), modelled.support_fit.departure
+    fit = modelled.support_fit
+    assert not replace(fit, departure=(0.049, 3.0)).warnings
+    assert codes_of(replace(fit, departure=(0.2, 3.0)).warnings) == {"support_model_reliance"}
+    assert codes_of(replace(fit, converged=False).warnings) == {"support_model_reliance"}
+
+
 PREMISES = {  # each code, and the test above that checks it silent on a false premise and raised on a true one
     "no_redundancy": test_the_fit_statistic_warns_only_when_it_has_something_to_say,
     "model_misfit": test_the_fit_statistic_warns_only_when_it_has_something_to_say,
@@ -338,6 +360,8 @@ PREMISES = {  # each code, and the test above that checks it silent on a false p
     "identify_refused": test_diagnose_says_identify_refused_only_when_it_did,
     "frf_missing": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
     "repeat_disagrees": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
+    "support_modelled": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band,
+    "support_model_reliance": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band,
 }
 
 
