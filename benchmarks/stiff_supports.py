@@ -58,7 +58,8 @@ def errors(found: dict, true: dict) -> dict:
     z = [
         abs(found["mass"] - true["mass"]) / std["mass"],
         *(np.abs(np.subtract(found["cog"], true["cog"])) / np.asarray(std["cog"])),
-        *(np.abs(np.subtract(found["principal_moments"], true["principal_moments"])) / np.asarray(std["principal_moments"])),
+        *(np.abs(np.subtract(found["principal_moments"], true["principal_moments"]))
+          / np.asarray(std["principal_moments"])),
     ]
     bounds = max(mass / BOUNDS["mass"], cog.max() / BOUNDS["cog"], moments.max() / BOUNDS["moments"])
     return {"bounds": bounds, "z": max(z), "warned": bool(found["warnings"])}

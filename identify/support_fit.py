@@ -76,7 +76,8 @@ class SupportFit:
             f"moved the FRFs off their masslines by a median {self.departure[0]:.2%} of their scale in the band "
             f"(up to {self.departure[1]:.3g}×); taken off, "
             + ("the FRFs as recorded fit no body" if np.isnan(self.moved) else
-               f"the mass moves by {self.moved:+.2%} from identify's on the FRFs as recorded") + ("" if self.converged else f" (not settled after {self.steps} steps)")
+               f"the mass moves by {self.moved:+.2%} from identify's on the FRFs as recorded")
+            + ("" if self.converged else f" (not settled after {self.steps} steps)")
         )
 
     @property
@@ -234,7 +235,8 @@ def taken_off(
             springs = model.departure(body, recording.frequencies, recording.sensors, recording.exciters, *scales,
                                       elastic=False)  # fmt: skip
             reliant = model_reliant(springs, synthesise(body, recording.sensors, recording.exciters).values)
-            reliant &= (recording.frequencies < ABOVE * recorded[0])[None, None, :] if np.isfinite(recorded[0]) else False
+            if np.isfinite(recorded[0]):
+                reliant &= (recording.frequencies < ABOVE * recorded[0])[None, None, :]
         corrected = replace(recording, frf=np.where(reliant, np.nan, recording.frf - delta),
                             coherence=None if recording.coherence is None else
                             np.where(reliant, np.nan, recording.coherence))  # fmt: skip

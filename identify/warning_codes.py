@@ -30,8 +30,8 @@ CODES = {
     "dc_line_set_aside": "the file's lines at or below 0 Hz were set aside",
     "mains_set_aside": "the lines of mains interference (a fundamental and its harmonics) were set aside",
     "support_modelled": "the support's departure from the masslines, modelled with the mesh's FE model, was taken off",
-    "support_model_reliance": "the band's FRFs depart from their masslines by more than 5 %: the properties rest on the "
-    "support model",
+    "support_model_reliance": "the band's FRFs depart from their masslines by more than 5 %: the properties rest on "
+    "the support model",
     "identify_no_band": "identify found no band: the properties are on the given band",
     "identify_refused": "identify refuses the file as it came",
     "frf_missing": "response-reference pairs without an FRF (or lines in the band): estimated from those present",

@@ -316,7 +316,7 @@ def test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some
     assert "repeat_disagrees" in codes_of(identify_recording([tmp_path / "a.uff", tmp_path / "c.uff"], BAND).warnings)
 
 
-def test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band():
+def test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves():
     """No support model: no "support_modelled" note. The structure on a soft cord, its model given: the note, and
     no "support_model_reliance" (its FRFs leave their masslines by a per mille in the band); the check itself
     warns where the median departure is beyond 5 % or the fixed point was not reached."""
@@ -360,8 +360,8 @@ PREMISES = {  # each code, and the test above that checks it silent on a false p
     "identify_refused": test_diagnose_says_identify_refused_only_when_it_did,
     "frf_missing": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
     "repeat_disagrees": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
-    "support_modelled": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band,
-    "support_model_reliance": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves_the_band,
+    "support_modelled": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves,
+    "support_model_reliance": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves,
 }
 
 

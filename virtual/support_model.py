@@ -126,7 +126,8 @@ class SupportSetup:
         default the bundled body's, else the metal closest in density); None for 'none' (a free body)."""
         suspension = Suspension.parse(spec, body.mesh, body.nominal)
         chosen = body_material(body, mesh_name, material)
-        return None if suspension.is_free else cls(body, suspension, chosen, assumed_material(body, mesh_name, material))
+        assumed = assumed_material(body, mesh_name, material)
+        return None if suspension.is_free else cls(body, suspension, chosen, assumed)
 
     def model(self, progress=None) -> tuple[SupportModel, FEModel]:
         """The support model and the FE model whose modes it holds (from the cache, or solved with ``progress``)."""
