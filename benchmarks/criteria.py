@@ -39,7 +39,7 @@ def main() -> None:
         e = planned(name, "E", folder / f"{name}-E")
         gain = e["smallest_eigenvalue"] / d["smallest_eigenvalue"]
         print(f"{name:<10} {d['smallest_eigenvalue']:10.4g} {e['smallest_eigenvalue']:10.4g} {gain:6.2f}× "
-              f"{100 * e['efficiency_lower_bound']:14.0f} % {d['log_det']:10.2f} {e['log_det']:10.2f}")  # fmt: skip
+              f"{100 * e['efficiency_lower_bound']:14.0f} % {d['log_det']:10.1f} {e['log_det']:10.1f}")  # fmt: skip
 
 
 if __name__ == "__main__":

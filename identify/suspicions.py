@@ -197,9 +197,19 @@ TRUNCATION = 2.0  # a truncation shift beyond this many statistical 1-σ is flag
 
 def truncation_warnings(shift: np.ndarray, statistical: dict, body) -> list[CodedWarning]:
     """The tails' truncation (``shift``: 25 property entries, uncertainty.truncation_std) against the
-    statistical 1-σ: flagged where it exceeds TRUNCATION of them for the mass or a principal moment."""
+    statistical 1-σ: flagged where it exceeds TRUNCATION of them for the mass or a principal moment, or where it
+    is infinite (the masslines moved by it fit no body: the ± is unbounded)."""
     mass = (shift[0], statistical["mass"], body.mass)
     moments = [(shift[13 + k], statistical["principal_moments"][k], body.principal_moments[k]) for k in range(3)]
+    if np.isinf(shift).any():
+        return [
+            CodedWarning(
+                "tail_truncation",
+                "the band is too close to the resonances for its tails: moved by their next term, the masslines fit "
+                "no body at all, and the ± is unbounded (∞); a softer support or a stiffer fixture opens a band "
+                "clear of both (with --mesh, --suspension takes a stiff support's departure off)",
+            )
+        ]
     worst = max(
         [
             (d / s, name, d / v)

@@ -114,6 +114,8 @@ def test_the_tails_truncation_is_held_to_what_fitting_the_next_term_shows():
     shift[14] = 3e-3 * body.principal_moments[1]
     [warning] = truncation_warnings(shift, statistical, body)
     assert warning.code == "tail_truncation" and "J2 by 0.3%, 3×" in warning.text
+    [unbounded] = truncation_warnings(np.full(25, np.inf), statistical, body)  # the moved masslines fit no body
+    assert unbounded.code == "tail_truncation" and "unbounded (∞)" in unbounded.text
 
 
 def test_a_given_band_is_named_only_across_or_near_the_records_resonances(structure, cord):

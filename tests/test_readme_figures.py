@@ -1,0 +1,48 @@
+"""The README's deterministic planner figures are what the benchmarks it names print on this code.
+
+``python benchmarks/default_plans.py`` prints the table of default and minimal plans as the README shows it: each
+row must stand in the README verbatim. ``python benchmarks/criteria.py`` prints criterion E against D on the
+minimal layouts: the README's sentence gives E's gain in λ_min (to 0.01), its certified efficiency (to 1 %) and
+log det F before and after (to 0.1), body by body, as the benchmark prints them. Layouts, λ_min and log det do not depend on the machine; the
+figures that do (seconds) are stated with their machine and are not checked here.
+"""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+
+
+def printed(script: str) -> list[str]:
+    """The lines ``python benchmarks/SCRIPT`` prints (it plans through the command line, as a user does)."""
+    done = subprocess.run([sys.executable, str(ROOT / "benchmarks" / script)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.splitlines()
+
+
+@pytest.mark.slow
+def test_the_default_plans_table_is_what_its_benchmark_prints():
+    rows = [line for line in printed("default_plans.py") if line.startswith("| ")]
+    assert len(rows) == 1 + 3  # the header and the three bundled bodies
+    missing = [row for row in rows if row not in README]
+    assert not missing, missing
+
+
+@pytest.mark.slow
+def test_the_criterion_sentence_is_what_its_benchmark_prints():
+    figures = {}
+    for line in printed("criteria.py")[1:]:
+        name, _, _, gain, efficiency, _, log_d, log_e = line.split()
+        figures[name] = (gain, efficiency, f"{log_d} → {log_e}")
+    order = ("structure", "bracket", "plate")
+    sentence = re.search(r"E raises λ_min over D (.*?)\nThe console", README, re.S).group(1)
+    sentence = " ".join(sentence.split())
+    gains = ", ".join(f"{figures[n][0]} ({n})" for n in order)
+    assert gains in sentence, (gains, sentence)
+    assert "E-efficiency ≥ " + " / ".join(figures[n][1] for n in order) + " %" in sentence, sentence
+    assert "(" + ", ".join(figures[n][2] for n in order) + ")" in sentence, sentence
