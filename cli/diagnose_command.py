@@ -61,7 +61,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def properties_table(found: DiagnosisRun, nominal, planar: bool = False) -> Table:
     """Mass, CoG and principal moments before and after, both to the digits the 1-σ (after) supports."""
     table = Table(title="properties before and after the diagnosis (frame of the file; ± 1-σ as identify gives it)")
-    table.caption = "identify's estimate on the file as it came, and on the recording with the faults undone"
+    came = "the file as it came" + (
+        ", the support's departure taken off" if any(n.code == "support_modelled" for n in found.notes) else ""
+    )
+    table.caption = f"identify's estimate on {came}, and on the recording with the faults undone"
     for col in ("quantity", "before", "after", "± 1-σ", "nominal (mesh)", "unit"):
         table.add_column(col, justify="right")
     before = None if found.before is None else found.before.body
