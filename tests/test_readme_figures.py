@@ -3,8 +3,8 @@
 ``python benchmarks/default_plans.py`` prints the table of default and minimal plans as the README shows it: each
 row must stand in the README verbatim. ``python benchmarks/criteria.py`` prints criterion E against D on the
 minimal layouts: the README's sentence gives E's gain in λ_min (to 0.01), its certified efficiency (to 1 %) and
-log det F before and after (to 0.1), body by body, as the benchmark prints them. Layouts, λ_min and log det do not depend on the machine; the
-figures that do (seconds) are stated with their machine and are not checked here.
+log det F before and after (to 0.1), body by body, as the benchmark prints them. Layouts, λ_min and log det do
+not depend on the machine; the figures that do (seconds) are stated with their machine and are not checked here.
 """
 
 import re
