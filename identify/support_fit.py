@@ -9,9 +9,12 @@ departure is computed for the body θ identified so far and taken off the record
 on H − δ(θ), until it stops moving: a fixed point, where H − δ(θ) has the masslines of θ.
 
 What the description leaves uncertain is fitted to the record before each step: the springs' stiffness (one
-scale on every spring) by the FRFs around the support's top resonance, the elastic modes' frequencies (one
-scale, √ of Young's modulus over the one assumed) by the FRFs around the first elastic resonance, each where
-the record resolves that resonance (:mod:`.resonances`), else left as described.
+scale on every spring) by the FRFs up to just above the support's top resonance, the elastic modes' frequencies
+(one scale, √ of Young's modulus over the one assumed) by the FRFs around the first elastic resonance, each
+where the record resolves that resonance (:func:`record_resonances`), else left as described. The iteration
+begins from the mesh's body and halves its step once steps grow (near the support's modes the correction can
+move more than the body, and the plain map overshoots); the lines where an FRF follows the springs more than
+the mass are left out (:func:`model_reliant`): there the fixed point would be any body.
 """
 
 from __future__ import annotations
