@@ -32,10 +32,14 @@ def representative(sensors: Lines, exciters: Lines, values: np.ndarray, count: i
 
 
 def _limits(real: np.ndarray, inside: np.ndarray, levels: list[float]) -> tuple[float, float]:
-    """y-limits showing the band's curve and the levels whole; resonances outside the band may leave them."""
+    """y-limits showing the band's curve and the levels whole; resonances outside the band may leave them. Lines
+    an FRF lacks (NaN: not measured there, or left out as the support's) and a pair with no level are passed over."""
     shown = np.concatenate([real[inside], levels])
+    shown = shown[np.isfinite(shown)]
+    if not len(shown):
+        return -1.0, 1.0
     lo, hi = float(shown.min()), float(shown.max())
-    pad = max(0.6 * (hi - lo), 0.25 * max(abs(v) for v in levels), 1e-12)
+    pad = max(0.6 * (hi - lo), 0.25 * max((abs(v) for v in levels if np.isfinite(v)), default=0.0), 1e-12)
     return lo - pad, hi + pad
 
 
