@@ -1,5 +1,5 @@
-"""What the benchmark scripts share: timing with peak memory, accelerometers on a surface, `massline plan` run as a
-user runs it."""
+"""What the benchmark scripts share: timing with peak memory, accelerometers on a surface, `massline plan` and any
+command run as a user runs them."""
 
 from __future__ import annotations
 
@@ -45,3 +45,11 @@ def run_plan(arguments: list, out: Path, cache: bool = True) -> tuple[subprocess
     start = time.perf_counter()
     run = subprocess.run(command, capture_output=True, text=True, env=env, check=False)
     return run, time.perf_counter() - start
+
+
+def massline(*args: str) -> None:
+    """Run ``massline ARGS`` as a user does; a refusal raises RuntimeError with its message (the last stderr
+    line)."""
+    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True, check=False)
+    if done.returncode:
+        raise RuntimeError((done.stderr.strip().splitlines() or [f"exit {done.returncode}"])[-1])

@@ -24,8 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
-import sys
 import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -33,6 +31,7 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
+from common import massline
 
 import massline.identify.diagnose.effects as registry
 from massline.identify.diagnose.pipeline import diagnose_recording
@@ -68,13 +67,6 @@ def stiff_cord(plan: Path) -> list:
     k = mass * (2 * np.pi * doc["elastic"]["frequencies_hz"][0] / 10) ** 2
     at = ";".join(f"{v:.6g}" for v in (cog[0], cog[1], cog[2] + 0.02))
     return ["--suspension", f"cord:k={k:.6g},L=1,at={at}"]
-
-
-def massline(*args: str) -> None:
-    """Run the command line as a user does (errors raised with its message)."""
-    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True, check=False)
-    if done.returncode:
-        raise RuntimeError(done.stderr.strip().splitlines()[-1])
 
 
 def planned(body: str, folder: Path) -> Path:

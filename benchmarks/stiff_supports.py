@@ -22,21 +22,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
+from common import massline
 
 BOUNDS = {"mass": 0.3, "cog": 1.0, "moments": 1.0}  # %, mm, % (the identify issue's accuracy)
 SUPPORTS = {"cord/4": ("cord", 4), "cord/10": ("cord", 10), "foam/10": ("foam", 10), "foam": ("foam", None)}
-
-
-def massline(*args: str) -> None:
-    done = subprocess.run([sys.executable, "-m", "massline", *args], capture_output=True, text=True, check=False)
-    if done.returncode:
-        raise RuntimeError(" ".join(args[:2]) + ": " + (done.stderr.strip().splitlines() or ["?"])[-1])
 
 
 def support_spec(plan: Path, support: str) -> str:

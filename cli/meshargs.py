@@ -26,10 +26,16 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
     material.add_argument("--mass", type=MASS, metavar="KG", help="total mass, kg (uniform density)")
 
 
+def bundled_name(mesh: str) -> str | None:
+    """``mesh`` (a mesh argument) when it names a bundled body (and no file of that name is there), else None."""
+    return mesh if mesh in BUNDLED and not Path(mesh).exists() else None
+
+
 def body_from_arguments(args: argparse.Namespace) -> BodyMesh:
     """Load the mesh named on the command line; bundled bodies know units and density."""
-    bundled = BUNDLED.get(args.mesh)
-    if bundled is not None and not Path(args.mesh).exists():
+    name = bundled_name(args.mesh)
+    if name is not None:
+        bundled = BUNDLED[name]
         density = args.density if args.density is not None or args.mass is not None else bundled.density
         return load_body(bundled.path, args.units or "m", density, args.mass)
     return load_body(args.mesh, args.units, args.density, args.mass)
@@ -75,8 +81,7 @@ def support_setup(args: argparse.Namespace, mesh: BodyMesh | None) -> SupportSet
         return None
     if mesh is None:
         raise MasslineError("--suspension needs --mesh: the support acts through the body's FE model, built from it")
-    name = args.mesh if args.mesh in BUNDLED and not Path(args.mesh).exists() else None
-    return SupportSetup.parse(args.suspension, mesh, name, args.material)
+    return SupportSetup.parse(args.suspension, mesh, bundled_name(args.mesh), args.material)
 
 
 def support_model(setup: SupportSetup | None, console: Console) -> SupportModel | None:

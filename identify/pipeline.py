@@ -280,43 +280,12 @@ def identify_recording(
     first (:mod:`.support_fit`), and ``support_fit`` says how.
     """
     options = dict(transverse=transverse, sensor_mass=sensor_mass, exciter_mass=exciter_mass, weighed=weighed)
-    if support is None:
-        return identified(as_recording(recording), band, draws=draws, method=method, **options)
-    corrected, fit = support_corrected(as_recording(recording), band, support, **options)
-    found = identified(corrected, band, draws=draws, method=method, **options)
-    notes = found.notes + (CodedWarning("support_modelled", fit.note),)
-    return replace(found, support_fit=fit, notes=notes, warnings=found.warnings + fit.warnings)
-
-
-def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:
-    """``recording`` with the ``support`` model's departure from the masslines taken off (:mod:`.support_fit`),
-    begun from the mesh's body (identify's on a stiff support's record can be far off, and the support's modes
-    placed with it farther), and how it was fitted, with how far the mass moved from identify's on the record as
-    it came (nan where identify refuses it); ``options``: :func:`identified`'s (transverse, sensor_mass,
-    exciter_mass, weighed)."""
-    try:
-        plain = identified(recording, band, draws=0, **options).best.body
-    except MasslineError:  # a band squeezed past use
-        plain = None
-    usable, _ = usable_lines(recording)
-    recorded = record_resonances(usable, support.body, is_planar(usable.sensors, usable.exciters))
-    once = lambda r, b: identified(r, b, draws=0, **options)  # noqa: E731
-    return taken_off(recording, support, once, support.body, recorded, band, plain)
-
-
-def identified(
-    recording: Recording,
-    band=None,
-    transverse: float = TRANSVERSE,
-    *,
-    draws: int = 100,
-    method: str = "best",
-    sensor_mass: float | HousingMasses = 0.0,
-    exciter_mass: float = 0.0,
-    weighed: WeighedMass | None = None,
-) -> Identification:
-    """:func:`identify_recording` of ``recording`` as it is (no support model)."""
-    recording, notes = usable_lines(recording)
+    if support is not None:
+        corrected, fit = support_corrected(as_recording(recording), band, support, **options)
+        found = identify_recording(corrected, band, draws=draws, method=method, **options)
+        notes = found.notes + (CodedWarning("support_modelled", fit.note),)
+        return replace(found, support_fit=fit, notes=notes, warnings=found.warnings + fit.warnings)
+    recording, notes = usable_lines(as_recording(recording))
     recording, mains, aside = without_mains(recording)
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)
@@ -384,6 +353,22 @@ def identified(
         exciter_mass=exciter_mass,
         mains=mains,
     )
+
+
+def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:
+    """``recording`` with the ``support`` model's departure from the masslines taken off (:mod:`.support_fit`),
+    begun from the mesh's body (identify's on a stiff support's record can be far off, and the support's modes
+    placed with it farther), and how it was fitted, with how far the mass moved from identify's on the record as
+    it came (nan where identify refuses it); ``options``: :func:`identify_recording`'s (transverse,
+    sensor_mass, exciter_mass, weighed)."""
+    try:
+        plain = identify_recording(recording, band, draws=0, **options).best.body
+    except MasslineError:  # a band squeezed past use
+        plain = None
+    usable, _ = usable_lines(recording)
+    recorded = record_resonances(usable, support.body, is_planar(usable.sensors, usable.exciters))
+    once = lambda r, b: identify_recording(r, b, draws=0, **options)  # noqa: E731
+    return taken_off(recording, support, once, support.body, recorded, band, plain)
 
 
 def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:

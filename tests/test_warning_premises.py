@@ -25,7 +25,7 @@ from massline.core.lines import Lines
 from massline.identify.diagnose.diagnosis import test_physics_modes as physics_modes
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import parse_effect
-from massline.identify.diagnose.pipeline import identified
+from massline.identify.diagnose.undone import identified
 from massline.identify.pipeline import identify_recording, usable_lines, without_mains
 from massline.identify.plausibility import nominal_warnings, units_warnings
 from massline.identify.suspicions import (

@@ -30,7 +30,7 @@ from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, w
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
 from massline.identify.diagnose.placed import beside_a_spread_misfit, at_the_misfit, same_place, where_the_misfit_is
-from massline.identify.diagnose.undone import best_undone, identified_after
+from massline.identify.diagnose.undone import best_undone, identified, identified_after
 from massline.identify.suspicions import beyond_chance
 from massline.identify.diagnose.unexplained import excess_over_mesh, refused_misfit, unexplained
 from massline.identify.estimator import TRANSVERSE
@@ -39,7 +39,6 @@ from massline.identify.pipeline import (
     against_nominal,
     as_recording,
     fit_note,
-    identify_recording,
     is_planar,
     properties_payload,
     support_corrected,
@@ -390,22 +389,3 @@ def shifted(recording: Recording, gauge: GaugeMass) -> Recording:
     """The recording moved column by column onto the masslines of the bare body the gauge fit found."""
     shift = gauge.column_shift(recording.sensors, recording.exciters)
     return replace(recording, frf=recording.frf + shift[:, :, None])
-
-
-def identified(recording, band, transverse: float, known: dict) -> tuple[Identification | None, tuple]:
-    """identify's result on the file as it came (its own band; the diagnosis band ``band`` only when identify
-    finds none), or None and a note saying why identify refuses it (a gross fault can leave the masslines
-    fitting no body: the diagnosis is what finds it)."""
-    try:
-        return identify_recording(recording, None, transverse, **known), ()
-    except MasslineError as reason:
-        if band:
-            try:
-                return identify_recording(recording, band, transverse, **known), (
-                    CodedWarning(
-                        "identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"
-                    ),
-                )
-            except MasslineError as again:
-                reason = again
-        return None, (CodedWarning("identify_refused", f"identify refuses the file as it came ({reason})"),)

@@ -1,4 +1,5 @@
-"""identify on the recording with the diagnosis's faults undone: the properties after, and each fault's proof.
+"""identify on the recording with the diagnosis's faults undone: the properties after, and each fault's proof;
+and identify on the file as it came, the properties before (:func:`identified`).
 
 One estimator and one χ²: a fault the diagnosis proposes is named only when undoing it lowers identify's χ² of
 the masslines (Σ z², its σ from the band fits; with its transverse prior's) by more than ``EVIDENCE`` with the
@@ -23,6 +24,7 @@ from massline.identify.diagnose.offsets import read_offset
 from massline.identify.diagnose.shapes import channel_factor, objective, outfits, place_of
 from massline.identify.pipeline import Identification, identify_recording
 from massline.identify.suspicions import beyond_chance
+from massline.identify.warning_codes import CodedWarning
 from massline.core.errors import MasslineError
 from massline.core.rigid_body import RigidBody
 
@@ -243,3 +245,22 @@ def attempt(recording, band, transverse: float, draws: int, **options) -> Identi
         return identify_recording(recording, band, transverse, draws=draws, **options)
     except (MasslineError, np.linalg.LinAlgError, ValueError):
         return None
+
+
+def identified(recording, band, transverse: float, known: dict) -> tuple[Identification | None, tuple]:
+    """identify's result on the file as it came (its own band; the diagnosis band ``band`` only when identify
+    finds none), or None and a note saying why identify refuses it (a gross fault can leave the masslines
+    fitting no body: the diagnosis is what finds it)."""
+    try:
+        return identify_recording(recording, None, transverse, **known), ()
+    except MasslineError as reason:
+        if band:
+            try:
+                return identify_recording(recording, band, transverse, **known), (
+                    CodedWarning(
+                        "identify_no_band", f"identify finds no band ({reason}): the properties are on the given band"
+                    ),
+                )
+            except MasslineError as again:
+                reason = again
+        return None, (CodedWarning("identify_refused", f"identify refuses the file as it came ({reason})"),)
