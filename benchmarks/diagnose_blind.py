@@ -50,6 +50,18 @@ FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % 
     "excitation_mass_loading": ("0.02", "drive"),  # a shaker test with 20 g gauges (--gauge-mass): every column
     "mixed_housings": ("0.008 1=0.025 2=0.025", "housings"),  # --sensor-mass: 25 g at nodes 1 and 2, 8 g elsewhere
 }
+LABELS = {  # the README's name of each concealed fault
+    "sensor_gain": "10 % gain",
+    "sensor_polarity": "polarity",
+    "sensor_direction": "8° sensor tilt",
+    "sensor_location": "8 mm sensor offset",
+    "sensor_mass_loading": "10 g housing",
+    "channel_swap": "two channels swapped",
+    "excitation_direction": "8° hit tilt",
+    "excitation_location": "8 mm hit offset",
+    "excitation_mass_loading": "20 g force gauge at every drive point",
+    "mixed_housings": "25 g housings at points 1 and 2, 8 g elsewhere",
+}
 NAMED = {"mixed_housings": "sensor_mass_loading"}  # the effect a concealed fault is named as, where not its own
 CLEAN = {  # the conditions clean files are run under (the faulty ones: the plan's soft cord)
     "cord": [],
@@ -99,7 +111,8 @@ def case(plan: Path, fault: str | None, seed: int, extra: list, folder: Path) ->
     start = time.perf_counter()
     found = diagnose_recording(path, None, mesh.nominal)
     seconds = time.perf_counter() - start
-    return {"body": body, "fault": fault or "none", "condition": style, "truth": truth, "heavy": heavy(plan),
+    return {"body": body, "seed": seed, "fault": fault or "none", "condition": style, "truth": truth,
+            "heavy": heavy(plan),
             "outcome": outcome(found), "seconds": seconds, "before": found.chi2["before"], "after": found.chi2["after"],
             "worse": worse(found, mesh.nominal)}  # fmt: skip
 
@@ -155,9 +168,35 @@ def placed(row: dict) -> bool:
     return bool(lines & set(where))
 
 
+def right(row: dict) -> bool:
+    """The concealed fault named first, at its place."""
+    kind, effect, *_ = row["outcome"]
+    return kind == "fault" and effect == NAMED.get(row["fault"], row["fault"]) and placed(row)
+
+
+def others(rows: list) -> str:
+    """What the cases not named right got: ``unexplained at its place 7`` or ``sensor_location elsewhere 1``."""
+    counts = Counter(
+        f"{r['outcome'][1] if r['outcome'][0] == 'fault' else r['outcome'][0]} "
+        f"{'at its place' if placed(r) else 'elsewhere'} ({r['body']} seed {r['seed']})"
+        for r in rows
+        if not right(r)
+    )
+    return "; ".join(f"{k}" if v == 1 else f"{k} ×{v}" for k, v in counts.items())
+
+
+def table(rows: list) -> str:
+    """The README's table: each concealed fault, its cases, those named right at their place, and the others."""
+    out = ["| concealed | n | named right, at its place | the others |", "|---|---|---|---|"]
+    for fault in (f for f in FAULTS if any(r["fault"] == f for r in rows)):
+        held = [r for r in rows if r["fault"] == fault]
+        out.append(f"| {LABELS[fault]} | {len(held)} | {sum(map(right, held))} | {others(held)} |")
+    return "\n".join(out)
+
+
 def summary(rows: list, without: str | None) -> str:
     """The confusion table (concealed × outcome, n per cell) and the rates issue 26 asks for."""
-    out = []
+    out = [table([r for r in rows if r["fault"] != "none"]), ""] if not without else []
     by = {}
     for r in rows:
         kind, effect, *_ = r["outcome"]
@@ -178,10 +217,9 @@ def summary(rows: list, without: str | None) -> str:
         good = sum(r["outcome"][0] == "unexplained" and placed(r) for r in held)
         out.append(f"without {without}: {good} of {len(held)} files got unexplained at the right place")
     else:
-        right = sum(r["outcome"][0] == "fault" and r["outcome"][1] == NAMED.get(r["fault"], r["fault"]) and placed(r)
-                    for r in faulty)  # fmt: skip
         at = sum(r["outcome"][0] != "none" and placed(r) for r in faulty)
-        out.append(f"named right at its place: {right} of {len(faulty)}; located (named or unexplained): {at}")
+        out.append(f"named right at its place: {sum(map(right, faulty))} of {len(faulty)}; located (named or "
+                   f"unexplained): {at}")  # fmt: skip
     worst = np.nanmax([r["worse"] for r in rows] + [-np.inf])
     out.append(f"after worse than identify's before by at most {worst:.2f} of identify's σ (mass, CoG)")
     out.append(f"median {np.median([r['seconds'] for r in rows]):.0f} s per diagnosis")

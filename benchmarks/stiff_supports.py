@@ -84,6 +84,31 @@ def text(result: dict) -> str:
     return f"{result['bounds']:.2f}× ({covered}{', warned' if result['warned'] else ''})"
 
 
+def times(x: float) -> str:
+    """An error over its bound to two or three digits: 0.13, 4.3, 33, 922,534."""
+    return f"{x:.2f}" if x < 1 else f"{x:.1f}" if x < 10 else f"{x:,.0f}"
+
+
+def spread(results: list) -> str:
+    """The seeds' errors over the bound as a range, and the refusals: ``0.13–0.63×``, ``156–922,534×, 1 refused``."""
+    values = sorted(r["bounds"] for r in results if "refused" not in r)
+    refused = len(results) - len(values)
+    shown = [] if not values else [times(values[0]) + ("" if len(values) == 1 else "–" + times(values[-1])) + "×"]
+    return ", ".join(shown + ([f"{refused} refused"] if refused else []))
+
+
+LABELS = {"cord/4": "cord, f₁/4", "cord/10": "cord, f₁/10", "foam/10": "foam, f₁/10", "foam": "foam, 4 Hz"}
+
+
+def table(rows: dict) -> str:
+    """The README's table: each body and support, the worst error over its bound before and after, over the seeds."""
+    out = ["| body | support | before | after |", "|---|---|---|---|"]
+    for (body, support), results in rows.items():
+        before, after = ([r[label] for r in results] for label in ("before", "after"))
+        out.append(f"| {body} | {LABELS[support]} | {spread(before)} | {spread(after)} |")
+    return "\n".join(out)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="bracket,structure")
@@ -94,15 +119,18 @@ def main() -> None:
     print("| body | support | seed | before: worst error / bound | after (--mesh --suspension) |")
     print("|---|---|---|---|---|")
     inside = total = 0
+    rows = {}
     for body in args.bodies.split(","):
         for support in args.supports.split(","):
             for seed in range(args.seeds):
                 row = case(body, support, seed, folder)
+                rows.setdefault((body, support), []).append(row)
                 after = row["after"]
                 total += 1
                 inside += "refused" not in after and (after["bounds"] <= 1 or after["z"] <= 2 and after["warned"])
                 print(f"| {body} | {support} | {seed} | {text(row['before'])} | {text(after)} |", flush=True)
-    print(f"\nafter: {inside} of {total} inside the bounds, or covered by 2σ and warned")
+    print(f"\nafter: {inside} of {total} inside the bounds, or covered by 2σ and warned\n")
+    print(table(rows))
 
 
 if __name__ == "__main__":

@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import trimesh
 from blind_measures import placed
 from test_diagnose_blind import BENCHES
 
@@ -25,19 +24,15 @@ from massline.identify.diagnose.effects import BY_NAME
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
-from massline.placement.diagnosability import diagnosability, excesses, of_coordinates
+from massline.placement.diagnosability import diagnosability
 from massline.placement.diagnosable_plan import budgets, cheapest_diagnosable
-from massline.core.information import NoiseModel
 from massline.core.lines import Lines
-from massline.meshes.loader import BodyMesh, load_body
-from massline.placement.on_surface import plan
-from massline.placement.planner import Budget
+from massline.meshes.loader import load_body
 from massline.core.model import RigidModel
 from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.elastic import ElasticBody, Material
-from massline.placement.work import Work, WorkSpent
 from massline.virtual.scenarios import Bench, Conditions, scenario, write_case
 
 CHANNEL_FAULTS = ("sensor_polarity", "sensor_gain", "sensor_direction")
@@ -163,58 +158,32 @@ def test_a_faulty_channel_is_located_on_the_default_plan_and_not_on_the_minimal(
         assert not named and not redundant
 
 
+def markdown(name: str, results: dict, sizes: dict) -> list[str]:
+    """The README's rows of ``name``: per plan, each fault's "located, named of cases" (— where not run)."""
+    rows = []
+    for label, q in sizes.items():
+        cells = [
+            "{}, {} of {}".format(*results[label, f][:3]) if (label, f) in results else "—" for f in CHANNEL_FAULTS
+        ]
+        rows.append(f"| {name} | {label} {len(q.sensors)} × {len(q.exciters)} | " + " | ".join(cells) + " |")
+    return rows
+
+
 if __name__ == "__main__":
     seeds = range(int(sys.argv[1]) if len(sys.argv) > 1 else 10)
+    lines = ["| body | plan | polarity: located, named | gain | direction |", "|---|---|---|---|---|"]
     with tempfile.TemporaryDirectory() as folder:
         print(f"{'body':>10} {'plan':>8} {'lines×hits':>10} {'worst σ':>8} {'fault':>17} located, named / cases")
         for name in sys.argv[2:] or ("structure", "plate", "bracket"):
             _, p = default_plan(name)
             sizes = {"default": p, "minimal": p.minimal}
-            for (label, fault), (at, named, n, _) in table(name, seeds, Path(folder)).items():
+            results = table(name, seeds, Path(folder))
+            for (label, fault), (at, named, n, _) in results.items():
                 q = sizes[label]
                 shape = f"{len(q.sensors)}×{len(q.exciters)}"
                 print(
                     f"{name:>10} {label:>8} {shape:>10} {q.worst_relative_std:8.2%} {fault:>17} {at}, {named} / {n}",
                     flush=True,
                 )
-
-
-def test_a_stack_of_layouts_is_judged_as_each_one_alone():
-    """The planner's trials evaluated together (``excesses``) give each layout's excess, singular ones too."""
-    model, rng = RigidModel(BODY), np.random.default_rng(11)
-    S, W = rng.normal(size=(40, 9, 6)), rng.normal(size=(40, 5, 6))
-    S[3, :, 5] = 0.0  # no line sees rotation about z: the identity hat matrix, every leverage 1
-    W[7] = W[7, :1]  # every hit on one line: F singular
-    alone = [of_coordinates(model, s, w, NoiseModel()).excess for s, w in zip(S, W)]
-    np.testing.assert_allclose(excesses(model, S, W, NoiseModel()), alone, rtol=1e-9, atol=1e-12)
-    assert alone[3] >= 6 * (1 - 0.9) and alone[7] >= 5 * (1 - 0.9)
-
-
-def test_a_thick_plate_gets_its_side_channels_from_the_walk_towards_diagnosable():
-    """A 200 × 300 × 12.7 mm plate off z = 0 (a body, not the paper's plate): its in-plane motions are seen only
-    by the few lines on its thin sides, which add little information, so the walk's most informative exchanges
-    never tried them and no 12 × 8 layout was found; the lines that relieve the channels that cannot be checked
-    (``Planner.sensor_relief``) are tried as well."""
-    box = trimesh.creation.box(extents=(0.2, 0.3, 0.0127))
-    box.apply_translation((0.1, 0.15, 0.00635))
-    p = plan(BodyMesh(box, 2700.0, "thick plate", "m"), Budget(12, 8), diagnosable=True, certify_steps=0)
-    assert p.diagnosability.diagnosable
-    in_plane = np.abs(p.sensors.directions[:, 2]) < 0.5
-    assert in_plane.sum() >= 5  # three in-plane motions, each channel checked by the others
-
-
-def test_a_search_out_of_evaluations_plans_the_minimal_layout_and_says_what_it_reached():
-    mesh = load_body(BUNDLED["plate"].path, "m", BUNDLED["plate"].density)
-    p = cheapest_diagnosable(mesh, certify_steps=0, evaluations=50)
-    assert p.search.stopped and (p.search.spent, p.search.limit) == (50, 50)
-    assert (len(p.sensors), len(p.exciters)) == (3, 3) and not p.diagnosability.diagnosable
-    assert p.search.sentence.startswith("stopped after 50 of 50 diagnosability evaluations; reached no budget")
-    assert "within 5 lines × 4 hits" in p.search.sentence and "minimal layout" in p.search.sentence
-
-
-def test_work_past_its_limit_stops_and_keeps_its_count():
-    work = Work(10, "evaluations")
-    work.spend(10)
-    with pytest.raises(WorkSpent):
-        work.spend(1)
-    assert work.spent == 11 and work.fraction == 1.0
+            lines += markdown(name, results, sizes)
+    print("\n" + "\n".join(lines))
