@@ -34,7 +34,7 @@ def layout_table(title: str, lines: Lines, nodes, labels, mounted) -> Table:
 
 
 def sliding_line(plan) -> str:
-    """How far sliding the points on their flat faces moved them and what it gained over the candidate layout."""
+    """How far sliding the points on the surface moved them and what it gained over the candidate layout."""
     gain = plan.log_det - plan.candidate_log_det
     moved = 0.0 if plan.sliding is None else float(plan.sliding.moved.max(initial=0.0))
     sensor, hit = (1e3 * c for c in plan.clearances)
@@ -44,7 +44,7 @@ def sliding_line(plan) -> str:
         else f"raised {plan.criterion.title} by {plan.sliding.gain:.3g} and "
     )
     return (
-        f"sliding the points on their flat faces (up to {1e3 * moved:.1f} mm; sensors ≥ {sensor:.3g} mm and hits "
+        f"sliding the points on the surface (up to {1e3 * moved:.1f} mm; sensors ≥ {sensor:.3g} mm and hits "
         f"≥ {hit:.3g} mm from every edge) {by_criterion}changed log det F by {gain:+.3f} over the best candidate "
         f"layout (D-efficiency × {np.exp(gain / plan.model.p):.3f})"
     )

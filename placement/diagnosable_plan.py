@@ -4,8 +4,12 @@ The paper's minimal layout (6 sensor lines × 3 hits for a body, 3 × 3 for a pl
 the body but cannot check itself: a faulty channel or hit is seen at best, never located
 (:mod:`.diagnosability`). Budgets are tried from the cheapest that can be diagnosable
 (q + 2 lines and 4 hits) upwards, fewest lines and hits first and, at equal count, fewest
-accelerometers; the first budget whose optimal layout among the diagnosable ones exists is
-planned and certified. The minimal plan is kept beside it, to state what diagnosability costs.
+accelerometers; the first budget whose optimal layout among the diagnosable ones exists and is at least as
+accurate as the minimal plan (worst relative 1-σ) is planned and certified. D-optimality among diagnosable
+layouts does not bound the worst 1-σ: a layout with more lines and hits than the paper's, that checks itself
+but measures some parameter worse than the minimal one, is passed over for the next budget (the first
+diagnosable one is the plan when none up to the last budget is as accurate). The minimal plan is kept beside
+it, to state what diagnosability costs.
 
 The search spends a budget of diagnosability evaluations (:mod:`.work`), shared by the budgets it tries: a
 search that spends it stops, and the plan is then the minimal layout, with what the search reached.
@@ -75,7 +79,7 @@ def cheapest_diagnosable(
 
     progress("the minimal layout", 0.0)
     minimal = planned(minimal_budget(planar), False, 0)
-    tried = []
+    tried, coarser = [], []
     for budget in budgets(planar):
         progress(f"a diagnosable layout of {_size(budget)} ({work.spent} of {work.limit} {UNIT} spent)", work.fraction)
         try:
@@ -84,14 +88,43 @@ def cheapest_diagnosable(
             tried.append(budget)
             continue
         except WorkSpent:
+            if coarser:
+                return _first_diagnosable(coarser, minimal, work, stopped=True)
             return replace(minimal, search=_reached(work, True, _stopped_phrase(tried, budget)))
+        if found.worst_relative_std > minimal.worst_relative_std:
+            coarser.append(found)
+            continue
         what = f"a diagnosable layout of {_size(budget)}, after {len(tried)} smaller budgets with none"
+        if coarser:
+            what += f" and {len(coarser)} with one less accurate than the minimal plan ({_less_accurate(coarser)})"
         return replace(found, minimal=minimal, search=_reached(work, False, what))
+    if coarser:
+        return _first_diagnosable(coarser, minimal, work, stopped=False)
     raise MasslineError(
         f"no diagnosable layout of up to {budget.sensors + budget.exciters} lines and hits was found: "
         f"give the budget ({param('budget.sensors')}, {param('budget.exciters')}) or plan the minimal layout "
         f"({param('minimal_budget')})"
     )
+
+
+def _first_diagnosable(coarser: list[Plan], minimal: Plan, work: Work, stopped: bool) -> Plan:
+    """The first diagnosable plan found, though less accurate than the minimal one: none that is as accurate was
+    found up to the last budget, or before the search's budget ended (``stopped``)."""
+    first = coarser[0]
+    what = (
+        f"a diagnosable layout of {_shape(first)}, less accurate than the minimal plan: none as accurate "
+        f"{'before the budget ended' if stopped else 'up to the last budget'} ({_less_accurate(coarser)})"
+    )
+    return replace(first, minimal=minimal, search=_reached(work, stopped, what))
+
+
+def _less_accurate(plans: list[Plan]) -> str:
+    """``8 lines × 4 hits at 1.73 %, …``: the diagnosable layouts passed over and their worst relative 1-σ."""
+    return ", ".join(f"{_shape(p)} at {p.worst_relative_std:.2%}" for p in plans)
+
+
+def _shape(plan: Plan) -> str:
+    return f"{len(plan.sensors)} lines × {len(plan.exciters)} hits"
 
 
 def _size(budget: Budget) -> str:

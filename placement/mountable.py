@@ -161,15 +161,7 @@ class Surface:
         if not len(on):
             return gap
         region = self.smooth[0]
-        sampled = self.curved
-        area = self.mesh.area_faces[sampled].sum()
-        count = int(min(GAP_SAMPLES, max(area / (base / 8) ** 2, 1000)))
-        submesh = self.mesh.submesh([np.flatnonzero(sampled)], append=True)
-        samples, which = trimesh.sample.sample_surface_even(submesh, count, seed=0)
-        which = np.flatnonzero(sampled)[which]
-        samples = np.vstack([samples, self.mesh.triangles_center[sampled]])
-        which = np.concatenate([which, np.flatnonzero(sampled)])
-        tree = cKDTree(np.column_stack([samples, self.lift(region[which])]))
+        samples, which, tree = self.curve_samples(base)
         normal = self.mesh.face_normals[faces[on]]
         u, v = plane_bases(normal)
         phi = 2 * np.pi * np.arange(RIM_POINTS) / RIM_POINTS
@@ -179,6 +171,31 @@ class Surface:
         off = np.einsum("kd,kd->k", rim.reshape(-1, 3) - samples[nearest], self.mesh.face_normals[which[nearest]])
         gap[on] = np.abs(off).reshape(-1, RIM_POINTS).max(axis=1)
         return gap
+
+    def curve_samples(self, base: float) -> tuple[np.ndarray, np.ndarray, cKDTree]:
+        """Points (k, 3) m sampled on the curved regions about an eighth of ``base`` (m) apart, and their faces'
+        centres; the face of each (k,); a k-d tree of them lifted by their smooth region (kept per base)."""
+        if base not in self.sample_cache:
+            region, sampled = self.smooth[0], self.curved
+            area = self.mesh.area_faces[sampled].sum()
+            count = int(min(GAP_SAMPLES, max(area / (base / 8) ** 2, 1000)))
+            submesh = self.mesh.submesh([np.flatnonzero(sampled)], append=True)
+            samples, which = trimesh.sample.sample_surface_even(submesh, count, seed=0)
+            samples = np.vstack([samples, self.mesh.triangles_center[sampled]])
+            which = np.concatenate([np.flatnonzero(sampled)[which], np.flatnonzero(sampled)])
+            self.sample_cache[base] = samples, which, cKDTree(np.column_stack([samples, self.lift(region[which])]))
+        return self.sample_cache[base]
+
+    @cached_property
+    def sample_cache(self) -> dict:
+        return {}
+
+    def onto_region(self, point: np.ndarray, region: int) -> tuple[np.ndarray, int]:
+        """The point (3,) m of smooth region ``region`` nearest to ``point`` (3,), and the face it lies on."""
+        faces = np.flatnonzero(self.smooth[0] == region)
+        feet = trimesh.triangles.closest_point(self.mesh.triangles[faces], np.tile(point, (len(faces), 1)))
+        k = int(np.argmin(np.linalg.norm(feet - point, axis=1)))
+        return feet[k], int(faces[k])
 
     def normal(self, faces: np.ndarray) -> np.ndarray:
         """Outward unit normal (n, 3) of the faces' patches (that of the face: a patch is flat)."""

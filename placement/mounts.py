@@ -53,23 +53,28 @@ def motion_text(twist: np.ndarray) -> str:
 
 
 def mounts(plan: Plan, side: int) -> list[Mount]:
-    """The mount of each line of the plan's sensors (``side`` 0) or exciters (1)."""
+    """The mount of each line of the plan's sensors (``side`` 0) or exciters (1), where sliding left it."""
     lines = (plan.sensors, plan.exciters)[side]
     nodes = (plan.sensor_nodes, plan.exciter_nodes)[side]
     points = plan.candidates
-    return [mount(points, int(n), d, side == 0 and t >= 0, side) for n, d, t in
-            zip(nodes, lines.directions, lines.triaxial)]  # fmt: skip
+    normals = None if points is None else points.normals[np.maximum(nodes, 0)]
+    gaps = np.zeros(len(nodes)) if points is None or points.gap is None else points.gap[np.maximum(nodes, 0)]
+    if plan.sliding is not None and plan.sliding.normals[side] is not None:
+        slid = ~np.isnan(plan.sliding.gaps[side])
+        normals[slid], gaps[slid] = plan.sliding.normals[side][slid], plan.sliding.gaps[side][slid]
+    return [
+        Mount("fixed") if n < 0 or points is None else mount(d, side == 0 and t >= 0, side, normal, gap)
+        for n, d, t, normal, gap in zip(nodes, lines.directions, lines.triaxial, normals, gaps)
+    ]
 
 
-def mount(points, node: int, direction: np.ndarray, triaxial: bool, side: int) -> Mount:
-    """One line's mount at candidate point ``node`` (−1: fixed) of ``points`` (:class:`.CandidatePoints`)."""
-    if node < 0 or points is None:
-        return Mount("fixed")
-    if not triaxial and abs(direction @ points.normals[node]) < PARALLEL:
+def mount(direction: np.ndarray, triaxial: bool, side: int, normal: np.ndarray, gap: float) -> Mount:
+    """One line's mount: its direction against the surface's outward ``normal`` there, and the ``gap`` (m) under
+    an accelerometer's base."""
+    if not triaxial and abs(direction @ normal) < PARALLEL:
         return Mount("block")
-    gap = 0.0 if points.gap is None else float(points.gap[node])
     if gap == 0.0:
         return Mount("flat")
     if side == 1:
         return Mount("curved")
-    return Mount("film" if gap <= FILM_GAP else "pad", gap)
+    return Mount("film" if gap <= FILM_GAP else "pad", float(gap))

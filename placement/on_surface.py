@@ -1,5 +1,5 @@
 """A plan on the body's surface: candidates on its mountable faces, fixed lines snapped onto it, the layout
-planned among the candidates (:mod:`.planner`), the chosen points slid on its flat faces.
+planned among the candidates (:mod:`.planner`), the chosen points slid on its surface (flat faces and curves).
 
 Points and distances in metres, mesh frame (:mod:`.mountable`, :mod:`.sliding`).
 """
@@ -44,15 +44,16 @@ def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
 
 
 def fixed_sites(mesh: trimesh.Trimesh, lines: Lines | None) -> Sites:
-    """The points (m) of fixed lines already on the surface, each with the outward normal of its nearest face."""
+    """The points (m) of fixed lines already on the surface, each with the outward normal of the smooth surface
+    there (its face's on a flat region, interpolated on a curve)."""
     if lines is None:
         return Sites.none()
-    faces = [
+    faces = np.array([
         int(np.argmin(np.linalg.norm(trimesh.triangles.closest_point(mesh.triangles, np.tile(p, (len(mesh.faces), 1)))
                                      - p, axis=1)))
         for p in lines.points
-    ]  # fmt: skip
-    return Sites(lines.points, mesh.face_normals[np.asarray(faces, dtype=int)].reshape(-1, 3))
+    ], dtype=int)  # fmt: skip
+    return Sites(lines.points, Surface.of(mesh).surface_normal(lines.points, faces).reshape(-1, 3))
 
 
 def anchored(
@@ -75,8 +76,9 @@ def slid(
     diagnosable: bool = False,
     footprints: Footprints | None = None,
 ) -> Plan:
-    """The plan with its points slid on their flat patches by its criterion, among the layouts the planner
-    admits (regular, and diagnosable when asked), their footprints kept apart (``footprints``' fixed sites)."""
+    """The plan with its points slid on their flat patches and along curves by its criterion, among the layouts the
+    planner admits (regular, and diagnosable when asked), their footprints kept apart (``footprints``' fixed
+    sites)."""
 
     def admitted(sensors: Lines, exciters: Lines) -> bool:
         return regular(plan.model, sensors, exciters) and (
@@ -136,7 +138,7 @@ def plan(
     work: Work | None = None,
 ) -> Plan:
     """The best layout of ``budget`` on the body's surface by ``criterion`` (D, A or E), certified, slid off
-    the candidate grid on the flat faces, with predicted 1-σ (``diagnosable``: the best of the layouts in which
+    the candidate grid on the surface, with predicted 1-σ (``diagnosable``: the best of the layouts in which
     one faulty channel or hit can be located, the search spending ``work``, :mod:`.work`). Fixed lines are
     snapped onto the surface."""
     planar = is_plate(body) if planar is None else planar

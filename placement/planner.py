@@ -17,7 +17,7 @@ equations can solve, with a well-posed kinematic step and one accelerometer per 
 (:mod:`.admissible`: rank S = 6, non-singular dynamic systems, κ(S̃) bounded), and, when asked, only
 diagnosable ones (:mod:`.diagnosability`): an inadmissible selection is first walked by single exchanges
 to one that is. On a mesh (:func:`.on_surface.plan`) the chosen points then slide off the candidate
-grid on their flat faces (:mod:`.sliding`), which raises the criterion beyond the certified layout.
+grid on their flat faces and along curves (:mod:`.sliding`), which raises the criterion beyond the certified layout.
 """
 
 from __future__ import annotations

@@ -1,12 +1,18 @@
-"""Off the grid: the chosen accelerometers and hits slide on their flat patches to raise the criterion.
+"""Off the grid: the chosen accelerometers and hits slide on the surface to raise the criterion.
 
 After the discrete choice every accelerometer and hit that is not fixed (the lines through one point
-move together: a triaxial is one) moves in the plane of its flat patch, r = r₀ + a u + b v, its
-directions kept. The lines' coordinates ℓ = (d, r × d) are linear in r, so the information F and the
-criterion c(F) (log det F for D-optimality; any smooth function of F plugs in) are smooth in (a, b).
+move together: a triaxial is one) moves on its surface. On a flat patch it moves in the patch's plane,
+r = r₀ + a u + b v, its directions kept. On a curved region (a tessellated cylinder, a fillet: flat facets
+joined across soft creases) it moves along the surface the facets tessellate: r is the region's point nearest
+to r₀ + a u + b v (u, v spanning the tangent plane at r₀), and its lines turn with the surface, by the least
+rotation that takes the normal at r₀ to the interpolated normal at r (a line along the normal stays along it,
+a block's tangential line stays tangential). The lines' coordinates ℓ = (d, r × d) are smooth in r, so the
+information F and the criterion c(F) (log det F for D-optimality; any smooth function of F plugs in) are
+smooth in (a, b).
 
 Projected gradient ascent: the gradient by central differences; a point whose step would leave the
-mountable region (inside its patch, clearance ≥ what it needs, outside the exclusions) or come onto
+mountable region (inside its patch or region, clearance ≥ what it needs, outside the exclusions, and for an
+accelerometer on a curve a gap under its base no wider than a pad fills) or come onto
 another's footprint (accelerometers a base apart, hits half a base and half a tip from the accelerometers on
 their side, fixed ones included: :mod:`.footprints`; the candidate layout starts clear of them) loses the step's
 component towards its nearest bound, then halves it until mountable, else stays; a backtracking line
@@ -22,6 +28,7 @@ from typing import Callable
 import numpy as np
 
 from massline.placement.candidates import CandidateOptions, CandidatePoints, excluded_by
+from massline.placement.mountable import PAD_GAP
 from massline.placement.footprints import Footprint, Sites, spacing
 from massline.core.information import NoiseModel, fisher, log_det
 from massline.core.lines import Lines
@@ -49,6 +56,8 @@ class Slide:
     after: float
     moved: np.ndarray
     iterations: int
+    normals: tuple = (None, None)  # per side, the surface's outward normal (n, 3) under each line (NaN: fixed)
+    gaps: tuple = (None, None)  # per side, the gap (n,) m under an accelerometer's base there (NaN: fixed)
 
     @property
     def gain(self) -> float:
@@ -66,7 +75,7 @@ def plane_basis(normal: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Mounts:
     """The points that move: side (0 sensors, 1 exciters), their lines, start (m), face, basis, clearance need,
-    outward normal (M, 3)."""
+    outward normal (M, 3) at the start, and whether each lies on a curved region (M,)."""
 
     side: np.ndarray
     lines: list
@@ -75,6 +84,7 @@ class Mounts:
     basis: np.ndarray
     need: np.ndarray
     normal: np.ndarray
+    curved: np.ndarray
 
     @classmethod
     def of(cls, surface: Surface, points: CandidatePoints, nodes: tuple, needs: tuple) -> "Mounts":
@@ -85,15 +95,27 @@ class Mounts:
             for k in np.unique(n[n >= 0])
         ]
         face = np.array([points.faces[k] for *_, k, _ in rows], dtype=int)
+        start = points.points[[r[2] for r in rows]].reshape(-1, 3)
+        normal = surface.surface_normal(start, face).reshape(-1, 3)
         return cls(
             side=np.array([r[0] for r in rows], dtype=int),
             lines=[r[1] for r in rows],
-            start=points.points[[r[2] for r in rows]].reshape(-1, 3),
+            start=start,
             face=face,
-            basis=np.array([plane_basis(n) for n in surface.normal(face)]).reshape(-1, 2, 3),
+            basis=np.array([plane_basis(n) for n in normal]).reshape(-1, 2, 3),
             need=np.array([r[3] for r in rows], dtype=float),
-            normal=surface.normal(face).reshape(-1, 3),
+            normal=normal,
+            curved=surface.curved[face].astype(bool),
         )
+
+
+def turning(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The least rotation (3, 3) taking the unit vector ``a`` to the unit vector ``b`` (Rodrigues)."""
+    axis, cos = np.cross(a, b), float(a @ b)
+    if cos <= -1 + 1e-12:
+        raise ValueError("a half turn has no least rotation")
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + K + K @ K / (1 + cos)
 
 
 class Slider:
@@ -117,17 +139,38 @@ class Slider:
         self.footprint = Footprint(options.sensor_base, options.hammer_tip)
         self.anchors = anchors[0] + anchors[1]
         self.anchor_side = np.repeat([0, 1], [len(anchors[0]), len(anchors[1])])
+        self.placed: dict = {}  # (m, offset bytes) → place(m, offset)
+
+    def place(self, m: int, offset: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:
+        """Movable point m at in-plane ``offset`` (2,) m: its position (3,) m, face (−1 off its flat patch) and
+        outward normal (3,); on a curve the region's point nearest to the offset point in the start's tangent
+        plane."""
+        key = (m, offset.tobytes())
+        if key not in self.placed:
+            q = self.mounts.start[m] + offset @ self.mounts.basis[m]
+            if self.mounts.curved[m]:
+                q, face = self.surface.onto_region(q, int(self.surface.smooth[0][self.mounts.face[m]]))
+                normal = self.surface.surface_normal(q[None], np.array([face]))[0]
+            else:
+                face = self.surface.locate(q, int(self.surface.patch[self.mounts.face[m]]))
+                normal = self.mounts.normal[m]
+            self.placed[key] = q, face, normal
+        return self.placed[key]
 
     def points(self, x: np.ndarray) -> np.ndarray:
         """Positions (M, 3) m of the movable points at offsets x."""
-        return self.mounts.start + np.einsum("mk,mkd->md", x, self.mounts.basis)
+        return np.array([self.place(m, x[m])[0] for m in range(len(x))]).reshape(-1, 3)
 
     def layout(self, x: np.ndarray) -> tuple[Lines, Lines]:
-        """Sensor and exciter lines with the movable points at offsets x."""
+        """Sensor and exciter lines with the movable points at offsets x, turned with the surface on curves."""
         moved = [side.points.copy() for side in self.layout0]
-        for s, rows, p in zip(self.mounts.side, self.mounts.lines, self.points(x)):
-            moved[s][rows] = p
-        return tuple(Lines(p, side.directions, side.triaxial) for p, side in zip(moved, self.layout0))
+        turned = [side.directions.copy() for side in self.layout0]
+        for m, (s, rows) in enumerate(zip(self.mounts.side, self.mounts.lines)):
+            point, _, normal = self.place(m, x[m])
+            moved[s][rows] = point
+            if self.mounts.curved[m]:
+                turned[s][rows] = self.layout0[s].directions[rows] @ turning(self.mounts.normal[m], normal).T
+        return tuple(Lines(p, d, side.triaxial) for p, d, side in zip(moved, turned, self.layout0))
 
     def value(self, x: np.ndarray) -> float:
         S, E = self.layout(x)
@@ -139,27 +182,34 @@ class Slider:
         steps = np.eye(x.size).reshape(-1, *x.shape) * h
         return np.array([(self.value(x + e) - self.value(x - e)) / (2 * h) for e in steps]).reshape(x.shape)
 
-    def mountable(self, m: int, point: np.ndarray) -> bool:
-        """Is ``point`` (m) on movable point m's patch, clear by its need and not excluded?"""
-        face = self.surface.locate(point, int(self.surface.patch[self.mounts.face[m]]))
+    def mountable(self, m: int, offset: np.ndarray) -> bool:
+        """Is movable point m at ``offset`` on its patch or region, clear by its need, not excluded, and (an
+        accelerometer on a curve) with a gap under its base that a pad fills?"""
+        point, face, _ = self.place(m, offset)
         if face < 0 or excluded_by(point[None], np.array([face]), self.options)[0][0]:
             return False
-        return bool(
-            self.surface.clearance(point[None], np.array([face]), self.mounts.need[m])[0] >= self.mounts.need[m]
-        )
+        if self.surface.clearance(point[None], np.array([face]), self.mounts.need[m])[0] < self.mounts.need[m]:
+            return False
+        return not (self.mounts.curved[m] and self.mounts.side[m] == 0) or self.gap(point, face) <= PAD_GAP
 
-    def away(self, m: int, point: np.ndarray) -> np.ndarray:
+    def gap(self, point: np.ndarray, face: int) -> float:
+        """The gap (m) under an accelerometer's base at ``point`` on ``face``."""
+        return float(self.surface.base_gap(point[None], np.array([face]), self.options.sensor_base)[0])
+
+    def away(self, m: int, offset: np.ndarray) -> np.ndarray:
         """In-plane unit vector (2,) pointing from the nearest bound of movable point m away from it (0 if none)."""
-        foot = self.surface.nearest(point[None], self.mounts.face[m : m + 1], 2 * self.mounts.need[m])[1][0]
+        point, face, _ = self.place(m, offset)
+        foot = self.surface.nearest(point[None], np.array([max(face, 0)]), 2 * self.mounts.need[m])[1][0]
         v = np.nan_to_num(self.mounts.basis[m] @ (point - foot))
         return v / max(np.linalg.norm(v), 1e-300)
 
     def projected(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
         """The gradient (M, 2) without its component out of the region at the points that touch a bound."""
         out = g.copy()
-        for m, p in enumerate(self.points(x)):
-            a = self.away(m, p)
-            touching = self.surface.clearance(p[None], self.mounts.face[m : m + 1], 2 * self.mounts.need[m])[0]
+        for m in range(len(x)):
+            point, face, _ = self.place(m, x[m])
+            a = self.away(m, x[m])
+            touching = self.surface.clearance(point[None], np.array([max(face, 0)]), 2 * self.mounts.need[m])[0]
             if touching < (1 + TOUCH) * self.mounts.need[m]:
                 out[m] -= min(g[m] @ a, 0.0) * a
         return out
@@ -185,11 +235,10 @@ class Slider:
             positions = self.points(new)
 
             def may(d: np.ndarray) -> bool:
-                point = positions[m] + d @ self.mounts.basis[m]
-                return self.apart(m, point, positions) and self.mountable(m, point)
+                return self.apart(m, self.place(m, x[m] + d)[0], positions) and self.mountable(m, x[m] + d)
 
             if not may(d):
-                a = self.away(m, positions[m])
+                a = self.away(m, x[m])
                 d = d - min(d @ a, 0.0) * a
                 for _ in range(TRIES):
                     if may(d):
@@ -205,7 +254,7 @@ class Slider:
         before = value = self.value(x)
         step, smallest = FIRST_STEP * self.surface.size, SMALLEST_STEP * self.surface.size
         done = 0
-        for done in range(1, iterations + 1 if len(x) else 1):  # nothing to move: every point fixed or on a curve
+        for done in range(1, iterations + 1 if len(x) else 1):  # nothing to move: every point fixed
             g = self.projected(x, self.gradient(x))
             direction = g / max(np.linalg.norm(g, axis=1).max(), 1e-300)
             while step > smallest:
@@ -221,8 +270,21 @@ class Slider:
             if gained < STALL:
                 break
         sensors, exciters = self.layout(x)
-        moved = np.linalg.norm(x, axis=1)
-        return Slide(sensors=sensors, exciters=exciters, before=before, after=value, moved=moved, iterations=done)
+        moved = np.linalg.norm(self.points(x) - self.mounts.start, axis=1)
+        normals, gaps = self.sites(x)
+        return Slide(sensors=sensors, exciters=exciters, before=before, after=value, moved=moved, iterations=done,
+                     normals=normals, gaps=gaps)  # fmt: skip
+
+    def sites(self, x: np.ndarray) -> tuple[tuple, tuple]:
+        """Per side, the outward normal (n, 3) and an accelerometer's gap (n,) m under each line at offsets x
+        (NaN for the lines that do not move)."""
+        normals = tuple(np.full((len(side), 3), np.nan) for side in self.layout0)
+        gaps = tuple(np.full(len(side), np.nan) for side in self.layout0)
+        for m, (s, rows) in enumerate(zip(self.mounts.side, self.mounts.lines)):
+            point, face, normal = self.place(m, x[m])
+            normals[s][rows] = normal
+            gaps[s][rows] = self.gap(point, face) if self.mounts.curved[m] and s == 0 else 0.0
+        return normals, gaps
 
 
 def slide(
@@ -239,8 +301,7 @@ def slide(
     anchors: tuple | None = None,
 ) -> Slide:
     """Slide the layout's (sensors, exciters) points that come from candidates (``nodes`` ≥ 0) on their flat
-    patches; a point on a curved region (a facet of a tessellated curve) stays at its candidate, where its normal
-    and the gap under its base were measured (sliding along the curve itself is not done).
+    patches, or along the smooth surface of their curved region, their lines turning with it.
 
     Parameters
     ----------
@@ -263,12 +324,10 @@ def slide(
     anchors : (Sites, Sites), optional
         The fixed accelerometers' and hits' points (m) and outward normals, whose footprints the points keep off.
     """
-    pinned = [(n >= 0) & surface.curved[points.faces[np.maximum(n, 0)]] for n in nodes]
-    mounts = Mounts.of(surface, points, tuple(np.where(p, -1, n) for p, n in zip(pinned, nodes)), options.clearances)
+    mounts = Mounts.of(surface, points, nodes, options.clearances)
     anchors = (Sites.none(), Sites.none()) if anchors is None else anchors
-    held = [Sites(points.points[k], points.normals[k]) for k in (np.unique(n[p]) for p, n in zip(pinned, nodes))]
     slider = Slider(
         surface, model, noise, layout=layout, mounts=mounts, options=options, criterion=criterion,
-        admissible=admissible, anchors=(anchors[0] + held[0], anchors[1] + held[1]),
-    )  # fmt: skip  (the points on curves are anchors too: the others keep off their footprints)
+        admissible=admissible, anchors=anchors,
+    )  # fmt: skip
     return slider.run()

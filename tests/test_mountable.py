@@ -57,8 +57,10 @@ def edge_distance(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:
 
 
 def assert_mountable(body, p):
-    """Every planned point that is not fixed is on a flat patch holding its footprint, clear of every edge."""
+    """Every planned point that is not fixed is on its flat patch, or on its curved region's surface, holding its
+    footprint, clear of every edge."""
     surface = Surface.of(body.mesh)
+    region = surface.smooth[0]
     for lines, nodes, need in (
         (p.sensors, p.sensor_nodes, p.clearances[0]),
         (p.exciters, p.exciter_nodes, p.clearances[1]),
@@ -66,6 +68,9 @@ def assert_mountable(body, p):
         points = lines.points[nodes >= 0]
         start = p.candidates.faces[nodes[nodes >= 0]]
         faces = np.array([surface.locate(q, surface.patch[f]) for q, f in zip(points, start)])
+        for k in np.flatnonzero(surface.curved[start]):
+            foot, faces[k] = surface.onto_region(points[k], region[start[k]])
+            assert np.linalg.norm(foot - points[k]) < 1e-9, "a point left its curved region's surface"
         assert (faces >= 0).all(), "a point left its flat patch"
         assert (edge_distance(body.mesh, points) >= need * (1 - 1e-9)).all()
         assert (brute_clearance(surface, points, faces) >= need * (1 - 1e-9)).all()
