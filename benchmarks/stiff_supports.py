@@ -93,7 +93,8 @@ def spread(results: list) -> str:
     """The seeds' errors over the bound as a range, and the refusals: ``0.13–0.63×``, ``156–922,534×, 1 refused``."""
     values = sorted(r["bounds"] for r in results if "refused" not in r)
     refused = len(results) - len(values)
-    shown = [] if not values else [times(values[0]) + ("" if len(values) == 1 else "–" + times(values[-1])) + "×"]
+    low, high = (times(values[0]), times(values[-1])) if values else ("", "")
+    shown = [] if not values else [low + ("" if low == high else "–" + high) + "×"]
     return ", ".join(shown + ([f"{refused} refused"] if refused else []))
 
 
