@@ -36,6 +36,7 @@ from scipy.spatial import cKDTree
 from massline.core.errors import MasslineError
 
 FLAT_DEG = 0.5  # neighbouring triangles closer than this to coplanar belong to one flat patch
+TANGENT = 3.0  # a flat patch this many times wider than the others at a vertex is a face a fillet meets tangentially
 SHARP_EDGE_DEG = 30.0  # a crease sharper than this is an edge a sensor or a hit keeps away from; softer, no bound
 FILM_GAP = 0.1e-3  # m: the largest gap under a base that a film of adhesive or wax fills
 PAD_GAP = 1.0e-3  # m: the largest a cemented pad under the base fills (a 10 mm base on R 12.5 mm)
@@ -202,15 +203,40 @@ class Surface:
         return self.mesh.face_normals[faces]
 
     @cached_property
+    def patch_width(self) -> np.ndarray:
+        """Each flat patch's width (m): twice its area over its perimeter (a strip w wide and long: w)."""
+        mesh = self.mesh
+        area = np.bincount(self.patch, weights=mesh.area_faces)
+        pairs = self.patch[mesh.face_adjacency]
+        between = pairs[:, 0] != pairs[:, 1]
+        ends = mesh.vertices[mesh.face_adjacency_edges[between]]
+        length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+        perimeter = np.bincount(pairs[between].ravel(), weights=np.repeat(length, 2), minlength=len(area))
+        return 2 * area / np.maximum(perimeter, 1e-300)
+
+    @cached_property
     def corner_normals(self) -> np.ndarray:
         """Each face's three corner normals (n_faces, 3, 3): at each vertex the angle-weighted mean of the normals
-        of the faces around it in the same smooth region (the surface the facets tessellate, not its facets)."""
+        of the faces around it in the same smooth region (the surface the facets tessellate, not its facets); where
+        one flat patch there is ``TANGENT`` times wider than every other (a face that a fillet's narrow facets meet
+        tangentially), that patch's normal, which the surface has along the tangent edge."""
         mesh, region = self.mesh, self.smooth[0]
         key = np.column_stack([np.repeat(region, 3), mesh.faces.ravel()])
         _, corner = np.unique(key, axis=0, return_inverse=True)
+        corner = corner.ravel()
         weighted = mesh.face_normals[:, None, :] * mesh.face_angles[:, :, None]
         total = np.zeros((corner.max() + 1, 3))
-        np.add.at(total, corner.ravel(), weighted.reshape(-1, 3))
+        np.add.at(total, corner, weighted.reshape(-1, 3))
+        patch = np.repeat(self.patch, 3)
+        width = self.patch_width[patch]
+        widest = np.zeros(len(total))
+        np.maximum.at(widest, corner, width)
+        first = np.full(len(total), len(corner))
+        np.minimum.at(first, corner, np.where(width == widest[corner], np.arange(len(corner)), len(corner)))
+        other = np.zeros(len(total))
+        np.maximum.at(other, corner, np.where(patch != patch[first[corner]], width, 0.0))
+        tangent = (other > 0) & (widest >= TANGENT * other)
+        total[tangent] = mesh.face_normals[first[tangent] // 3]
         total /= np.maximum(np.linalg.norm(total, axis=1, keepdims=True), 1e-300)
         return total[corner.reshape(-1, 3)]
 
