@@ -67,7 +67,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--sensors",
         type=count(0, MAX_LINES),
         metavar="N",
-        help="uniaxial accelerometers (default: the fewest that make the test diagnosable; 6 with other budget options)",
+        help="uniaxial accelerometers (default: the fewest that make the test diagnosable and no less accurate than "
+        "the minimal layout; 6 with other budget options)",
     )
     parser.add_argument(
         "--exciters", type=count(0, MAX_LINES), metavar="K", help="hammer hits (default: as --sensors; 3 with others)"
