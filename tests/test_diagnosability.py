@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import sys
 import tempfile
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
@@ -25,6 +26,8 @@ from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.placement.diagnosability import diagnosability
+from massline.placement import diagnosable_plan
+from massline.placement.diagnosability import UndiagnosableError
 from massline.placement.diagnosable_plan import budgets, cheapest_diagnosable
 from massline.core.lines import Lines
 from massline.meshes.loader import load_body
@@ -86,6 +89,46 @@ def test_leverages_sum_to_the_motions_and_no_hit_is_indispensable():
 def test_budgets_start_at_the_cheapest_that_can_be_diagnosable():
     assert [(b.sensors, b.exciters) for b in list(budgets(False))[:4]] == [(8, 4), (8, 5), (9, 4), (8, 6)]
     assert next(budgets(True)).sensors == 5
+
+
+@dataclass(frozen=True)
+class Planned:
+    """What the default plan's search reads of a plan: its size and worst relative 1-σ."""
+
+    sensors: tuple
+    exciters: tuple
+    worst_relative_std: float
+    minimal: object = None
+    search: object = None
+
+
+def planner_of(worst: dict):
+    """A stand-in for ``on_surface.plan``: the plan of each budget with the worst 1-σ ``worst`` gives it (the
+    minimal budget's for the undiagnosable plan), no diagnosable layout where it gives none."""
+
+    def planned(body, budget, *args, diagnosable=False, **kwargs):
+        size = (budget.sensors, budget.exciters)
+        if diagnosable and size not in worst:
+            raise UndiagnosableError(f"none of {size}")
+        return Planned((0,) * size[0], (0,) * size[1], worst[size if diagnosable else "minimal"])
+
+    return planned
+
+
+def test_a_diagnosable_layout_less_accurate_than_the_minimal_one_is_passed_over(monkeypatch):
+    """The default is the cheapest diagnosable budget no less accurate (worst 1-σ) than the paper's minimal layout:
+    8 × 4 at 1.5 % against the minimal 1.0 % is passed over (said in the search's sentence), 8 × 5 has none, 9 × 4
+    at 0.9 % is the plan; where no budget is as accurate, the first diagnosable one is, and the sentence says so."""
+    body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
+    monkeypatch.setattr(diagnosable_plan, "plan", planner_of({"minimal": 0.010, (8, 4): 0.015, (9, 4): 0.009}))
+    p = cheapest_diagnosable(body)
+    assert (len(p.sensors), len(p.exciters), p.worst_relative_std) == (9, 4, 0.009)
+    assert p.minimal.worst_relative_std == 0.010 and not p.search.stopped
+    assert "1 with one less accurate than the minimal plan (8 lines × 4 hits at 1.50%)" in p.search.what
+    monkeypatch.setattr(diagnosable_plan, "plan", planner_of({"minimal": 0.010, (8, 4): 0.015, (9, 4): 0.012}))
+    p = cheapest_diagnosable(body)
+    assert (len(p.sensors), len(p.exciters), p.worst_relative_std) == (8, 4, 0.015)
+    assert "less accurate than the minimal plan: none as accurate up to the last budget" in p.search.what
 
 
 @lru_cache(maxsize=None)

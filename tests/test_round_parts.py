@@ -134,15 +134,6 @@ def test_points_slide_along_a_curve_and_their_lines_turn_with_it(parts):
             assert gap <= PAD_GAP
 
 
-@pytest.mark.slow
-def test_a_default_plan_less_accurate_than_the_minimal_is_passed_over(parts):
-    """The filleted box at 32 sections: its cheapest diagnosable layout (8 × 4) measures some parameter worse than
-    the paper's minimal layout; the default plan goes on to the next budget that does not, and says so."""
-    p = cheapest_diagnosable(parts("filleted box", 32))
-    assert p.worst_relative_std <= p.minimal.worst_relative_std
-    assert p.diagnosability.diagnosable and "less accurate than the minimal plan" in p.search.what
-
-
 def test_triaxials_on_a_turned_part_need_one_hit_on_a_block(parts):
     """Triaxials see every motion: no accelerometer on a block, one hit on one to drive the rotation about the axis;
     every point sits on a curve or an end face."""
