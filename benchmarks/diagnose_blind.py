@@ -196,7 +196,8 @@ def table(rows: list) -> str:
 
 def summary(rows: list, without: str | None) -> str:
     """The confusion table (concealed × outcome, n per cell) and the rates issue 26 asks for."""
-    out = [table([r for r in rows if r["fault"] != "none"]), ""] if not without else []
+    faulty = [r for r in rows if r["fault"] != "none"]
+    out = [table(faulty), ""] if faulty and not without else []
     by = {}
     for r in rows:
         kind, effect, *_ = r["outcome"]
@@ -206,7 +207,6 @@ def summary(rows: list, without: str | None) -> str:
     clean = [r for r in rows if r["fault"] == "none"]
     alarms = sum(r["outcome"][0] == "fault" for r in clean)
     out.append(f"false alarms: {alarms} of {len(clean)} clean files got a fault named")
-    faulty = [r for r in rows if r["fault"] != "none"]
     if without and without not in FAULTS:  # test physics: the clean files that carry it (a mains file; every file)
         held = [r for r in clean if without != "mains_interference" or r["condition"].startswith("--effect-mains")]
         named = sum(r["outcome"][0] == "fault" for r in held)
