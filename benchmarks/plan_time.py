@@ -67,6 +67,23 @@ def timed_plan(body: list, options: list, out: Path) -> dict:
     return result | {"layout": f"{len(doc['sensors'])} × {len(doc['exciters'])}", "stopped": stopped}
 
 
+HEADS = {"minimal": "`--minimal`", "default": "default", "axes": "`--axes`", "triaxial": "`--triaxial 3 --sensors 0`"}
+
+
+def cell(r: dict) -> str:
+    """A plan's layout as the README's table gives it: ``9 × 4``, ``refused``, or the layout and "stopped"."""
+    return r["layout"] + (" (the diagnosable search stopped at its budget)" if r["stopped"] == "yes" else "")
+
+
+def table(results: dict, options: list) -> str:
+    """The README's table: one row per body, each option's layout and seconds."""
+    order = [o for o in HEADS if o in options]
+    out = ["| body | " + " | ".join(f"{HEADS[o]} | s" for o in order) + " |", "|---" * (1 + 2 * len(order)) + "|"]
+    for name, found in results.items():
+        out.append(f"| {name} | " + " | ".join(f"{cell(found[o])} | {found[o]['seconds']:.1f}" for o in order) + " |")
+    return "\n".join(out)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--options", nargs="+", choices=list(OPTIONS), default=list(OPTIONS))
@@ -80,11 +97,12 @@ def main() -> None:
             f"{'stopped':>7}",
             flush=True,
         )
-        rows = []
+        rows, results = [], {}
         for name, body in chosen.items():
             baseline = None
             for option in sorted(args.options, key=lambda o: o != "minimal"):  # the baseline first
                 r = timed_plan(body, OPTIONS[option], folder / f"{name}-{option}")
+                results.setdefault(name, {})[option] = r
                 baseline = r["seconds"] if option == "minimal" and r["code"] == 0 else baseline
                 ratio = f"{r['seconds'] / baseline:9.2f}" if baseline and option != "minimal" else f"{'':>9}"
                 print(
@@ -95,7 +113,8 @@ def main() -> None:
                 rows.append((r["seconds"], name, option))
     seconds, name, option = max(rows)
     verdict = "every plan under" if seconds < GOAL else "over"
-    print(f"slowest: {name} {option}, {seconds:.1f} s ({verdict} the {GOAL:.0f} s goal on {os.cpu_count()} cores)")
+    print(f"slowest: {name} {option}, {seconds:.1f} s ({verdict} the {GOAL:.0f} s goal on {os.cpu_count()} cores)\n")
+    print(table(results, args.options))
 
 
 if __name__ == "__main__":
