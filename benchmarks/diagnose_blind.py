@@ -175,7 +175,8 @@ def right(row: dict) -> bool:
 
 
 def others(rows: list) -> str:
-    """What the cases not named right got: ``unexplained at its place 7`` or ``sensor_location elsewhere 1``."""
+    """What the cases not named right got, with their body and seed: ``unexplained at its place (plate seed 0)``,
+    ``×N`` where several cases read alike."""
     counts = Counter(
         f"{r['outcome'][1] if r['outcome'][0] == 'fault' else r['outcome'][0]} "
         f"{'at its place' if placed(r) else 'elsewhere'} ({r['body']} seed {r['seed']})"

@@ -12,7 +12,8 @@ diagnosable one is the plan when none up to the last budget is as accurate). The
 it, to state what diagnosability costs.
 
 The search spends a budget of diagnosability evaluations (:mod:`.work`), shared by the budgets it tries: a
-search that spends it stops, and the plan is then the minimal layout, with what the search reached.
+search that spends it stops, and the plan is then the first diagnosable layout it passed over, or with none the
+minimal layout, with what the search reached.
 """
 
 from __future__ import annotations

@@ -57,13 +57,15 @@ def mounts(plan: Plan, side: int) -> list[Mount]:
     lines = (plan.sensors, plan.exciters)[side]
     nodes = (plan.sensor_nodes, plan.exciter_nodes)[side]
     points = plan.candidates
-    normals = None if points is None else points.normals[np.maximum(nodes, 0)]
-    gaps = np.zeros(len(nodes)) if points is None or points.gap is None else points.gap[np.maximum(nodes, 0)]
+    if points is None:  # planned on candidate lines, not on a mesh
+        return [Mount("fixed")] * len(nodes)
+    normals = points.normals[np.maximum(nodes, 0)]
+    gaps = np.zeros(len(nodes)) if points.gap is None else points.gap[np.maximum(nodes, 0)]
     if plan.sliding is not None and plan.sliding.normals[side] is not None:
         slid = ~np.isnan(plan.sliding.gaps[side])
         normals[slid], gaps[slid] = plan.sliding.normals[side][slid], plan.sliding.gaps[side][slid]
     return [
-        Mount("fixed") if n < 0 or points is None else mount(d, side == 0 and t >= 0, side, normal, gap)
+        Mount("fixed") if n < 0 else mount(d, side == 0 and t >= 0, side, normal, gap)
         for n, d, t, normal, gap in zip(nodes, lines.directions, lines.triaxial, normals, gaps)
     ]
 

@@ -43,27 +43,35 @@ def snapped(body: BodyMesh, lines: Lines | None, what: str) -> Lines | None:
     return Lines(snap(body.mesh, lines.points, what, UNITS[body.units]), lines.directions, lines.triaxial)
 
 
-def fixed_sites(mesh: trimesh.Trimesh, lines: Lines | None) -> Sites:
+def fixed_sites(surface: Surface, lines: Lines | None) -> Sites:
     """The points (m) of fixed lines already on the surface, each with the outward normal of the smooth surface
     there (its face's on a flat region, interpolated on a curve)."""
     if lines is None:
         return Sites.none()
+    mesh = surface.mesh
     faces = np.array([
         int(np.argmin(np.linalg.norm(trimesh.triangles.closest_point(mesh.triangles, np.tile(p, (len(mesh.faces), 1)))
                                      - p, axis=1)))
         for p in lines.points
     ], dtype=int)  # fmt: skip
-    return Sites(lines.points, Surface.of(mesh).surface_normal(lines.points, faces).reshape(-1, 3))
+    return Sites(lines.points, surface.surface_normal(lines.points, faces).reshape(-1, 3))
 
 
 def anchored(
-    body: BodyMesh, fixed_sensors: Lines | None, fixed_exciters: Lines | None, options: CandidateOptions
+    body: BodyMesh,
+    fixed_sensors: Lines | None,
+    fixed_exciters: Lines | None,
+    options: CandidateOptions,
+    surface: Surface | None = None,
 ) -> tuple[Lines | None, Lines | None, tuple[Sites, Sites]]:
     """The fixed lines snapped onto the surface and their sites; refused when two of them conflict
-    (:func:`.footprints.check_fixed`)."""
+    (:func:`.footprints.check_fixed`). ``surface``: the body's, when the caller has it (built here only when a
+    line is fixed)."""
     fixed_sensors = snapped(body, fixed_sensors, "--fixed-sensor")
     fixed_exciters = snapped(body, fixed_exciters, "--fixed-exciter")
-    anchors = fixed_sites(body.mesh, fixed_sensors), fixed_sites(body.mesh, fixed_exciters)
+    if surface is None and (fixed_sensors is not None or fixed_exciters is not None):
+        surface = Surface.of(body.mesh)
+    anchors = fixed_sites(surface, fixed_sensors), fixed_sites(surface, fixed_exciters)
     check_fixed(*anchors, Footprint(options.sensor_base, options.hammer_tip))
     return fixed_sensors, fixed_exciters, anchors
 
@@ -145,7 +153,7 @@ def plan(
     budget.check(planar)
     progress("candidates", 0.0)
     surface = Surface.of(body.mesh)
-    fixed_sensors, fixed_exciters, anchors = anchored(body, fixed_sensors, fixed_exciters, options)
+    fixed_sensors, fixed_exciters, anchors = anchored(body, fixed_sensors, fixed_exciters, options, surface)
     footprint = Footprint(options.sensor_base, options.hammer_tip)
     points = candidate_points(body.mesh, options, surface)
     footprints = Footprints(footprint, Sites(points.points, points.normals), *anchors)
