@@ -1,4 +1,4 @@
-"""Criterion E against D on the bundled bodies' minimal layouts: the README's criterion-E sentence.
+"""Criterion E against D on the bundled bodies' minimal layouts: the criterion-E sentence in docs/validation.md.
 
 Each plan runs through the command line (`massline plan BODY --minimal [--criterion E]`); the figures come from
 plan.json: the smallest eigenvalue λ_min of the scaled information F, E's gain in it over D's layout, E's

@@ -1,10 +1,10 @@
-"""The default plan against the paper's minimal one on the bundled bodies: the README's table of them.
+"""The default plan against the paper's minimal one on the bundled bodies: the table of them in docs/validation.md.
 
     python benchmarks/default_plans.py [--bodies NAME ...]
 
 Each plan runs through the command line as a user runs it (`massline plan BODY --out DIR`, and `--minimal`),
 so the figures are those of the plans a user gets: 400 candidates, seed 0, mountable points slid on their faces.
-The table prints as the README shows it: the layout (lines × hits), the worst predicted relative 1-σ (mass, CoG
+The table prints as docs/validation.md shows it: the layout (lines × hits), the worst predicted relative 1-σ (mass, CoG
 against the radius of gyration, principal moments) and log det F. Everything in it is deterministic.
 """
 

@@ -50,7 +50,7 @@ FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % 
     "excitation_mass_loading": ("0.02", "drive"),  # a shaker test with 20 g gauges (--gauge-mass): every column
     "mixed_housings": ("0.008 1=0.025 2=0.025", "housings"),  # --sensor-mass: 25 g at nodes 1 and 2, 8 g elsewhere
 }
-LABELS = {  # the README's name of each concealed fault
+LABELS = {  # docs/validation.md's name of each concealed fault
     "sensor_gain": "10 % gain",
     "sensor_polarity": "polarity",
     "sensor_direction": "8° sensor tilt",
@@ -187,7 +187,7 @@ def others(rows: list) -> str:
 
 
 def table(rows: list) -> str:
-    """The README's table: each concealed fault, its cases, those named right at their place, and the others."""
+    """docs/validation.md's table: each concealed fault, its cases, those named right at their place, and the others."""
     out = ["| concealed | n | named right, at its place | the others |", "|---|---|---|---|"]
     for fault in (f for f in FAULTS if any(r["fault"] == f for r in rows)):
         held = [r for r in rows if r["fault"] == fault]

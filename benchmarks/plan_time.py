@@ -71,12 +71,12 @@ HEADS = {"minimal": "`--minimal`", "default": "default", "axes": "`--axes`", "tr
 
 
 def cell(r: dict) -> str:
-    """A plan's layout as the README's table gives it: ``9 × 4``, ``refused``, or the layout and "stopped"."""
+    """A plan's layout as docs/validation.md's table gives it: ``9 × 4``, ``refused``, or the layout and "stopped"."""
     return r["layout"] + (" (the diagnosable search stopped at its budget)" if r["stopped"] == "yes" else "")
 
 
 def table(results: dict, options: list) -> str:
-    """The README's table: one row per body, each option's layout and seconds."""
+    """docs/validation.md's table: one row per body, each option's layout and seconds."""
     order = [o for o in HEADS if o in options]
     out = ["| body | " + " | ".join(f"{HEADS[o]} | s" for o in order) + " |", "|---" * (1 + 2 * len(order)) + "|"]
     for name, found in results.items():

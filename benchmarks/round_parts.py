@@ -1,4 +1,4 @@
-"""Plans on round parts: the README's table of them (issue "Round parts").
+"""Plans on round parts: the table of them in docs/validation.md (issue "Round parts").
 
     python benchmarks/round_parts.py [--parts NAME ...] [--sections N ...] [--kinds KIND ...] [--virtual]
 

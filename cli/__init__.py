@@ -1,7 +1,7 @@
 """massline: plan and evaluate the modal test that identifies a body's mass, CoG and inertia tensor.
 
 The package is the test's data flow, one sub-package per stage; each imports only the ones below it
-(the README's "Layout"):
+(docs/development.md, "Layout"):
 
 - ``massline`` (this folder, ``cli/``): the command ``massline`` — argument parsing, console
   output, exit codes; no science — and the public API below, re-exported.

@@ -2,7 +2,7 @@
 
 identify's and diagnose's JSON carry every warning as ``{"code": CODE, "text": SENTENCE}``; the console and the
 reports print the sentence. A code never changes meaning; a new suspicion gets a new code, listed in ``CODES``
-with what it says (README, "Warnings").
+with what it says (docs/identifying.md, "Warnings").
 """
 
 from __future__ import annotations

@@ -196,13 +196,13 @@ def test_a_faulty_channel_is_located_on_the_default_plan_and_not_on_the_minimal(
     runs = [located(default, fault, seed, tmp_path) for fault in CHANNEL_FAULTS for seed in (0, 1)]
     assert np.mean([at for at, _, _ in runs]) >= 0.95, runs
     assert np.mean([named for _, named, _ in runs]) >= 5 / 6, runs
-    for fault in ("sensor_polarity", "sensor_gain"):  # the minimal plan's direction faults: see the README
+    for fault in ("sensor_polarity", "sensor_gain"):  # the minimal plan's direction faults: see docs/validation.md
         _, named, redundant = located(minimal, fault, 0, tmp_path)  # a fault may sit at the channel (3 of 10)
         assert not named and not redundant
 
 
 def markdown(name: str, results: dict, sizes: dict) -> list[str]:
-    """The README's rows of ``name``: per plan, each fault's "located, named of cases" (— where not run)."""
+    """docs/validation.md's rows of ``name``: per plan, each fault's "located, named of cases" (— where not run)."""
     rows = []
     for label, q in sizes.items():
         cells = [

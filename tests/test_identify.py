@@ -219,7 +219,7 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_tes
 @pytest.mark.slow
 def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
     """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 94 % of them (the
-    README's claim; 95 % for a normal error)."""
+    claim in docs/identifying.md; 95 % for a normal error)."""
     body, sensors, exciters = bracket_test[:3]
     inside = []
     for seed in range(50):
