@@ -1,0 +1,200 @@
+"""The documentation holds what the code does (issue 30).
+
+- Every ``massline COMMAND`` in README.md and docs/*.md is a command, and every ``--option`` written after it (in
+  a code block or an inline code span) is in ``massline COMMAND --help``. An option in an inline span with no
+  command is one of massline's (any command's) or of a script the page names (``python benchmarks/X.py``,
+  ``python tests/X.py``: the option's string is in that script's source); spans that begin with a pytest option
+  (``-n``, ``-k``, ``-m``) are pytest's and not checked.
+- Every relative link and image resolves to a file of the repository, and an anchor to a heading of it.
+- The README's walkthrough (the ``$ massline ...`` lines of its "A test in five steps") runs as written, in order,
+  in an empty folder, each exiting 0 and printing the kinds of line the README shows.
+- Every section of docs/validation.md that states a figure names the command that prints it.
+"""
+
+import os
+import re
+import subprocess
+import sys
+from functools import cache
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+COMMANDS = ("props", "plan", "simulate", "report", "identify", "diagnose", "demo")
+OPTION = re.compile(r"(?<![\w-])--[a-z][a-z0-9-]*")
+SCRIPT = re.compile(r"\b((?:benchmarks|tests)/[\w/]+\.py)\b")
+FENCE = re.compile(r"^ *```(\w*)\n(.*?)^ *```", re.S | re.M)
+
+
+def text(page: Path) -> str:
+    return page.read_text()
+
+
+@cache
+def help_options(command: str | None) -> frozenset[str]:
+    """The options ``massline [COMMAND] --help`` prints (run as tests/test_cli.py runs the command)."""
+    run = subprocess.run(
+        [sys.executable, "-m", "massline", *([command] if command else []), "--help"], capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stderr
+    return frozenset(OPTION.findall(run.stdout))
+
+
+def every_option() -> frozenset[str]:
+    return frozenset().union(help_options(None), *(help_options(c) for c in COMMANDS))
+
+
+def code_blocks(page_text: str) -> list[str]:
+    """Fenced blocks (not Python; of a console block its ``$`` lines, not the output) and indented blocks, each as
+    its lines; a synopsis line that starts with whitespace and "[" continues the command above it."""
+    blocks = [body for lang, body in FENCE.findall(page_text) if lang not in ("python", "console")]
+    blocks += [
+        "\n".join(line for line in body.splitlines() if line.strip().startswith("$ "))
+        for lang, body in FENCE.findall(page_text)
+        if lang == "console"
+    ]
+    prose = FENCE.sub("", page_text)
+    for block in re.findall(r"(?:^(?: {4}|\t).*\n?)+", prose, re.M):
+        lines: list[str] = []
+        for line in block.splitlines():
+            if lines and re.match(r"\s+\[", line):
+                lines[-1] += " " + line.strip()
+            else:
+                lines.append(line.strip())
+        blocks.append("\n".join(lines))
+    return blocks
+
+
+def inline_spans(page_text: str) -> list[str]:
+    prose = FENCE.sub("", page_text)
+    prose = re.sub(r"(?:^(?: {4}|\t).*\n?)+", "", prose, flags=re.M)
+    return re.findall(r"`([^`\n]+)`", prose)
+
+
+def command_uses(page_text: str) -> list[tuple[str, str, list[str]]]:
+    """(the text, the command, the options after it) for every ``massline COMMAND`` in code."""
+    found = []
+    pieces = [line for block in code_blocks(page_text) for line in block.splitlines()] + inline_spans(page_text)
+    for piece in pieces:
+        uses = list(re.finditer(r"\bmassline ([a-z]+)\b", piece))
+        for k, use in enumerate(uses):
+            end = uses[k + 1].start() if k + 1 < len(uses) else len(piece)
+            found.append((piece, use.group(1), OPTION.findall(piece[use.end() : end])))
+    return found
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_every_command_and_option_named_exists(page):
+    wrong = []
+    for piece, command, options in command_uses(text(page)):
+        if command not in COMMANDS:
+            wrong.append(f"massline {command}: no such command ({piece})")
+            continue
+        wrong += [f"massline {command} {o}: not in its --help ({piece})" for o in options if o not in help_options(command)]
+    assert not wrong, "\n".join(wrong)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_every_option_named_in_prose_exists(page):
+    """Spans with no command: massline's options, or those of a script the page names."""
+    page_text = text(page)
+    scripts = [ROOT / s for s in set(SCRIPT.findall(page_text))]
+    missing = [s for s in scripts if not s.is_file()]
+    assert not missing, f"scripts named that do not exist: {missing}"
+    sources = "\n".join(s.read_text() for s in scripts)
+    wrong = []
+    for span in inline_spans(page_text):
+        if "massline " in span or re.match(r"-[a-z]\b", span):  # a command's (checked above), or pytest's
+            continue
+        script = SCRIPT.search(span)
+        known = (ROOT / script.group(1)).read_text() if script else None
+        for option in OPTION.findall(span):
+            if known is not None:
+                ok = f'"{option}"' in known or f"'{option}'" in known
+            else:
+                ok = option in every_option() or f'"{option}"' in sources or f"'{option}'" in sources
+            if not ok:
+                wrong.append(f"{option} ({span})")
+    assert not wrong, "\n".join(wrong)
+
+
+def slug(heading: str) -> str:
+    """GitHub's anchor of a heading."""
+    heading = heading.strip().lower().replace("`", "")
+    return re.sub(r"[^\w\- ]", "", heading).replace(" ", "-")
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_every_relative_link_resolves(page):
+    prose = FENCE.sub("", text(page))
+    wrong = []
+    for target in re.findall(r"!?\[[^\]]*\]\(([^)\s]+)\)", prose):
+        if re.match(r"[a-z]+:", target):
+            continue  # http(s), mailto: not the repository's
+        path, _, anchor = target.partition("#")
+        file = (page.parent / path).resolve() if path else page
+        if not file.is_file() or ROOT not in file.parents:
+            wrong.append(f"{target}: no such file in the repository")
+        elif anchor and file.suffix == ".md":
+            headings = {slug(h) for h in re.findall(r"^#+ (.*)$", FENCE.sub("", file.read_text()), re.M)}
+            if anchor not in headings:
+                wrong.append(f"{target}: no heading #{anchor} in {file.relative_to(ROOT)}")
+    assert not wrong, "\n".join(wrong)
+
+
+def walkthrough() -> list[tuple[str, list[str]]]:
+    """The README's walkthrough: each ``$ massline ...`` line and the output lines shown under it."""
+    readme = text(ROOT / "README.md")
+    section = readme.split("\n## A test in five steps\n", 1)[1].split("\n## ", 1)[0]
+    steps = []
+    for _, body in FENCE.findall(section):
+        for line in body.splitlines():
+            line = line.strip()
+            if line.startswith("$ "):
+                steps.append((line[2:], []))
+            elif line and steps:
+                steps[-1][1].append(line)
+    return steps
+
+
+def test_the_walkthrough_is_five_massline_steps():
+    steps = walkthrough()
+    assert [command.split()[1] for command, _ in steps] == ["plan", "report", "simulate", "identify", "diagnose"]
+
+
+@pytest.mark.slow
+def test_the_readme_walkthrough_runs_as_written(tmp_path):
+    """In an empty folder, each step exits 0 and prints each shown line's kind (its text up to the first digit:
+    the figures are the README's run, the words are what the command says)."""
+    executable = Path(sys.executable).parent / "massline"
+    assert executable.is_file(), executable
+    env = {**os.environ, "MASSLINE_DEBUG": "1"}
+    for command, shown in walkthrough():
+        words = command.split()
+        assert words[0] == "massline", command
+        run = subprocess.run([str(executable), *words[1:]], capture_output=True, text=True, cwd=tmp_path, env=env)
+        assert run.returncode == 0, f"{command}: {run.stderr}"
+        printed = run.stdout + run.stderr
+        for line in shown:
+            kind = re.split(r"[−\d]", line, maxsplit=1)[0].rstrip()
+            assert kind in printed, f"{command}: {kind!r} not printed"
+
+
+def sections(page_text: str) -> list[tuple[str, str]]:
+    parts = re.split(r"^(#+ .*)$", page_text, flags=re.M)
+    return list(zip(parts[1::2], parts[2::2]))
+
+
+def test_every_figure_in_validation_names_its_command():
+    """Each section of docs/validation.md that holds a digit (a table's or a measured figure) names, in code, a
+    script of benchmarks/ or tests/ that prints or checks it, and that script exists."""
+    unnamed = []
+    for heading, body in sections(text(ROOT / "docs" / "validation.md")):
+        if not re.search(r"\d", body):
+            continue
+        named = [s for span in re.findall(r"`([^`]+)`", body) for s in SCRIPT.findall(span)]
+        if not named or not all((ROOT / s).is_file() for s in named):
+            unnamed.append(heading)
+    assert not unnamed, unnamed
