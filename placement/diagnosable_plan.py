@@ -33,8 +33,8 @@ from massline.placement.planner import Budget, Plan
 from massline.placement.work import Reached, Work, WorkSpent
 
 MOST_EXTRA = 8  # lines and hits beyond the cheapest diagnosable budget tried before giving up
-EVALUATIONS = 300_000  # diagnosability evaluations the search may spend (the bracket 140 000 on its 9 × 4, a 32-section
-# cylinder 285 000 on its 9 × 5 after four budgets with none)
+EVALUATIONS = 300_000  # diagnosability evaluations the search may spend (the bracket 80 483 on its 9 × 4, the structure
+# 57 895 on its 9 × 4: benchmarks/planned_bands.py)
 UNIT = "diagnosability evaluations"
 
 

@@ -3,7 +3,8 @@
 ``python benchmarks/default_plans.py`` prints the table of default and minimal plans as docs/validation.md shows
 it: each row must stand there verbatim. ``python benchmarks/criteria.py`` prints criterion E against D on the
 minimal layouts: the page's sentence gives E's gain in λ_min (to 0.01), its certified efficiency (to 1 %) and
-log det F before and after (to 0.1), body by body, as the benchmark prints them. Layouts, λ_min and log det do
+log det F before and after (to 0.1), body by body, as the benchmark prints them. ``python
+benchmarks/planned_bands.py`` prints each default plan's support and band: each row stands there verbatim. Layouts, λ_min and log det do
 not depend on the machine; the figures that do (seconds) are stated with their machine and are not checked here.
 """
 
@@ -46,3 +47,11 @@ def test_the_criterion_sentence_is_what_its_benchmark_prints():
     assert gains in sentence, (gains, sentence)
     assert "E-efficiency ≥ " + " / ".join(figures[n][1] for n in order) + " %" in sentence, sentence
     assert "(" + ", ".join(figures[n][2] for n in order) + ")" in sentence, sentence
+
+
+@pytest.mark.slow
+def test_the_planned_bands_table_is_what_its_benchmark_prints():
+    rows = [line for line in printed("planned_bands.py") if line.startswith("| ")]
+    assert len(rows) == 2 + 4  # the header, its rule and four plans
+    missing = [row for row in rows if row not in VALIDATION]
+    assert not missing, missing
