@@ -4,10 +4,11 @@
 
 Each plan runs through the command line as a user runs it (`massline plan BODY --out DIR`; the structure also
 with the demo's budget, `--sensors 14 --exciters 4`), so the band is the one the plan file, the placement report,
-`simulate --check` and the demo print (with what the default plan's search for the cheapest diagnosable layout
-spent, plan.json's ``search``; "—" where a budget was given and nothing was searched): predicted on the FE model `simulate` builds by default, the widest band
-over the supports weighed at the tightest tolerance (1, 2 or 5 %) that holds one an octave wide. Everything printed
-is deterministic (the FE model is solved again where the cache holds no modes for the body).
+`simulate --check` and the demo print: predicted on the FE model `simulate` builds by default, the widest band
+over the supports weighed at the tightest tolerance (1, 2 or 5 %) that holds one an octave wide. Beside it, what
+the default plan's search for the cheapest diagnosable layout spent (plan.json's ``search``; "—" where a budget
+was given and nothing was searched). Everything printed is deterministic (the FE model is solved again where the
+cache holds no modes for the body).
 """
 
 from __future__ import annotations

@@ -4,8 +4,9 @@
 it: each row must stand there verbatim. ``python benchmarks/criteria.py`` prints criterion E against D on the
 minimal layouts: the page's sentence gives E's gain in λ_min (to 0.01), its certified efficiency (to 1 %) and
 log det F before and after (to 0.1), body by body, as the benchmark prints them. ``python
-benchmarks/planned_bands.py`` prints each default plan's support and band: each row stands there verbatim. Layouts, λ_min and log det do
-not depend on the machine; the figures that do (seconds) are stated with their machine and are not checked here.
+benchmarks/planned_bands.py`` prints each default plan's support and band: each row stands there verbatim.
+Layouts, λ_min, log det and bands do not depend on the machine; the figures that do (seconds) are stated with
+their machine and are not checked here.
 """
 
 import re

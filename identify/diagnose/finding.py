@@ -62,7 +62,8 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonanc
         return Finding(what, (), None, parameters, {**evidence, **effect.tail_evidence(result.problem.data)})
     effect = named(what.effect)
     parameters = effect.parameters(result, what)
-    evidence = {"values": result.problem.layout.size(what), "n_values": result.problem.n_values, **evidence}  # BIC's k, n
+    size, n = result.problem.layout.size(what), result.problem.n_values
+    evidence = {"values": size, "n_values": n, **evidence}  # the free values it paid for and the values behind (BIC)
     if effect.perturbs == "sensor":
         return Finding(what.effect, tuple(result.problem.layout.channels(what)), None, parameters, evidence)
     return Finding(what.effect, (), what.target, parameters, evidence)
