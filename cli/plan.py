@@ -42,9 +42,9 @@ LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
 MAX_FOOTPRINT_MM = 1000.0  # an accelerometer base or a hammer tip, across
 MAX_CANDIDATES = 2_000_000  # sample points; memory is checked against the machine as well
-# Peak memory of a plan, measured on the bundled structure (2 cores): 0.77 / 1.68 GB at 1e5 / 3e5 sample points,
-# ~315 MB + 4.55 kB per point (with the exchanges among every candidate); --axes ×3.2 (3.8 GB at 3e5 before
-# those exchanges); a margin for other meshes.
+# Peak memory of a plan (benchmarks/plan_memory.py, the bundled structure's minimal plan): 0.62 / 1.38 GB at 1e5 /
+# 3e5 sample points, 240 MB + 3.79 kB per point; --axes ×3.2 (3.8 GB at 3e5, an earlier run); a margin for other
+# meshes.
 BASE_BYTES, BYTES_PER_CANDIDATE, AXES_FACTOR = 350e6, 4.8e3, 3.2
 
 

@@ -288,7 +288,7 @@ def unseen_twists(points: CandidatePoints, index: np.ndarray) -> np.ndarray:
     coords = Lines(points.points[index], points.normals[index]).coordinates
     size = max(np.ptp(points.points, axis=0).max(initial=0.0), 1e-300)  # m, the body's extent
     scale = np.array([1, 1, 1, size, size, size])
-    twists = np.linalg.svd(coords / scale)[2]
+    twists = np.linalg.svd(coords / scale, full_matrices=False)[2]  # (6, 6): the n × n left factor is not needed
     best = np.abs(coords / scale @ twists.T).max(axis=0, initial=0.0)
     unseen = twists[best < UNSEEN] / scale
     return unseen / np.linalg.norm(unseen, axis=1, keepdims=True)

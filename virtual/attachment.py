@@ -96,6 +96,6 @@ def bears(points: np.ndarray, cog, up: np.ndarray, tolerance: float) -> bool:
         return False
     if cog is None:
         return True
-    axes = np.linalg.svd(flat - flat.mean(axis=0))[2][:2]
+    axes = np.linalg.svd(flat - flat.mean(axis=0), full_matrices=False)[2][:2]
     centre = np.asarray(cog, dtype=float) - (np.asarray(cog) @ up) * up
     return bool(Delaunay((flat - flat.mean(axis=0)) @ axes.T).find_simplex((centre - flat.mean(axis=0)) @ axes.T) >= 0)
