@@ -199,3 +199,19 @@ def test_every_figure_in_validation_names_its_command():
         if not named or not all((ROOT / s).is_file() for s in named):
             unnamed.append(heading)
     assert not unnamed, unnamed
+
+
+def test_every_warning_code_and_every_effect_is_documented():
+    """docs/identifying.md's warnings table holds every code of ``CODES`` (and no other), and docs/diagnosing.md
+    names every effect of the registry, each as a table row's first cell."""
+    from massline.identify.diagnose.effects import EFFECTS
+    from massline.identify.warning_codes import CODES
+
+    def first_cells(page: str) -> set[str]:
+        return set(re.findall(r"^\| `([a-z_]+)` \|", text(ROOT / "docs" / page), re.M))
+
+    documented = first_cells("identifying.md")
+    assert documented >= set(CODES), sorted(set(CODES) - documented)
+    assert not documented - set(CODES) - {e.name for e in EFFECTS}, sorted(documented - set(CODES))
+    named = first_cells("diagnosing.md")
+    assert named >= {e.name for e in EFFECTS}, sorted({e.name for e in EFFECTS} - named)
