@@ -62,8 +62,7 @@ def accepted_finding(result: Fit, band: BandData, what, evidence: dict, resonanc
         return Finding(what, (), None, parameters, {**evidence, **effect.tail_evidence(result.problem.data)})
     effect = named(what.effect)
     parameters = effect.parameters(result, what)
-    size, n = result.problem.layout.size(what), result.problem.n_values
-    evidence = {"values": size, "n_values": n, **evidence}  # the free values it paid for and the values behind (BIC)
+    evidence = {"values": result.problem.layout.size(what), **evidence}  # the free values it paid for (BIC)
     if effect.perturbs == "sensor":
         return Finding(what.effect, tuple(result.problem.layout.channels(what)), None, parameters, evidence)
     return Finding(what.effect, (), what.target, parameters, evidence)

@@ -112,7 +112,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     if withdrawn:
         again, kept, more = identified_after(recording, marked, band, transverse, before, known)
         return again, kept, withdrawn + more
-    stand_ins = [f for f in undoable(marked) if not (proven_by_mesh(f) or decisive_beside(f, after))]
+    stand_ins = [f for f in undoable(marked) if not proven_by_mesh(f)]
     if stand_ins and before is not None and not explains_the_misfit(before, after):
         again, kept, _ = identified_after(recording, [f for f in marked if f not in stand_ins], band, transverse,
                                           before, known)  # fmt: skip
@@ -205,24 +205,6 @@ def explains_the_misfit(before: Identification, after: Identification) -> bool:
         return True
     excess = total_chi2(before) - before.best.dof
     return total_chi2(before) - total_chi2(after) >= MOST * excess
-
-
-def decisive_beside(finding, after: Identification) -> bool:
-    """Whether the search's evidence for ``finding`` stays very strong with its χ² discounted by the misfit that
-    identify's masslines still carry with the faults undone (quasi-likelihood, Burnham & Anderson's ĉ):
-
-        (ΔBIC + k ln n) / ĉ − k ln n ≥ EVIDENCE,    ĉ = max(1, identify's reduced χ² after),
-
-    ΔBIC the search's over every spectral line (its own fit, the support's and elastic tails modelled, leaves χ²
-    per value near 1), k the finding's free values and n the values behind the search's fit. Such a fault is
-    proven beside a misfit of another kind and is no stand-in for it. On the bracket's stiff cord (support top at
-    f₁/10) a −12.5 % gain was ΔBIC 1667 at ĉ 3.99 (kept: 410), while a clean file's stand-in, a hit's offset,
-    was ΔBIC 12.9 at ĉ 1.98 (−9.1) and one beside every housing's mass ΔBIC 23.1 at ĉ 2.12 (−5.8)."""
-    e = finding.evidence
-    if "delta_bic" not in e or "n_values" not in e or not np.isfinite(after.best.chi2):
-        return False
-    penalty = e.get("values", 1) * np.log(e["n_values"])
-    return (e["delta_bic"] + penalty) / max(1.0, after.best.chi2) - penalty >= EVIDENCE
 
 
 def best_undone(recording, findings: list, candidates: list, band, transverse: float, known: dict) -> list:
