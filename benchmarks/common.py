@@ -3,6 +3,7 @@ command run as a user runs them."""
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -45,6 +46,19 @@ def run_plan(arguments: list, out: Path, cache: bool = True) -> tuple[subprocess
     start = time.perf_counter()
     run = subprocess.run(command, capture_output=True, text=True, env=env, check=False)
     return run, time.perf_counter() - start
+
+
+def planned(arguments: list, out: Path) -> dict:
+    """plan.json of `massline plan ARGUMENTS --out OUT`; a refusal ends the benchmark with its message."""
+    run, _ = run_plan(arguments, out)
+    if run.returncode != 0:
+        raise SystemExit(f"massline plan {' '.join(arguments)} failed: {run.stderr.strip()}")
+    return json.loads((out / "plan.json").read_text())
+
+
+def layout(doc: dict) -> str:
+    """A plan file's layout as the tables give it: lines × hits (``9 × 4``)."""
+    return f"{len(doc['sensors'])} × {len(doc['exciters'])}"
 
 
 def massline(*args: str) -> None:

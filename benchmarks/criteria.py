@@ -10,21 +10,17 @@ certified efficiency (λ_min / λ_min,best ≥ the bound) and what E gives up in
 from __future__ import annotations
 
 import argparse
-import json
 import tempfile
 from pathlib import Path
 
-from common import run_plan
+from common import planned
 
 from massline.meshes import BUNDLED
 
 
-def planned(name: str, criterion: str, out: Path) -> dict:
+def criterion_of(name: str, criterion: str, out: Path) -> dict:
     """plan.json's criterion section of `massline plan NAME --minimal --criterion CRITERION`."""
-    run, _ = run_plan([name, "--minimal", "--criterion", criterion], out)
-    if run.returncode != 0:
-        raise SystemExit(f"massline plan {name} --minimal --criterion {criterion} failed: {run.stderr.strip()}")
-    return json.loads((out / "plan.json").read_text())["criterion"]
+    return planned([name, "--minimal", "--criterion", criterion], out)["criterion"]
 
 
 def main() -> None:
@@ -35,8 +31,8 @@ def main() -> None:
     print(f"{'body':<10} {'λ_min D':>10} {'λ_min E':>10} {'E / D':>7} {'E-efficiency ≥':>15} {'log det D':>10} "
           f"{'log det E':>10}")  # fmt: skip
     for name in args.bodies:
-        d = planned(name, "D", folder / f"{name}-D")
-        e = planned(name, "E", folder / f"{name}-E")
+        d = criterion_of(name, "D", folder / f"{name}-D")
+        e = criterion_of(name, "E", folder / f"{name}-E")
         gain = e["smallest_eigenvalue"] / d["smallest_eigenvalue"]
         print(f"{name:<10} {d['smallest_eigenvalue']:10.4g} {e['smallest_eigenvalue']:10.4g} {gain:6.2f}× "
               f"{100 * e['efficiency_lower_bound']:14.0f} % {d['log_det']:10.1f} {e['log_det']:10.1f}")  # fmt: skip

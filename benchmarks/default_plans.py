@@ -4,32 +4,23 @@
 
 Each plan runs through the command line as a user runs it (`massline plan BODY --out DIR`, and `--minimal`),
 so the figures are those of the plans a user gets: 400 candidates, seed 0, mountable points slid on their faces.
-The table prints as docs/validation.md shows it: the layout (lines × hits), the worst predicted relative 1-σ (mass, CoG
-against the radius of gyration, principal moments) and log det F. Everything in it is deterministic.
+The table prints as docs/validation.md shows it: the layout (lines × hits), the worst predicted relative 1-σ
+(mass, CoG against the radius of gyration, principal moments) and log det F. Everything in it is deterministic.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import tempfile
 from pathlib import Path
 
 import numpy as np
-from common import run_plan
+from common import layout, planned
 
 from massline.core.accuracy import worst_relative_std
 from massline.core.model import RigidModel
 from massline.core.rigid_body import RigidBody
 from massline.meshes import BUNDLED
-
-
-def planned(name: str, options: list, out: Path) -> dict:
-    """plan.json of `massline plan NAME OPTIONS --out OUT`."""
-    run, _ = run_plan([name, *options], out)
-    if run.returncode != 0:
-        raise SystemExit(f"massline plan {name} {' '.join(options)} failed: {run.stderr.strip()}")
-    return json.loads((out / "plan.json").read_text())
 
 
 def figures(doc: dict) -> tuple[str, float, float]:
@@ -38,7 +29,7 @@ def figures(doc: dict) -> tuple[str, float, float]:
     body = RigidBody(nominal["mass"], np.array(nominal["cog"]), np.array(nominal["inertia_cog"]))
     std = {k: np.asarray(v, dtype=float) for k, v in doc["predicted_std"].items()}
     worst = worst_relative_std(RigidModel(body, doc["planar"]), std)
-    return f"{len(doc['sensors'])} × {len(doc['exciters'])}", worst, doc["criterion"]["log_det"]
+    return layout(doc), worst, doc["criterion"]["log_det"]
 
 
 def main() -> None:
@@ -49,8 +40,8 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as scratch:
         for name in args.bodies:
-            default = figures(planned(name, [], Path(scratch) / f"{name}-default"))
-            minimal = figures(planned(name, ["--minimal"], Path(scratch) / f"{name}-minimal"))
+            default = figures(planned([name], Path(scratch) / f"{name}-default"))
+            minimal = figures(planned([name, "--minimal"], Path(scratch) / f"{name}-minimal"))
             cells = [f"{layout} | {worst:.2%} | {log_det:.1f}" for layout, worst, log_det in (default, minimal)]
             print(f"| {name} | {cells[0].replace('%', ' %')} | {cells[1].replace('%', ' %')} |", flush=True)
 

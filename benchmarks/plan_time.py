@@ -24,7 +24,7 @@ from pathlib import Path
 
 import trimesh
 
-from common import run_plan
+from common import layout, run_plan
 
 from massline.meshes import BUNDLED
 
@@ -64,7 +64,7 @@ def timed_plan(body: list, options: list, out: Path) -> dict:
     doc = json.loads((out / "plan.json").read_text())
     search = doc["diagnosability"].get("search")
     stopped = "" if search is None else ("yes" if search["stopped"] else "no")
-    return result | {"layout": f"{len(doc['sensors'])} × {len(doc['exciters'])}", "stopped": stopped}
+    return result | {"layout": layout(doc), "stopped": stopped}
 
 
 HEADS = {"minimal": "`--minimal`", "default": "default", "axes": "`--axes`", "triaxial": "`--triaxial 3 --sensors 0`"}

@@ -14,11 +14,10 @@ cache holds no modes for the body).
 from __future__ import annotations
 
 import argparse
-import json
 import tempfile
 from pathlib import Path
 
-from common import run_plan
+from common import layout, planned
 
 from massline.meshes import BUNDLED
 
@@ -27,16 +26,12 @@ PLANS = {"structure": [[], ["--sensors", "14", "--exciters", "4"]], "bracket": [
 
 def band_of(name: str, options: list, out: Path) -> str:
     """One table row: the plan's layout, its support and its band, from plan.json."""
-    run, _ = run_plan([name, *options], out)
-    if run.returncode != 0:
-        raise SystemExit(f"massline plan {name} {' '.join(options)} failed: {run.stderr.strip()}")
-    doc = json.loads((out / "plan.json").read_text())
+    doc = planned([name, *options], out)
     band = doc["band"]
-    layout = f"{len(doc['sensors'])} × {len(doc['exciters'])}"
     given = " ".join(options) or "(default)"
     search = doc["diagnosability"].get("search") or {}
     spent = f"{search['spent']:,}" if "spent" in search else "—"
-    return (f"| {name} | {given} | {layout} | {spent} | {doc['suspension']['description']} | "
+    return (f"| {name} | {given} | {layout(doc)} | {spent} | {doc['suspension']['description']} | "
             f"{band['low_hz']:.1f}–{band['high_hz']:.1f} | {band['tolerance']:.0%} |").replace("%", " %")
 
 

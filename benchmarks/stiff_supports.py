@@ -102,7 +102,8 @@ LABELS = {"cord/4": "cord, f₁/4", "cord/10": "cord, f₁/10", "foam/10": "foam
 
 
 def table(rows: dict) -> str:
-    """docs/validation.md's table: each body and support, the worst error over its bound before and after, over the seeds."""
+    """docs/validation.md's table: each body and support, the worst error over its bound before and after, over the
+    seeds."""
     out = ["| body | support | before | after |", "|---|---|---|---|"]
     for (body, support), results in rows.items():
         before, after = ([r[label] for r in results] for label in ("before", "after"))

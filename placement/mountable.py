@@ -309,10 +309,12 @@ class Surface:
         return int(faces[inside[0]]) if len(inside) else -1
 
 
-def closest_on_surface(mesh: trimesh.Trimesh, point: np.ndarray) -> np.ndarray:
-    """The point (3,) of the surface nearest to ``point`` (3,), m: the nearest of each triangle's nearest."""
+def closest_on_surface(mesh: trimesh.Trimesh, point: np.ndarray) -> tuple[np.ndarray, int]:
+    """The point (3,) of the surface nearest to ``point`` (3,), m, and the face it lies on: the nearest of each
+    triangle's nearest."""
     feet = trimesh.triangles.closest_point(mesh.triangles, np.tile(point, (len(mesh.faces), 1)))
-    return feet[np.argmin(np.linalg.norm(feet - point, axis=1))]
+    face = int(np.argmin(np.linalg.norm(feet - point, axis=1)))
+    return feet[face], face
 
 
 def snap(
@@ -321,7 +323,7 @@ def snap(
     """The nearest surface points (n, 3) m to ``points`` (m); refuses one farther than ``tolerance`` (m),
     naming it in the user's length unit of ``scale`` m (as given, e.g. 0.0254 for inches)."""
     points = np.atleast_2d(points)
-    nearest = np.array([closest_on_surface(mesh, p) for p in points]).reshape(-1, 3)
+    nearest = np.array([closest_on_surface(mesh, p)[0] for p in points]).reshape(-1, 3)
     distance = np.linalg.norm(nearest - points, axis=1)
     far = np.flatnonzero(distance > tolerance)
     if len(far):

@@ -10,7 +10,6 @@ from dataclasses import replace
 from typing import Callable
 
 import numpy as np
-import trimesh
 
 from massline.placement.admissible import regular
 from massline.placement.candidates import (
@@ -27,7 +26,7 @@ from massline.placement.plans import Budget, Plan, assessed
 from massline.core.lines import Lines
 from massline.meshes.loader import UNITS, BodyMesh
 from massline.core.model import RigidModel
-from massline.placement.mountable import Surface, snap
+from massline.placement.mountable import Surface, closest_on_surface, snap
 from massline.placement.certification import CERTIFY_STEPS
 from massline.placement.planner import plan_on_candidates
 from massline.placement.sliding import slide
@@ -48,12 +47,7 @@ def fixed_sites(surface: Surface, lines: Lines | None) -> Sites:
     there (its face's on a flat region, interpolated on a curve)."""
     if lines is None:
         return Sites.none()
-    mesh = surface.mesh
-    faces = np.array([
-        int(np.argmin(np.linalg.norm(trimesh.triangles.closest_point(mesh.triangles, np.tile(p, (len(mesh.faces), 1)))
-                                     - p, axis=1)))
-        for p in lines.points
-    ], dtype=int)  # fmt: skip
+    faces = np.array([closest_on_surface(surface.mesh, p)[1] for p in lines.points], dtype=int)
     return Sites(lines.points, surface.surface_normal(lines.points, faces).reshape(-1, 3))
 
 

@@ -27,11 +27,17 @@ def printed(script: str) -> list[str]:
     return done.stdout.splitlines()
 
 
+def table_rows(script: str) -> tuple[list[str], list[str]]:
+    """The table rows ``python benchmarks/SCRIPT`` prints (its header rule, which begins "|-", left out), and those
+    of them that do not stand verbatim in docs/validation.md."""
+    rows = [line for line in printed(script) if line.startswith("| ")]
+    return rows, [row for row in rows if row not in VALIDATION]
+
+
 @pytest.mark.slow
 def test_the_default_plans_table_is_what_its_benchmark_prints():
-    rows = [line for line in printed("default_plans.py") if line.startswith("| ")]
+    rows, missing = table_rows("default_plans.py")
     assert len(rows) == 1 + 3  # the header and the three bundled bodies
-    missing = [row for row in rows if row not in VALIDATION]
     assert not missing, missing
 
 
@@ -52,7 +58,6 @@ def test_the_criterion_sentence_is_what_its_benchmark_prints():
 
 @pytest.mark.slow
 def test_the_planned_bands_table_is_what_its_benchmark_prints():
-    rows = [line for line in printed("planned_bands.py") if line.startswith("| ")]
-    assert len(rows) == 1 + 4  # the header and four plans (the rule begins "|-")
-    missing = [row for row in rows if row not in VALIDATION]
+    rows, missing = table_rows("planned_bands.py")
+    assert len(rows) == 1 + 4  # the header and four plans
     assert not missing, missing

@@ -92,10 +92,11 @@ def bears(points: np.ndarray, cog, up: np.ndarray, tolerance: float) -> bool:
     if len(points) < 3:
         return False
     flat = points - np.outer(points @ up, up)
-    if np.linalg.svd(flat - flat.mean(axis=0), compute_uv=False)[1] <= tolerance:
+    middle = flat.mean(axis=0)
+    _, spread, axes = np.linalg.svd(flat - middle, full_matrices=False)
+    if spread[1] <= tolerance:
         return False
     if cog is None:
         return True
-    axes = np.linalg.svd(flat - flat.mean(axis=0), full_matrices=False)[2][:2]
     centre = np.asarray(cog, dtype=float) - (np.asarray(cog) @ up) * up
-    return bool(Delaunay((flat - flat.mean(axis=0)) @ axes.T).find_simplex((centre - flat.mean(axis=0)) @ axes.T) >= 0)
+    return bool(Delaunay((flat - middle) @ axes[:2].T).find_simplex((centre - middle) @ axes[:2].T) >= 0)
