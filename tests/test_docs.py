@@ -4,11 +4,15 @@
   a code block or an inline code span) is in ``massline COMMAND --help``. An option in an inline span with no
   command is one of massline's (any command's) or of a script the page names (``python benchmarks/X.py``,
   ``python tests/X.py``: the option's string is in that script's source); spans that begin with a pytest option
-  (``-n``, ``-k``, ``-m``) are pytest's and not checked.
+  (``-n``, ``-k``, ``-m``) or with ``pytest`` are pytest's and not checked.
 - Every relative link and image resolves to a file of the repository, and an anchor to a heading of it.
 - The README's walkthrough (the ``$ massline ...`` lines of its "A test in five steps") runs as written, in order,
   in an empty folder, each exiting 0 and printing the kinds of line the README shows.
-- Every section of docs/validation.md that states a figure names the command that prints it.
+- No figure without the command that prints it: every section of docs/validation.md that states a figure names a
+  script that prints it; on every other page, a paragraph or list item that states a measured figure (a χ², a
+  before → after, a value ± its 1-σ, a time, a size, a count of cases, a ratio, a decimal percentage, four
+  significant digits) names, in code, a script of benchmarks/ or tests/, a ``pytest`` run or a ``massline``
+  command. Design values (defaults, thresholds, tolerances) are not measured and need none.
 """
 
 import os
@@ -70,7 +74,7 @@ def code_blocks(page_text: str) -> list[str]:
 def inline_spans(page_text: str) -> list[str]:
     prose = FENCE.sub("", page_text)
     prose = re.sub(r"(?:^(?: {4}|\t).*\n?)+", "", prose, flags=re.M)
-    return re.findall(r"`([^`\n]+)`", prose)
+    return [" ".join(span.split()) for span in re.findall(r"`((?:[^`\n]|\n(?!\s*\n))+)`", prose)]  # may wrap a line
 
 
 def command_uses(page_text: str) -> list[tuple[str, str, list[str]]]:
@@ -107,7 +111,7 @@ def test_every_option_named_in_prose_exists(page):
     sources = "\n".join(s.read_text() for s in scripts)
     wrong = []
     for span in inline_spans(page_text):
-        if "massline " in span or re.match(r"-[a-z]\b", span):  # a command's (checked above), or pytest's
+        if "massline " in span or re.match(r"-[a-z]\b|(?:\S*python -m )?pytest\b", span):  # a command's, or pytest's
             continue
         script = SCRIPT.search(span)
         known = (ROOT / script.group(1)).read_text() if script else None
@@ -199,6 +203,67 @@ def test_every_figure_in_validation_names_its_command():
         if not named or not all((ROOT / s).is_file() for s in named):
             unnamed.append(heading)
     assert not unnamed, unnamed
+
+
+MEASURED = re.compile(
+    "|".join(
+        (
+            r"χ²\s+[\d.,]*\d",  # a χ² value
+            r"\d\s*(?:%|mm|µm|kg|g|°|s)?\s*→\s*\d",  # before → after
+            r"\d\s*±\s*\d",  # a value ± its 1-σ
+            r"\b\d+(?:\.\d+)?\s*(?:s|ms|min)\b",  # a time
+            r"\b\d+(?:\.\d+)?\s*(?:kB|MB|GB|GiB)\b",  # a size
+            r"\b\d[\d,]* (?:of|out of) (?:its |the )?\d",  # a count of cases
+            r"\b\d[\d,]*\s+(?:passed|tests|cases|files|runs)\b",
+            r"\b\d+\.\d{3,}",  # four significant digits
+            r"\b\d+\.\d+\s*%",  # a decimal percentage
+            r"\d\.\d+\s*×",  # a ratio
+        )
+    )
+)
+NAMES_A_RUN = re.compile(r"\b(?:benchmarks|tests)/[\w/]+\.py\b|\bpytest\b|\bmassline [a-z]+\b")
+
+
+def paragraphs(page_text: str) -> list[str]:
+    """The prose's paragraphs and list items (code blocks and headings out; inline code kept)."""
+    prose = FENCE.sub("\n", page_text)
+    prose = re.sub(r"(?:^(?: {4}|\t)(?![-*] |\d+\. ).*\n?)+", "\n", prose, flags=re.M)
+    prose = re.sub(r"^#+ .*$", "\n", prose, flags=re.M)
+    return [p for p in re.split(r"\n\s*\n|\n(?=\s*(?:[-*]|\d+\.) )", prose) if p.strip()]
+
+
+NEAR = 400  # characters: a figure's command is named within this distance of it, in its paragraph
+
+
+def measured_figures(paragraph: str) -> list[tuple[int, str]]:
+    """(where, the figure) for each measured figure in the paragraph's prose (code and link targets blanked)."""
+    bare = re.sub(r"`[^`]+`|\]\([^)]*\)", lambda m: " " * len(m.group(0)), paragraph)
+    return [(m.start(), m.group(0)) for m in MEASURED.finditer(bare)]
+
+
+def runs_named(paragraph: str) -> list[int]:
+    """Where the paragraph's code names a script of benchmarks/ or tests/ (that exists), a pytest run or a
+    massline command."""
+    return [
+        span.start()
+        for span in re.finditer(r"`([^`]+)`", paragraph)
+        for name in NAMES_A_RUN.findall(" ".join(span.group(1).split()))
+        if not name.endswith(".py") or (ROOT / name).is_file()
+    ]
+
+
+@pytest.mark.parametrize(
+    "page", [p for p in PAGES if p.name != "validation.md"], ids=lambda p: p.relative_to(ROOT).as_posix()
+)
+def test_every_measured_figure_names_its_command(page):
+    """Each measured figure has, in its paragraph and within NEAR characters, the command that prints it."""
+    unnamed = []
+    for paragraph in paragraphs(text(page)):
+        named = runs_named(paragraph)
+        alone = [f for at, f in measured_figures(paragraph) if not any(abs(at - n) <= NEAR for n in named)]
+        if alone:
+            unnamed.append(f"{alone} in: {paragraph.strip()[:100]}…")
+    assert not unnamed, "\n".join(unnamed)
 
 
 def test_every_warning_code_and_every_effect_is_documented():
