@@ -30,10 +30,17 @@ COMMANDS = ("props", "plan", "simulate", "report", "identify", "diagnose", "demo
 OPTION = re.compile(r"(?<![\w-])--[a-z][a-z0-9-]*")
 SCRIPT = re.compile(r"\b((?:benchmarks|tests)/[\w/]+\.py)\b")
 FENCE = re.compile(r"^ *```(\w*)\n(.*?)^ *```", re.S | re.M)
+INDENTED = re.compile(r"(?<=\n\n)(?:(?: {4}|\t).*(?:\n|\Z))+")  # a code block: it cannot interrupt a paragraph
+SPAN = re.compile(r"`((?:[^`\n]|\n(?!\s*\n))+)`")  # inline code, which may wrap a line but not a paragraph
 
 
 def text(page: Path) -> str:
     return page.read_text()
+
+
+def prose(page_text: str, gap: str = "") -> str:
+    """The page with its fenced and indented code blocks replaced by ``gap``."""
+    return INDENTED.sub(gap, FENCE.sub(gap, page_text))
 
 
 @cache
@@ -59,8 +66,7 @@ def code_blocks(page_text: str) -> list[str]:
         for lang, body in FENCE.findall(page_text)
         if lang == "console"
     ]
-    prose = FENCE.sub("", page_text)
-    for block in re.findall(r"(?:^(?: {4}|\t).*\n?)+", prose, re.M):
+    for block in INDENTED.findall(FENCE.sub("", page_text)):
         lines: list[str] = []
         for line in block.splitlines():
             if lines and re.match(r"\s+\[", line):
@@ -72,9 +78,8 @@ def code_blocks(page_text: str) -> list[str]:
 
 
 def inline_spans(page_text: str) -> list[str]:
-    prose = FENCE.sub("", page_text)
-    prose = re.sub(r"(?:^(?: {4}|\t).*\n?)+", "", prose, flags=re.M)
-    return [" ".join(span.split()) for span in re.findall(r"`((?:[^`\n]|\n(?!\s*\n))+)`", prose)]  # may wrap a line
+    """The inline code of the prose, each span on one line."""
+    return [" ".join(span.split()) for span in SPAN.findall(prose(page_text))]
 
 
 def command_uses(page_text: str) -> list[tuple[str, str, list[str]]]:
@@ -133,9 +138,9 @@ def slug(heading: str) -> str:
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_every_relative_link_resolves(page):
-    prose = FENCE.sub("", text(page))
+    unfenced = FENCE.sub("", text(page))
     wrong = []
-    for target in re.findall(r"!?\[[^\]]*\]\(([^)\s]+)\)", prose):
+    for target in re.findall(r"!?\[[^\]]*\]\(([^)\s]+)\)", unfenced):
         if re.match(r"[a-z]+:", target):
             continue  # http(s), mailto: not the repository's
         path, _, anchor = target.partition("#")
@@ -199,7 +204,7 @@ def test_every_figure_in_validation_names_its_command():
     for heading, body in sections(text(ROOT / "docs" / "validation.md")):
         if not re.search(r"\d", body):
             continue
-        named = [s for span in re.findall(r"`([^`]+)`", body) for s in SCRIPT.findall(span)]
+        named = [s for span in SPAN.findall(body) for s in SCRIPT.findall(span)]
         if not named or not all((ROOT / s).is_file() for s in named):
             unnamed.append(heading)
     assert not unnamed, unnamed
@@ -226,10 +231,8 @@ NAMES_A_RUN = re.compile(r"\b(?:benchmarks|tests)/[\w/]+\.py\b|\bpytest\b|\bmass
 
 def paragraphs(page_text: str) -> list[str]:
     """The prose's paragraphs and list items (code blocks and headings out; inline code kept)."""
-    prose = FENCE.sub("\n", page_text)
-    prose = re.sub(r"(?:^(?: {4}|\t)(?![-*] |\d+\. ).*\n?)+", "\n", prose, flags=re.M)
-    prose = re.sub(r"^#+ .*$", "\n", prose, flags=re.M)
-    return [p for p in re.split(r"\n\s*\n|\n(?=\s*(?:[-*]|\d+\.) )", prose) if p.strip()]
+    text_only = re.sub(r"^#+ .*$", "\n", prose(page_text, "\n"), flags=re.M)
+    return [p for p in re.split(r"\n\s*\n|\n(?=\s*(?:[-*]|\d+\.) )", text_only) if p.strip()]
 
 
 NEAR = 400  # characters: a figure's command is named within this distance of it, in its paragraph
@@ -237,7 +240,7 @@ NEAR = 400  # characters: a figure's command is named within this distance of it
 
 def measured_figures(paragraph: str) -> list[tuple[int, str]]:
     """(where, the figure) for each measured figure in the paragraph's prose (code and link targets blanked)."""
-    bare = re.sub(r"`[^`]+`|\]\([^)]*\)", lambda m: " " * len(m.group(0)), paragraph)
+    bare = re.sub(rf"{SPAN.pattern}|\]\([^)]*\)", lambda m: " " * len(m.group(0)), paragraph)
     return [(m.start(), m.group(0)) for m in MEASURED.finditer(bare)]
 
 
@@ -246,7 +249,7 @@ def runs_named(paragraph: str) -> list[int]:
     massline command."""
     return [
         span.start()
-        for span in re.finditer(r"`([^`]+)`", paragraph)
+        for span in SPAN.finditer(paragraph)
         for name in NAMES_A_RUN.findall(" ".join(span.group(1).split()))
         if not name.endswith(".py") or (ROOT / name).is_file()
     ]
