@@ -1,4 +1,5 @@
-"""What the masslines present can say when not every response–reference pair was measured (issue 32).
+"""What the masslines present can say when not every response–reference pair was measured (a recording
+assembled from test runs that each measured some pairs, a channel lost in one of them).
 
 A pair with no FRF (or too few lines in the band) has no massline: its σ is infinite and it weighs nothing in
 the estimate. Three things follow from it:
@@ -26,6 +27,8 @@ from massline.core.rigid_body import RigidBody
 from massline.identify.warning_codes import CodedWarning
 
 RANK_TOLERANCE = 1e-7  # a singular value of the scaled sensitivities below this fraction of the largest is 0
+TIE = 1e-6  # a singular value within this fraction of the cut counts as 0; a gain within it of the best ties
+NAMED = 0.3  # a parameter is named when its share of the lost directions is at least this fraction of the largest
 SHOWN = 4  # missing pairs named in a warning
 WORDS = {"m": "the mass", "mc_x": "the CoG's x", "mc_y": "the CoG's y", "mc_z": "the CoG's z"}
 
@@ -64,11 +67,42 @@ def generic_body(data: Masslines) -> RigidBody:
     return RigidBody(1.0, points.mean(axis=0), np.diag([1.0, 1.3, 1.7]) * size**2 / 12)
 
 
+def numerical_rank(s: np.ndarray) -> int:
+    """How many singular values ``s`` (descending) are not 0: those above RANK_TOLERANCE × the largest.
+
+    A lost direction's singular value is rounding (≲ 1e-15 of the largest), a determined layout's smallest
+    ≳ 1e-5 of it (the structure's 12 × 3 with two hits at one response each: 8e-5 kept, 3e-17 lost): the cut
+    sits decades from both, where no machine's rounding moves a decision. A value within TIE of the cut
+    (relatively) counts as 0, the side that refuses: what it determines, it determines to no useful ±.
+    """
+    if not len(s) or s[0] <= 0:
+        return 0
+    return int(np.sum(s > RANK_TOLERANCE * (1 + TIE) * s[0]))
+
+
+def null_shares(null: np.ndarray) -> np.ndarray:
+    """Each parameter's share of the lost directions (the rows of ``null``, orthonormal, in scaled θ̃), (p,):
+    the length of its axis projected on them, √ of the diagonal of the projector VₙᵀVₙ; 1 for a parameter lost
+    entirely, 0 for one the present pairs determine. It is the same whichever basis of the null space the SVD
+    returns (which differs between machines when the null space has two dimensions or more); for one lost
+    direction it is that direction's components' size."""
+    return np.sqrt(np.einsum("rk,rk->k", null, null))
+
+
 def parameter_words(null: np.ndarray, names: tuple) -> str:
-    """The parameters a null direction of the sensitivities (scaled θ̃) moves most: 'the mass and J_xy'."""
-    big = np.abs(null) >= 0.3 * np.abs(null).max()
+    """The parameters the lost directions of the sensitivities (``null``: (r, p) orthonormal rows, scaled θ̃)
+    take most, 'the mass and J_xy': those whose share (:func:`null_shares`) is at least NAMED × the largest (or
+    within TIE under it), in the order of ``names``."""
+    share = null_shares(np.atleast_2d(null))
+    big = share >= (1 - TIE) * NAMED * share.max()
     words = [WORDS.get(name, name) for name, shown in zip(names, big) if shown]
     return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
+
+
+def most_restoring(gain: np.ndarray) -> int:
+    """The index of the largest ``gain``; among gains within TIE of it (relatively), the first (the missing
+    pairs' order: by response, then reference), so a tie is not broken by rounding."""
+    return int(np.flatnonzero(gain >= (1 - TIE) * gain.max())[0])
 
 
 def column_motions(data: Masslines, present: np.ndarray, planar: bool, model: RigidModel, references: list) -> str:
@@ -78,13 +112,15 @@ def column_motions(data: Masslines, present: np.ndarray, planar: bool, model: Ri
     scale = max(float(np.ptp(data.sensors.points, axis=0).max()), 1e-3)
     for j, exciter in enumerate(references):
         rows = S[present[:, j]]
-        s = np.linalg.svd(rows, compute_uv=False) if len(rows) else np.zeros(1)
-        rank = int(np.sum(s > RANK_TOLERANCE * max(s[0], 1e-300))) if len(rows) else 0
+        rank = numerical_rank(np.linalg.svd(rows, compute_uv=False)) if len(rows) else 0
         if rank < S.shape[1]:
             seen = f"{rank} of {S.shape[1]} motions"
             if planar or rank < S.shape[1] - 1:  # one unseen motion is put in words, several counted
                 return f"reference {exciter}'s present responses see {seen}"
             null = np.linalg.svd(np.vstack([rows, np.zeros((6, 6))]))[2][rank]
+            # a motion and its negative are one: the sign that makes its first component within TIE of the
+            # largest positive (the SVD's sign is either, machine to machine)
+            null = null * np.sign(null[np.flatnonzero(np.abs(null) >= (1 - TIE) * np.abs(null).max())[0]])
             return f"reference {exciter}'s present responses see {seen} ({describe_motion(null, scale)})"
     return ""
 
@@ -94,20 +130,21 @@ def undetermined(data: Masslines, present: np.ndarray, planar: bool, body: Rigid
     when they determine them.
 
     ``labels``: the rows' and the columns' channel labels. The sensitivities g_ij of the present pairs at ``body``
-    (a generic body of the layout's size when None, or no body) must have rank p. Otherwise their null direction v
-    names the parameters lost, and the missing pair with the largest |g_ij · v| / |g_ij| is the FRF that would
-    restore the most.
+    (a generic body of the layout's size when None, or no body) must have rank p (:func:`numerical_rank`).
+    Otherwise their null space Vₙ names the parameters lost (:func:`parameter_words`), and the missing pair with
+    the largest ‖Vₙ g_ij‖ / ‖g_ij‖, the share of its sensitivity in the lost directions, is the FRF that would
+    restore the most (:func:`most_restoring`). Both read the null space, not one vector of a basis of it.
     """
     model = RigidModel(body or generic_body(data), planar)
     G, _ = sensitivities(model, model.coordinates(data.sensors), model.coordinates(data.exciters))
     if not np.isfinite(G).all():  # a start from too few masslines can be no body
         return undetermined(data, present, planar, None, labels)
     s, Vt = np.linalg.svd(G[present], full_matrices=True)[1:]
-    rank = int(np.sum(s > RANK_TOLERANCE * s[0]))
+    rank = numerical_rank(s)
     if rank == model.p:
         return ""
     null = Vt[rank:]
-    words = parameter_words(null[0], model.names)
+    words = parameter_words(null, model.names)
     lost = f"the FRFs present leave {words} undetermined ({(~present).sum()} of {present.size} pairs missing)"
     responses, references = labels
     kinematic = column_motions(data, present, planar, model, references)
@@ -119,7 +156,7 @@ def undetermined(data: Masslines, present: np.ndarray, planar: bool, body: Rigid
     gain = np.linalg.norm(g @ null.T, axis=1) / np.maximum(np.linalg.norm(g, axis=1), 1e-300)
     if gain.max() < RANK_TOLERANCE:
         return f"{lost}: no missing FRF restores it; add responses or references that see it"
-    k = int(np.argmax(gain))
+    k = most_restoring(gain)
     return (
         f"{lost}: measure response {responses[rows[k]]} against reference {references[columns[k]]}, the missing "
         "FRF that restores the most"

@@ -10,7 +10,14 @@ from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
 from massline.core.rigid_body import RigidBody
 from massline.identify.estimator import estimate
-from massline.identify.missing_pairs import check_determined, missing_warnings, undetermined
+from massline.identify.missing_pairs import (
+    check_determined,
+    missing_warnings,
+    most_restoring,
+    numerical_rank,
+    parameter_words,
+    undetermined,
+)
 from massline.identify.uncertainty import combined_std
 
 ROTATION = Rotation.from_euler("xyz", [25, -40, 60], degrees=True).as_matrix()
@@ -112,3 +119,28 @@ def test_what_is_present_determines_the_body_then_nothing_is_said():
     (warning,) = missing_warnings([("1:+X", "101:+Z")] * 6, 48)
     assert warning.code == "frf_missing" and warning.text.startswith("6 of 48") and ", …" in warning.text
     assert missing_warnings([], 48) == []
+
+
+def test_what_is_named_lost_is_the_null_space_s_not_one_basis_vector_s():
+    """Two lost directions in any orthonormal basis name the same parameters (their shares of the null space),
+    where a single basis vector of it names others by basis; one lost direction is named as its components
+    are."""
+    names = ("m", "mc_x", "mc_y", "mc_z", "J_xx")
+    null = np.array([[0.0, 0.0, 0.0, 0.6, 0.8], [0.0, 0.2, 0.0, 0.0, 0.0]])  # orthogonal, not yet unit
+    null /= np.linalg.norm(null, axis=1)[:, None]
+    words = {parameter_words(null, names)}
+    for angle in np.linspace(0, np.pi, 7):
+        c, s = np.cos(angle), np.sin(angle)
+        words.add(parameter_words(np.array([[c, s], [-s, c]]) @ null, names))
+    assert words == {"the CoG's x, the CoG's z and J_xx"}
+    assert parameter_words(null[:1], names) == "the CoG's z and J_xx"
+    assert parameter_words(np.array([[0.0, 0.0, 0.0, 0.2, 0.98]]), names) == "J_xx"
+
+
+def test_ties_are_decided_by_a_stated_rule_not_by_rounding():
+    """A gain within 1e-6 of the best ties and the first pair is taken; a singular value at the rank's cut counts
+    as 0."""
+    assert most_restoring(np.array([0.1, 0.5 * (1 - 1e-9), 0.5, 0.2])) == 1
+    assert most_restoring(np.array([0.1, 0.49, 0.5])) == 2
+    assert numerical_rank(np.array([1.0, 1e-3, 1e-7 * (1 + 1e-9)])) == 2
+    assert numerical_rank(np.array([1.0, 1e-3, 1e-6, 1e-17])) == 3
