@@ -11,8 +11,8 @@ fault named (effect and channel or hit), ``unexplained`` at the place it locates
 ``--faults ''`` runs the clean files alone: the false-alarm rate, over as many seeds as it needs.
 
 ``--without EFFECT`` takes the effect out of the diagnosis's registry (the simulator still conceals it): the
-files carrying it should get ``unexplained`` at the right place, not a wrong name (issue 26's
-leave-one-effect-out). A test-physics effect (``suspension``, ``residual_flexibility``: the search's tail laws;
+files carrying it should get ``unexplained`` at the right place, not a wrong name (the leave-one-effect-out
+check). A test-physics effect (``suspension``, ``residual_flexibility``: the search's tail laws;
 ``mains_interference``: the lines set aside) is left out with ``--faults ''``: every clean file carries the
 support and the elastic modes, the hum files the hum, and none should get a fault named.
 ``mixed_housings`` is a fault of the test as a whole: 25 g housings at nodes 1 and 2, 8 g elsewhere, none given
@@ -38,7 +38,8 @@ from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.meshes.loader import load_body
 
-FAULTS = {  # name: (--effect SIZE, place kind); sizes at issue 26's floor (5 % / 5° / 5 mm / 10 g) and above
+# sizes at the smallest faults the diagnosis should name (5 % / 5° / 5 mm / 10 g) and above
+FAULTS = {  # name: (--effect SIZE, place kind)
     "sensor_gain": ("-0.1", "sensor"),
     "sensor_polarity": ("", "sensor"),
     "sensor_direction": ("8", "sensor"),
@@ -196,7 +197,8 @@ def table(rows: list) -> str:
 
 
 def summary(rows: list, without: str | None) -> str:
-    """The confusion table (concealed × outcome, n per cell) and the rates issue 26 asks for."""
+    """The confusion table (concealed × outcome, n per cell) and the rates the diagnosis is judged by: named
+    right, located, false alarms."""
     faulty = [r for r in rows if r["fault"] != "none"]
     out = [table(faulty), ""] if faulty and not without else []
     by = {}

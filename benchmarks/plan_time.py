@@ -42,7 +42,7 @@ GOAL = 60.0  # seconds a plan may take on 2 cores
 
 
 def cylinder(folder: Path) -> Path:
-    """The cylinder of issue 25: R40 × 120 mm, 64 sections, an STL in mm."""
+    """A turned part as CAD exports it: a cylinder R40 × 120 mm, 64 sections, an STL in mm."""
     path = folder / "cylinder.stl"
     trimesh.creation.cylinder(radius=40.0, height=120.0, sections=64).export(path)
     return path
@@ -50,7 +50,7 @@ def cylinder(folder: Path) -> Path:
 
 def bodies(folder: Path) -> dict:
     """Name → the body's arguments to `massline plan`."""
-    found = {"cylinder": [str(cylinder(folder)), "--units", "mm", "--density", "2700"]}  # the issue's case first
+    found = {"cylinder": [str(cylinder(folder)), "--units", "mm", "--density", "2700"]}  # the round part first
     found |= {name: [name] for name in BUNDLED}
     return found | {Path(f).stem: [str(FIXTURES / f), "--units", u, "--density", "2700"] for f, u in CAD.items()}
 

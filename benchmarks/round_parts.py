@@ -1,4 +1,4 @@
-"""Plans on round parts: the table of them in docs/validation.md (issue "Round parts").
+"""Plans on round parts: the table of them in docs/validation.md (turned parts, whose normals all meet the axis).
 
     python benchmarks/round_parts.py [--parts NAME ...] [--sections N ...] [--kinds KIND ...] [--virtual]
 

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 from common import massline
 
-BOUNDS = {"mass": 0.3, "cog": 1.0, "moments": 1.0}  # %, mm, % (the identify issue's accuracy)
+BOUNDS = {"mass": 0.3, "cog": 1.0, "moments": 1.0}  # %, mm, % (the accuracy identify is held to)
 SUPPORTS = {"cord/4": ("cord", 4), "cord/10": ("cord", 10), "foam/10": ("foam", 10), "foam": ("foam", None)}
 
 

@@ -1,4 +1,4 @@
-"""Lines an FRF does not have: NaN in a recording's FRFs (issue 32).
+"""Lines an FRF does not have: NaN in a recording's FRFs, where the runs it was assembled from did not measure.
 
 A recording assembled from several test runs holds NaN (complex NaN) at every line of a response–reference pair
 that was not measured, and at the lines of its axis (the union of the runs' axes) that an FRF measured on a

@@ -34,7 +34,8 @@ with one 2×2 curvature K₂ for every FRF (they share the design). σ_ij, the n
 one line, comes from a free fit of each FRF (massline, B/ω² + B₂/ω⁴, Cω² + Dω⁴ per FRF), whose residual is
 the measurement scatter.
 
-Each FRF is reduced on the lines it has (:mod:`.missing_lines`, issue 32): a pair not measured, or with fewer
+Each FRF is reduced on the lines it has (:mod:`.missing_lines`; a recording assembled from several test runs
+lacks the pairs no run measured and the lines a coarser run's axis has not): a pair not measured, or with fewer
 than ``MIN_LINES`` lines in the band, has no massline (0, σ = ∞, RSS 0, outside ``present``); FRFs on another
 axis (NaN at the lines they lack) are reduced with the design on their own lines, one design per set of lines
 (:attr:`BandData.designs`), so κ and K₂ are then per FRF. A complete recording, or one with whole pairs missing,

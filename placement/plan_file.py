@@ -1,4 +1,4 @@
-"""plan.json: the plan as other tools read it (DESIGN.md / the planner issue).
+"""plan.json: the plan as other tools read it (DESIGN.md's lab contracts: the points, their mounts, the rig).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
 ``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial", "mount"}``, metres, mesh

@@ -143,7 +143,7 @@ def test_simulate_without_suspension_hangs_the_body_on_the_plans_support(demo, t
 
 @pytest.mark.slow
 def test_the_demo_says_on_its_console_every_warning_its_reports_list(demo):
-    """What the identification and diagnosis reports warn about, the demo's console said (issue 25)."""
+    """What the identification and diagnosis reports warn about, the demo's console said."""
     out, stdout = demo
     said = " ".join(stdout.split())
     for report in ("identification-report.html", "diagnosis-report.html"):

@@ -114,7 +114,7 @@ def test_exchanges_on_every_candidate_carry_the_working_sets_layout_on():
 
 @pytest.mark.slow
 def test_minimal_plan_on_1e5_lines_is_certified_within_95_percent():
-    """The issue's scale: 1e5 candidate lines, the paper's 6 × 3. Time is measured in benchmarks/plan_scaling.py
+    """A large body's scale: 1e5 candidate lines, the paper's 6 × 3. Time is measured in benchmarks/plan_scaling.py
     (about 4 s on 2 cores); here the branch and bound is given room for a slower machine."""
     planner, side = _planner(100_000)
     plan = plan_on_candidates(planner.model, side, side, Budget(6, 3), certify_steps=25000)

@@ -1,4 +1,4 @@
-"""The diagnosis of a recording with FRFs missing (issue 32): pairs not measured and a run on a coarser axis are
+"""The diagnosis of a recording with FRFs missing: pairs not measured and a run on a coarser axis are
 NaN, and the diagnosis reads each FRF on its own lines (:mod:`massline.identify.tails`). On the structure's
 rigid test (soft cord, 12 random sensor lines × 3 hits, 1 % noise) it names no fault with pairs missing or a run
 at half the resolution, its "before" is identify's on the same recording, and a concealed gain is still named

@@ -1,4 +1,4 @@
-"""The documentation holds what the code does (issue 30).
+"""The documentation holds what the code does.
 
 - Every ``massline COMMAND`` in README.md and docs/*.md is a command, and every ``--option`` written after it (in
   a code block or an inline code span) is in ``massline COMMAND --help``. An option in an inline span with no

@@ -1,4 +1,4 @@
-"""Round parts planned as engineers mount and hit them (issue "Round parts").
+"""Round parts planned as engineers mount and hit them.
 
 A turned part's surface normals all meet its axis: no normal line reads or drives the rotation about it. The
 planner puts as few lines on mounting blocks as that motion needs (one line and one hit to identify, three and two
@@ -77,7 +77,7 @@ def test_the_paper_s_layout_on_a_cylinder_puts_one_line_and_one_hit_on_blocks(pa
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["cylinder", "shaft"])
 def test_the_default_plan_of_a_turned_part_is_diagnosable(parts, name):
-    """The issue's refusals: the cheapest diagnosable layout of a stepped shaft and a cylinder (32 sections),
+    """The plans once refused: the cheapest diagnosable layout of a stepped shaft and a cylinder (32 sections),
     three lines and two hits on blocks, clear of every sharp edge, every base's gap within a pad's."""
     body = parts(name, 32)
     p = cheapest_diagnosable(body, certify_steps=0)

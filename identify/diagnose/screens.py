@@ -8,9 +8,10 @@ faults before any fit; leaving one channel out and predicting it from the
 others (LOCO) names the channel, and the sign of that prediction tells a
 flipped polarity from a gain.
 
-A pair not measured, or a line an FRF lacks, is NaN (:mod:`massline.identify.missing_lines`, issue 32): each
-column is fitted on the rows it has, a column with fewer rows than rigid motions checks nothing (no residual,
-no LOCO prediction), and σ₇ is read only at the lines where the whole matrix is measured.
+A pair not measured, or a line an FRF lacks, is NaN (:mod:`massline.identify.missing_lines`: a recording
+assembled from several test runs need not hold every pair on every line): each column is fitted on the rows it
+has, a column with fewer rows than rigid motions checks nothing (no residual, no LOCO prediction), and σ₇ is
+read only at the lines where the whole matrix is measured.
 """
 
 from __future__ import annotations
