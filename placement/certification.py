@@ -20,15 +20,59 @@ branch and bound meets a better selection of that side, the selection is adopted
 side's bound stays valid for it, and only the other side is certified anew. Time goes
 to the side of the larger bound, since that one sets the certified efficiency: neither
 side's branch and bound starts again from its root when the other side's is run.
+
+The efficiency a plan states is the certificate's own, the criterion's efficiency against the larger bound
+(:func:`certified_efficiency`). A bound is at or above the layout it certifies, so that efficiency is at most 1;
+one above 1 (beyond rounding) is a bound below the layout, a wrong certificate: raised, never clipped to 100 %.
 """
 
 from __future__ import annotations
 
 from massline.placement.certificate import SideBound
+from massline.placement.criteria import Criterion
 from massline.placement.criterion_relaxation import relax_criterion
 from massline.placement.work import STEPS, Work
 
 SIDES = ("sensors", "exciters")
+ROUNDING = 1e-9  # an efficiency this far above 1 is a bound equal to the layout's value, up to float rounding
+
+
+class CertificateError(AssertionError):
+    """An internal error: a certificate whose bound is below the layout it certifies (an efficiency above 1)."""
+
+
+def certified_efficiency(criterion: Criterion, value: float, bounds: dict, p: int) -> float:
+    """The efficiency the certificate states for a layout: a lower bound of it against every one-side change.
+
+    Parameters
+    ----------
+    criterion : Criterion
+        The plan's criterion (D, A or E), whose ``efficiency`` is taken.
+    value : float
+        The layout's criterion value (of the scaled information: log det F for D).
+    bounds : dict
+        Each side's upper bound U of the criterion ("sensors", "exciters"), in ``value``'s units.
+    p : int
+        Parameters of the model (10, or 6 for a plate).
+
+    Returns
+    -------
+    float
+        The criterion's efficiency against the larger bound (D: exp((value − U)/p)), dimensionless; 1 when it
+        exceeds 1 by rounding alone (ROUNDING).
+
+    Raises
+    ------
+    CertificateError
+        Above 1 + ROUNDING: a bound below the layout itself, which no true bound is.
+    """
+    efficiency = criterion.efficiency(value, max(bounds.values()), p)
+    if efficiency > 1 + ROUNDING:
+        raise CertificateError(
+            f"the {criterion.name} certificate states an efficiency of {efficiency:.9g} > 1: its bound "
+            f"{max(bounds.values()):.9g} is below the layout's own {criterion.title} {value:.9g}"
+        )
+    return min(efficiency, 1.0)
 
 
 class _Sides:

@@ -12,6 +12,7 @@ import numpy as np
 
 from massline.core.accuracy import predicted_std, worst_relative_std
 from massline.placement.candidates import CandidatePoints
+from massline.placement.certification import certified_efficiency
 from massline.placement.criteria import Criterion, D
 from massline.placement.diagnosability import Diagnosability, diagnosability
 from massline.core.errors import MasslineError, param
@@ -107,17 +108,17 @@ class Plan:
 
     @property
     def d_efficiency_lower_bound(self) -> float:
-        """exp((log det F − U)/p) of the candidate layout, for the worse of the two sides, against one-side changes
-        among the candidate points: what the certificate covers (sliding's gain is stated beside it as a gain),
-        so never above 1 (the bound's rounding aside, clipped)."""
-        return min(float(np.exp((self.candidate_log_det - max(self.d_bounds.values())) / self.model.p)), 1.0)
+        """The D certificate's efficiency of the candidate layout, exp((log det F − U)/p) for the worse of the two
+        sides, against one-side changes among the candidate points: what the certificate covers (sliding's gain is
+        stated beside it as a gain). Above 1 it would be a wrong certificate: raised (:func:`certified_efficiency`)."""
+        return certified_efficiency(D, self.candidate_log_det, self.d_bounds, self.model.p)
 
     @property
     def efficiency_lower_bound(self) -> float:
-        """The certified efficiency in the plan's criterion of the candidate layout, for the worse of the two
-        sides, never above 1."""
+        """The certificate's efficiency in the plan's criterion of the candidate layout, for the worse of the two
+        sides (:func:`certified_efficiency`)."""
         value = self.value if np.isnan(self.candidate_value) else self.candidate_value
-        return min(self.criterion.efficiency(value, max(self.bounds.values()), self.model.p), 1.0)
+        return certified_efficiency(self.criterion, value, self.bounds, self.model.p)
 
     @property
     def smallest_eigenvalue(self) -> float:

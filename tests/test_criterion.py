@@ -2,6 +2,7 @@
 
 import itertools
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,13 +12,13 @@ from test_cli import massline
 
 from massline.core import Lines
 from massline.placement.certificate import certify
-from massline.placement.certification import certify_d
+from massline.placement.certification import CertificateError, certify_d
 from massline.placement.criteria import CRITERIA, D
 from massline.placement.criterion_relaxation import relax_criterion
 from massline.core.information import NoiseModel
 from massline.core.model import RigidModel
 from massline.placement.on_surface import plan
-from massline.placement.planner import Budget, CandidateLines, Planner
+from massline.placement.planner import Budget, CandidateLines, Planner, plan_on_candidates
 from massline.placement.selection import best_gains, gains, greedy, swap
 
 MINIMAL = {"structure": Budget(6, 3), "bracket": Budget(6, 3), "plate": Budget(3, 3)}
@@ -75,6 +76,42 @@ def test_certified_sides_bound_every_change_of_one_side(seed):
     assert ep.value(exciters) >= start - 1e-9
     assert bounds["sensors"] >= _brute_force(sp) - 1e-7 * abs(bounds["sensors"])
     assert bounds["exciters"] >= _brute_force(ep) - 1e-7 * abs(bounds["exciters"])
+
+
+@pytest.fixture(scope="module", params=[0, 1])
+def small_plan(request):
+    """The planner's 6 × 3 layout among 12 sensor and 9 exciter candidates on the structure, certified."""
+    planner = _small_planner(request.param)
+    return planner, plan_on_candidates(planner.model, planner.s, planner.e, Budget(6, 3), certify_steps=5000)
+
+
+def test_the_stated_d_efficiency_is_the_certificates_and_at_most_the_true_one(small_plan):
+    """The plan states its certificate's own efficiency, exp((log det F − max(U_s, U_e))/p), and that is at most
+    its true efficiency against the best admissible layout changing one side (brute force over all 924 sensor and
+    84 exciter sets): a bound made optimistic states more than the truth, or more than 100 %."""
+    planner, plan = small_plan
+    p = plan.model.p
+    own = np.exp((plan.candidate_log_det - max(plan.d_bounds.values())) / p)
+    assert plan.d_efficiency_lower_bound == pytest.approx(own, rel=1e-12)
+    assert plan.efficiency_lower_bound == pytest.approx(own, rel=1e-12)
+    sensors, exciters = list(plan.sensor_nodes), list(plan.exciter_nodes)
+    sp = planner.sensor_problem(planner.exciter_rows(exciters))
+    ep = planner.exciter_problem(planner.sensor_rows(sensors))
+    best = max(
+        max(sp.value(list(c)) for c in itertools.combinations(range(12), 6) if planner.admits(list(c), exciters)),
+        max(ep.value(list(c)) for c in itertools.combinations(range(9), 3) if planner.admits(sensors, list(c))),
+    )
+    assert plan.d_efficiency_lower_bound <= np.exp((sp.value(sensors) - best) / p) + 1e-9
+
+
+def test_a_bound_below_its_layout_is_raised_not_clipped(small_plan):
+    """A bound under the layout's own log det is no bound: stating min(…, 100 %) would hide it."""
+    plan = small_plan[1]
+    below = replace(plan, d_bounds={side: plan.candidate_log_det - 0.1 for side in plan.d_bounds})
+    with pytest.raises(CertificateError, match="below the layout's own log det F"):
+        below.d_efficiency_lower_bound
+    level = replace(plan, d_bounds={side: plan.candidate_log_det - 1e-12 for side in plan.d_bounds})
+    assert level.d_efficiency_lower_bound == 1.0  # equal to the layout but for rounding: the layout is the best
 
 
 def test_lazy_best_gains_are_the_exhaustive_ones_even_near_singular():

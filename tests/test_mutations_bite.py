@@ -9,6 +9,18 @@ The unmutated copy must pass the same selection, so a failure is the mutation's.
   cannot see it; the rotated plates of ``test_oblique_bodies`` do.
 * the covariance not scaled by the reduced χ²: no test with χ² ≈ 1 can see it; the concealed fault of
   ``test_oblique_bodies`` (χ² ≈ 100) does.
+* each labelled housing taken off one point along (``Housings.on``'s branch for a file's node labels): recordings
+  simulated in memory carry no labels, and housings all alike are the same wherever they sit; the bracket's
+  25 g and 8 g housings written as a Universal File and read back (``test_housing_masses``) put its CoG 3.4 mm
+  off, hundreds of σ.
+* the certified efficiency made 10 % optimistic: a bound clipped at 100 % still looked plausible; the stated
+  D-efficiency must be the certificate's own and at most the true one against a brute-forced best, above 1 an
+  error (``test_criterion``, a 12 × 9 candidate problem).
+* the misfit warning's false-alarm rate (``CHANCE``) 10 times likelier or rarer: above ~30 degrees of freedom the
+  floor on the reduced χ² decides and hides it; the threshold is pinned at 10 degrees of freedom, where the rate
+  decides, against the stated one in a thousand (``test_warning_premises``).
+* kgf read as a newton: no file of the tests labels its force in kgf; every spelling the UFF reader accepts is read
+  at its SI factor (``test_uff_reader``).
 """
 
 import os
@@ -35,6 +47,36 @@ MUTATIONS = {
         "covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)",
         "covariance = np.linalg.inv(system.step()[2])",
         ["test_oblique_bodies.py", "-k", "fault"],
+    ),
+    "housings one point off their node labels": (
+        "identify/sensor_mass.py",
+        "labels_k, points = labels_k[order], sensors.points[first[order]]",
+        "labels_k, points = labels_k[order], np.roll(sensors.points[first[order]], 1, axis=0)",
+        ["test_housing_masses.py", "-k", "node_labels"],
+    ),
+    "certified efficiency 10 % optimistic": (
+        "placement/certification.py",
+        "efficiency = criterion.efficiency(value, max(bounds.values()), p)",
+        "efficiency = 1.1 * criterion.efficiency(value, max(bounds.values()), p)",
+        ["test_criterion.py", "-k", "stated_d_efficiency"],
+    ),
+    "misfit false alarms 10 times likelier": (
+        "identify/suspicions.py",
+        "CHANCE = 1e-3",
+        "CHANCE = 1e-2",
+        ["test_warning_premises.py", "-k", "false_alarm"],
+    ),
+    "misfit false alarms 10 times rarer": (
+        "identify/suspicions.py",
+        "CHANCE = 1e-3",
+        "CHANCE = 1e-4",
+        ["test_warning_premises.py", "-k", "false_alarm"],
+    ),
+    "kgf read as a newton": (
+        "uff/frf_kind.py",
+        '"kgf": (G, FORCE),',
+        '"kgf": (1.0, FORCE),',
+        ["test_uff_reader.py", "-k", "unit_spelling"],
     ),
 }
 

@@ -18,6 +18,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from conftest import bundled
+from scipy.stats import chi2 as chi2_distribution
 from test_cli import massline
 
 from massline.core.band import Band
@@ -78,6 +79,16 @@ def test_the_fit_statistic_warns_only_when_it_has_something_to_say():
     assert fit_warnings(1.1, 40) == [] and fit_warnings(1.5, 40) == []  # 1.5 over 40 dof: chance
     assert codes_of(fit_warnings(np.nan, 0)) == {"no_redundancy"}
     assert codes_of(fit_warnings(4.0, 40)) == {"model_misfit"}
+
+
+def test_the_misfit_warning_has_its_false_alarm_rate_at_ten_dof():
+    """The stated rate, one false alarm in a thousand fits of a right model: at 10 degrees of freedom the χ² tail
+    decides (above the MISFIT floor 2), so the warning fires just above the 0.999 quantile's reduced χ² (2.959)
+    and not just below it; a rate of 1e-2 would fire at 2.321, one of 1e-4 only at 3.556."""
+    limit = chi2_distribution.isf(1e-3, 10) / 10
+    assert limit == pytest.approx(2.9588, abs=1e-4)
+    assert codes_of(fit_warnings(1.005 * limit, 10)) == {"model_misfit"}
+    assert fit_warnings(0.995 * limit, 10) == []
 
 
 def test_the_scale_disagrees_only_beyond_three_sigma():

@@ -15,8 +15,9 @@ The type field decides unless the labels name another kind; the labels decide wh
 they agree among themselves; physics decides when both are silent or they contradict each other.
 
 The scale to SI comes from the unit labels where they name units (g = 9.80665 m/s², lbf = 4.4482216152605 N,
-in = 0.0254 m, mm = 0.001 m), else from dataset 164, whose factors are file units per SI unit (a file in mm has
-length factor 1000): an FRF (length over force) in file units is multiplied by force / length.
+kgf = 9.80665 N, in = 0.0254 m, mm = 0.001 m), else from dataset 164, whose factors are file units per SI unit (a
+file in mm has length factor 1000): an FRF (length over force) in file units is multiplied by force / length.
+Standard gravity is spelled as the exporters spell it: "g", "G", "gn", and ME'scope's "Gs" and "G's" ("Gs/N").
 """
 
 from __future__ import annotations
@@ -48,6 +49,9 @@ UNIT_SYMBOLS = {  # SI factor and exponents of (length, time, force)
     "s": (1.0, TIME),
     "sec": (1.0, TIME),
     "g": (G, (1, -2, 0)),
+    "gn": (G, (1, -2, 0)),  # g_n, standard gravity
+    "gs": (G, (1, -2, 0)),  # ME'scope's accelerance "Gs/N"
+    "g's": (G, (1, -2, 0)),
     "n": (1.0, FORCE),
     "kn": (1e3, FORCE),
     "mn": (1e-3, FORCE),
@@ -56,7 +60,7 @@ UNIT_SYMBOLS = {  # SI factor and exponents of (length, time, force)
     "kgf": (G, FORCE),
 }
 KIND_WORDS = {"accel": 0, "inertance": 0, "mobil": 1, "veloc": 1, "recept": 2, "complian": 2, "displac": 2}
-TOKEN = re.compile(r"[a-zµμ]+|-?\d+(?:\.\d+)?|[*/^()]")
+TOKEN = re.compile(r"[a-zµμ']+|-?\d+(?:\.\d+)?|[*/^()]")  # a symbol may hold an apostrophe: "g's"
 
 
 MAX_ACCELERANCE = 1e20  # (m/s²)/N: a milligram body's resonance with Q = 10⁴ is 1e10
