@@ -1,5 +1,5 @@
 """Peak memory of `massline plan` against the number of candidate sample points: the figures behind `plan`'s
-memory check (cli/plan.py: BASE_BYTES + BYTES_PER_CANDIDATE × points, × AXES_FACTOR with --axes).
+memory check (massline/cli/plan.py: BASE_BYTES + BYTES_PER_CANDIDATE × points, × AXES_FACTOR with --axes).
 
     python benchmarks/plan_memory.py [--candidates 100000 300000] [--axes]
 
@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.plan import AXES_FACTOR, BASE_BYTES, BYTES_PER_CANDIDATE
+from massline.cli.plan import AXES_FACTOR, BASE_BYTES, BYTES_PER_CANDIDATE
 
 
 def peak(arguments: list, out: Path) -> float:

@@ -9,7 +9,7 @@ A message names the caller's parameters with :func:`param`, never with a command
 
 ``str(err)`` spells each parameter as the library calls it (``band=(3, 5): …``); a caller with names of its own
 renders the same error with :meth:`MasslineError.spelled` and its table of names: the command line's
-(``cli/options.py`` ``FLAGS``, ``band`` → ``--band``) gives ``--band 3 5: …``.
+(``massline/cli/options.py`` ``FLAGS``, ``band`` → ``--band``) gives ``--band 3 5: …``.
 """
 
 from __future__ import annotations

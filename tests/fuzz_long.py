@@ -3,7 +3,7 @@
     python tests/fuzz_long.py [--files 12000] [--seed 0] [--save FOLDER]
 
 Each file is a seed (tests/mutations.py: the real exporters' files and meshes in tests/fixtures/,
-the project's own exports) with 1-3 mutations, run through ``massline.app.run`` — what the
+the project's own exports) with 1-3 mutations, run through ``massline.cli.app.run`` — what the
 ``massline`` command runs — in this process, with ``--json OUT``. A run passes when it exits 0 or 2,
 prints no traceback, no warning and no library text (file descriptors 1 and 2 are watched too), says
 one line on stderr when it exits 2, and leaves OUT whole (exit 0) or absent (exit 2) with no
@@ -27,7 +27,7 @@ from pathlib import Path
 
 from mutations import FIXTURE_MESH_UNITS, fixture_meshes, fixture_uffs, mutate, own_meshes, own_uffs
 
-from massline.app import run
+from massline.cli.app import run
 
 SHARES = (("identify", 0.45), ("diagnose", 0.2), ("props", 0.35))
 HANG_SECONDS = 120

@@ -286,7 +286,7 @@ def test_every_option_states_its_default_and_a_number_its_unit():
     fraction or a count); output paths and meshes, off unless given, are exempt."""
     import argparse
 
-    from massline.app import build_parser
+    from massline.cli.app import build_parser
 
     commands = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)).choices
     missing = []

@@ -16,7 +16,7 @@ import json
 import numpy as np
 import pytest
 
-from massline.app import run as run_cli
+from massline.cli.app import run as run_cli
 from massline.core.effect_names import KINDS, PERTURBS
 from massline.core.files import to_json
 from massline.core.lines import Lines

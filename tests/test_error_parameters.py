@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from conftest import bundled
 
-from massline.app import run
+from massline.cli.app import run
 from massline.core.errors import MasslineError, param
 from massline.core.masslines import synthesise
 from massline.identify.pipeline import identify_recording
 from massline.core.housing_masses import HousingMasses
-from massline.options import FLAGS
+from massline.cli.options import FLAGS
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.uff.recording import Recording
 from massline.uff.writer import write_uff

@@ -12,7 +12,7 @@ import pytest
 from conftest import bundled
 
 from massline import plan_layout
-from massline.app import run as run_cli
+from massline.cli.app import run as run_cli
 from massline.core.errors import MasslineError
 from massline.core.housing_masses import HousingMasses
 from massline.core.numbering import point_labels

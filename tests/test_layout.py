@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-CLI = Path(__file__).resolve().parents[1] / "cli"
+CLI = Path(__file__).resolve().parents[1] / "massline" / "cli"
 COMMANDS = {
     "props_command",
     "plan",
@@ -21,18 +21,17 @@ COMMANDS = {
 STAGES = ("placement", "identify", "virtual", "uff", "reports", "meshes", "export")
 
 
-def imported_modules(path: Path) -> set[str]:
-    """The ``massline.*`` modules a file imports (top level and inside functions; relative imports resolved
-    against ``massline``), and the names taken from ``massline`` itself as ``massline.NAME``."""
+def imported_modules(path: Path, package: str = "massline.cli") -> set[str]:
+    """The ``massline.*`` modules a file of ``package`` imports (top level and inside functions; relative imports
+    resolved against ``package``), and the names taken from a package itself as ``PACKAGE.NAME``."""
     found = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
         if isinstance(node, ast.Import):
             found |= {a.name for a in node.names}
         elif isinstance(node, ast.ImportFrom):
-            module = "massline" + (f".{node.module}" if node.module else "") if node.level else node.module or ""
+            module = package + (f".{node.module}" if node.module else "") if node.level else node.module or ""
             found.add(module)
-            if module == "massline":
-                found |= {f"massline.{a.name}" for a in node.names}
+            found |= {f"{module}.{a.name}" for a in node.names}
     return {m for m in found if m == "massline" or m.startswith("massline.")}
 
 
@@ -44,13 +43,13 @@ def test_the_commands_are_all_known():
 
 @pytest.mark.parametrize("command", sorted(COMMANDS))
 def test_no_command_imports_another(command):
-    others = {f"massline.{c}" for c in COMMANDS - {command}}
+    others = {f"massline.cli.{c}" for c in COMMANDS - {command}}
     taken = imported_modules(CLI / f"{command}.py") & others
-    assert not taken, f"massline.{command} imports the commands {sorted(taken)}: move what they share to a library"
+    assert not taken, f"massline.cli.{command} imports the commands {sorted(taken)}: move what they share to a library"
 
 
 def test_importing_the_kernel_loads_no_other_stage():
-    """``import massline.core`` in a fresh interpreter: ``massline`` (cli/__init__.py, its parent) and the
+    """``import massline.core`` in a fresh interpreter: ``massline`` (massline/__init__.py, its parent) and the
     kernel, nothing of placement, identify, virtual, uff, reports or meshes."""
     probe = "import sys, massline.core; print('\\n'.join(sorted(m for m in sys.modules if m.startswith('massline'))))"
     run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)

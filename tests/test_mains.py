@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from lab_matrix import TRANSVERSE, acquisition, body_and_plan, support
 
-from massline.app import run as run_cli
+from massline.cli.app import run as run_cli
 from massline.core.errors import MasslineError
 from massline.identify.diagnose.diagnosis import relative_noise
 from massline.identify.diagnose.effects import parse_effect

@@ -8,7 +8,7 @@ from rich.console import Console
 
 from massline import plan_layout, plan_to_dict, read_uff, simulate_test, to_recording, write_uff
 from massline.placement.mounts import mounts
-from massline.plan_console import layout_table
+from massline.cli.plan_console import layout_table
 from massline.core.lines import Lines
 from massline.core.numbering import first_hit_label, point_groups, point_labels
 from massline.reports.plan_scene import markers_of

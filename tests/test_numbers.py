@@ -120,10 +120,10 @@ def test_props_of_a_centred_box_prints_no_rounding_noise(tmp_path):
     """A box centred on the origin: CoG and products of inertia are 0 (the mesh integrals leave ~1e−17)."""
     import trimesh
 
-    from massline.app import run
+    from massline.cli.app import run
     from massline.core.properties import TENSOR
     from massline.meshes.loader import load_body
-    from massline.tables import body_table
+    from massline.cli.tables import body_table
 
     path = tmp_path / "box.stl"
     trimesh.creation.box(extents=(0.3, 0.2, 0.1)).export(path)
@@ -143,7 +143,7 @@ def test_the_plans_accuracy_table_of_a_cylinder_prints_no_rounding_noise():
     import numpy as np
     import trimesh
 
-    from massline.plan_console import AXIS_UNDETERMINED, std_table
+    from massline.cli.plan_console import AXIS_UNDETERMINED, std_table
     from massline.core.accuracy import predicted_std
     from massline.core.model import RigidModel
     from massline.meshes.loader import BodyMesh

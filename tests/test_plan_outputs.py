@@ -7,7 +7,7 @@ from conftest import bundled
 
 from massline import plan_layout, plan_to_dict
 from massline.core.numbers import counted
-from massline.plan_console import criterion_text
+from massline.cli.plan_console import criterion_text
 from massline.reports.html import escape
 from massline.reports.placement_report import criterion_html
 

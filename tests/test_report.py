@@ -22,7 +22,7 @@ from massline.meshes.loader import load_body
 from massline.placement.on_surface import plan
 from massline.placement.plan_file import plan_to_dict
 from massline.placement.planner import Budget
-from massline.output import build_report
+from massline.cli.output import build_report
 from massline.reports.label_layout import overlap_matrix, place_labels
 from massline.reports.plan_scene import scene_of
 from massline.reports.viewer3d import MAX_FACES, viewer_html

@@ -11,7 +11,7 @@ import re
 import pytest
 from conftest import FIXTURE_MESHES
 
-from massline.app import run
+from massline.cli.app import run
 from massline.meshes import BUNDLED
 from massline.placement.candidates import CandidateOptions
 from massline.core.files import to_json

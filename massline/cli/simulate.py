@@ -20,8 +20,8 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from massline.options import SEED, add_sensor_mass_argument, count, fraction, positive, real
-from massline.output import progress_bar, say_fe_model, say_material
+from massline.cli.options import SEED, add_sensor_mass_argument, count, fraction, positive, real
+from massline.cli.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
 from massline.core.housing_masses import HousingMasses
 from massline.virtual.housing_loading import planned_masses

@@ -13,9 +13,9 @@ from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import as_recording
-from massline.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
+from massline.cli.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
 from massline.core.housing_masses import HousingMasses
-from massline.options import (
+from massline.cli.options import (
     BAND_EDGE,
     TRANSVERSE_PRIOR,
     add_export_arguments,
@@ -25,7 +25,7 @@ from massline.options import (
     claim_exports,
     source_of,
 )
-from massline.output import check_exportable, write_exports, write_json, write_report
+from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.files import write_atomic
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY

@@ -5,7 +5,7 @@ VTK load) ends with one line, "massline: interrupted", and exit code 130. While 
 signal is only noted, and acted on once they are loaded (about a second): a KeyboardInterrupt raised
 inside a library's import is swallowed (trimesh catches every exception around its optional imports),
 leaves a half-initialised module that fails later (scipy: "has no attribute '_lib'"), is logged (cvxpy)
-or printed as "Exception ignored" (importlib's module locks). Everything else is in :mod:`massline.app`.
+or printed as "Exception ignored" (importlib's module locks). Everything else is in :mod:`massline.cli.app`.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     global _EARLY
     interrupt, _EARLY = (_EARLY or _noting()), None  # the one installed at import serves the first run
     try:
-        from massline.app import run
+        from massline.cli.app import run
 
         interrupt.raising = True
         if interrupt.seen:  # pressed while the modules loaded

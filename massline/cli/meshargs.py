@@ -9,9 +9,9 @@ from rich.console import Console
 
 from massline.core.errors import MasslineError
 from massline.meshes import BUNDLED
-from massline.options import DENSITY, MASS
+from massline.cli.options import DENSITY, MASS
 from massline.meshes.loader import UNITS, BodyMesh, load_body
-from massline.output import progress_bar, say_fe_model, say_material
+from massline.cli.output import progress_bar, say_fe_model, say_material
 from massline.virtual.elastic import MATERIALS
 from massline.virtual.support_model import SupportModel, SupportSetup
 

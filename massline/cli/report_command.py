@@ -13,7 +13,7 @@ from pathlib import Path
 from rich.console import Console
 
 from massline.core.files import claim_output
-from massline.output import build_report, write_report
+from massline.cli.output import build_report, write_report
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -20,8 +20,8 @@ from rich.table import Table
 from massline.identify.diagnose.effects import Scene, named
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.meshes import BUNDLED
-from massline.options import SEED as SEED_RANGE
-from massline.output import progress_bar
+from massline.cli.options import SEED as SEED_RANGE
+from massline.cli.output import progress_bar
 from massline.core.numbers import formatted, number, signed, value_with_sigma
 from massline.core.properties import SUMMARY
 from massline.reports.demo_story import BODY, BUDGET, FAULT, SEED, DemoStory, demo_story

@@ -3,8 +3,8 @@
 The package is the test's data flow, one sub-package per stage; each imports only the ones below it
 (docs/development.md, "Layout"):
 
-- ``massline`` (this folder, ``cli/``): the command ``massline`` — argument parsing, console
-  output, exit codes; no science — and the public API below, re-exported.
+- ``massline`` (this folder): the public API below, re-exported, and ``python -m massline``.
+- :mod:`massline.cli`: the command ``massline`` — argument parsing, console output, exit codes; no science.
 - :mod:`massline.reports`: HTML pages, scenes, renderings and figures, each report's assembly, the demo's story.
 - :mod:`massline.identify`: recordings → masslines → properties; :mod:`massline.identify.diagnose`,
   the mismatch diagnosis.
@@ -58,7 +58,7 @@ PUBLIC = {  # name: the module defining it
     "diagnose_report": "massline.reports.diagnosis_report",
     "demo_story": "massline.reports.demo_story",
 }
-# exported names that differ from the defining module's (``massline.plan`` is a command)
+# exported names that differ from the defining module's (``massline.cli.plan`` is a command)
 RENAMED = {"plan_layout": "plan"}
 
 __all__ = sorted(PUBLIC)

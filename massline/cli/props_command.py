@@ -6,11 +6,11 @@ import argparse
 
 from rich.console import Console
 
-from massline.meshargs import add_mesh_arguments, body_from_arguments
+from massline.cli.meshargs import add_mesh_arguments, body_from_arguments
 from massline.core.files import claim_output
 from massline.core.properties import JSON_UNITS
-from massline.output import write_json
-from massline.tables import body_table
+from massline.cli.output import write_json
+from massline.cli.tables import body_table
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

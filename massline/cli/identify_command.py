@@ -18,8 +18,8 @@ from massline.identify.pipeline import (
 )
 from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
-from massline.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
-from massline.options import (
+from massline.cli.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
+from massline.cli.options import (
     BAND_EDGE,
     MAX_DRAWS,
     TRANSVERSE_PRIOR,
@@ -32,7 +32,7 @@ from massline.options import (
     source_of,
     count,
 )
-from massline.output import check_exportable, write_exports, write_json, write_report
+from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody

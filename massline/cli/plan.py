@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 from rich.console import Console
 
-from massline.meshargs import add_mesh_arguments, body_from_arguments
-from massline.options import SEED, add_sensor_mass_argument, count, finite, fraction, real
-from massline.output import build_report, progress_bar, say_fe_model, say_material, write_report
+from massline.cli.meshargs import add_mesh_arguments, body_from_arguments
+from massline.cli.options import SEED, add_sensor_mass_argument, count, finite, fraction, real
+from massline.cli.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.diagnosable_plan import EVALUATIONS, cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
@@ -24,7 +24,7 @@ from massline.meshes.loader import UNITS
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.mounts import mounts
 from massline.placement.plan_file import plan_to_dict
-from massline.plan_console import (
+from massline.cli.plan_console import (
     blocks_note,
     criterion_text,
     diagnosability_note,

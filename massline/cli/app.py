@@ -16,8 +16,8 @@ import sys
 import warnings
 
 from massline.core import __version__
-from massline.options import FLAGS, Parser
-from massline.output import console_for, console_stream
+from massline.cli.options import FLAGS, Parser
+from massline.cli.output import console_for, console_stream
 from massline.core.errors import MasslineError
 
 from . import demo, diagnose_command, identify_command, plan, props_command, report_command, simulate
