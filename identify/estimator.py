@@ -28,20 +28,20 @@ and the scale said.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import partial
 
 import numpy as np
 
 from massline.identify.weighing import WeighedMass
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
-from massline.core.information import driven, sensitivities
 from massline.core.lines import cross
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
 from massline.identify.consistency import constrained_step, is_consistent
 from massline.identify.missing_pairs import completed
+from massline.identify.weighted_system import Iterate, WeightedProblem, WeightedSystem
 from massline.core.rigid_body import RigidBody
 
 DIVERGED = (
@@ -107,151 +107,6 @@ def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
     return np.stack([t1, cross(directions, t1)], axis=2)
 
 
-@dataclass(frozen=True, eq=False)
-class WeightedSystem:
-    """The weighted Gauss–Newton system at one iterate, kept in its block form.
-
-    ``A`` (n_s, n_e, p): ∂H_ij/∂θ̃ / σ_ij; ``D`` (n_s, n_e, 2) or None: ∂H_ij/∂τ_i / σ_ij;
-    ``r`` (n_s, n_e): (H_ij − model) / σ_ij; ``prior`` (n_s, 2): the prior rows' residual −τ_i/t;
-    ``scale_row`` (p,) or None: the scale's row ∂m/∂θ̃ / σ_W, and ``scale_r`` its residual (m_W − m)/σ_W;
-    ``present``: how many masslines have a finite σ (a missing pair's σ is inf: a row of zeros), None for all.
-    """
-
-    A: np.ndarray
-    D: np.ndarray | None
-    r: np.ndarray
-    prior: np.ndarray
-    transverse: float
-    scale_row: np.ndarray | None = None
-    scale_r: float = 0.0
-    present: int | None = None
-
-    @property
-    def count(self) -> int:
-        """How many measured rows carry weight: the masslines present (``present``; all when None), the scale's."""
-        masslines = self.r.size if self.present is None else self.present
-        return masslines + (self.scale_row is not None)
-
-    @property
-    def measured(self) -> np.ndarray:
-        """The measured rows' residuals: every massline's, then the scale's (when weighed)."""
-        return np.append(self.r.ravel(), [] if self.scale_row is None else [self.scale_r])
-
-    @property
-    def chi2_sum(self) -> float:
-        return float(np.sum(self.measured**2) + np.sum(self.prior**2))
-
-    @cached_property
-    def eliminated(self) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
-        """θ̃'s information S with the τ_i eliminated; each sensor's orthogonal Qᵢ, triangular Rᵢ and rows Ãᵢ.
-
-        Sensor i's rows [[Aᵢ, Dᵢ], [0, I/t]] (its masslines, then its prior rows) are turned by the Qᵢ of a QR
-        [Dᵢ; I/t] = Qᵢ [Rᵢ; 0] ((n_e + 2) × 2): the first two rows then hold τ_i, which they fit exactly, and
-        the other n_e rows Ãᵢ = Qᵢ[:, 2:]ᵀ [Aᵢ; 0] θ̃ alone, so S = Σ ÃᵢᵀÃᵢ + aaᵀ (a the scale's row, θ̃
-        only; none without a reading), in O(n_s) work. S equals Σ AᵢᵀAᵢ + aaᵀ − AᵢᵀDᵢCᵢ⁻¹DᵢᵀAᵢ with
-        Cᵢ = DᵢᵀDᵢ + I/t², without that difference's cancellation (S is a hundredth of Σ AᵢᵀAᵢ on a layout
-        whose masslines the transverse readings nearly absorb). Qᵢ, Rᵢ, Ãᵢ are None without transverse readings.
-        """
-        if self.D is None:
-            S, Q, R, A = np.tensordot(self.A, self.A, axes=([0, 1], [0, 1])), None, None, None
-        else:
-            n_s, n_e, _ = self.A.shape
-            prior = np.broadcast_to(np.eye(2) / self.transverse, (n_s, 2, 2))
-            Q, R = np.linalg.qr(np.concatenate([self.D, prior], axis=1), mode="complete")
-            A = np.swapaxes(Q[:, :n_e, 2:], 1, 2) @ self.A  # (n_s, n_e, p)
-            S, R = np.tensordot(A, A, axes=([0, 1], [0, 1])), R[:, :2]
-        if self.scale_row is not None:
-            S = S + np.outer(self.scale_row, self.scale_row)
-        return S, Q, R, A
-
-    def step(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Gauss–Newton step (θ̃, τ) and the information S of θ̃ (:attr:`eliminated`)."""
-        S, Q, R, A = self.eliminated
-        b = 0.0 if self.scale_row is None else self.scale_row * self.scale_r
-        if self.D is None:
-            b = b + np.tensordot(self.A, self.r, axes=([0, 1], [0, 1]))
-            return np.linalg.solve(S, b), np.zeros((len(self.r), 0)), S
-        n_e = self.A.shape[1]
-        turned = (np.swapaxes(Q, 1, 2) @ np.concatenate([self.r, self.prior], axis=1)[..., None])[..., 0]
-        x = np.linalg.solve(S, np.tensordot(A, turned[:, 2:], axes=([0, 1], [0, 1])) + b)
-        fitted = (np.swapaxes(Q[:, :n_e, :2], 1, 2) @ (self.A @ x)[..., None])[..., 0]
-        tau = np.linalg.solve(R, (turned[:, :2] - fitted)[..., None])[..., 0]
-        return x, tau, S
-
-    def paid_parameters(self) -> float:
-        """p_eff = tr(J_d (JᵀJ)⁻¹ J_dᵀ), J_d the measured rows of the Jacobian J (the masslines and the scale's):
-        the parameters the data pay for, the sum of the measured rows' leverages.
-
-        In the rows turned by the Qᵢ (:attr:`eliminated`) the hat matrix is I on each sensor's two τ rows plus
-        [Ã; a] S⁻¹ [Ã; a]ᵀ, so sensor i's masslines (the first n_e rows of Qᵢ) pay ‖Qᵢ[:n_e, :2]‖² +
-        tr(S⁻¹ MᵢᵀMᵢ) with Mᵢ = Qᵢ[:n_e, 2:] Ãᵢ, and the scale's row aᵀS⁻¹a. Raises LinAlgError when S is
-        singular.
-        """
-        S, Q, _, A = self.eliminated
-        if self.D is None:
-            np.linalg.inv(S)  # raises when S is singular
-            return float(len(S))
-        n_e = self.A.shape[1]
-        M = Q[:, :n_e, 2:] @ A
-        W = np.tensordot(M, M, axes=([0, 1], [0, 1]))
-        if self.scale_row is not None:
-            W = W + np.outer(self.scale_row, self.scale_row)
-        return float(np.sum(Q[:, :n_e, :2] ** 2)) + float(np.trace(np.linalg.solve(S, W)))
-
-    def scale_leverage(self) -> float:
-        """The scale row's leverage h = aᵀ(N⁻¹)_θθ a = aᵀS⁻¹a (nan without a reading); LinAlgError when S is singular."""
-        if self.scale_row is None:
-            return np.nan
-        return float(self.scale_row @ np.linalg.solve(self.eliminated[0], self.scale_row))
-
-    def dense(self) -> tuple[np.ndarray, np.ndarray]:
-        """The whole Jacobian and residual: the measured rows first (masslines, then the scale), then the priors."""
-        n_s, n_e, p = self.A.shape
-        width = p + (0 if self.D is None else 2 * n_s)
-        rows = [self.A.reshape(-1, p)]
-        if self.D is not None:
-            block = np.zeros((n_s, n_e, n_s, 2))
-            block[np.arange(n_s), :, np.arange(n_s)] = self.D
-            rows = [np.hstack([rows[0], block.reshape(n_s * n_e, 2 * n_s)])]
-        if self.scale_row is not None:
-            rows.append(np.pad(self.scale_row, (0, width - p))[None, :])
-        residual = [self.measured]
-        if self.D is not None:
-            rows.append(np.hstack([np.zeros((2 * n_s, p)), np.eye(2 * n_s) / self.transverse]))
-            residual.append(self.prior.ravel())
-        return np.vstack(rows), np.concatenate(residual)
-
-
-def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """(t_k, r_i × t_k) (n_s, 6, 2): the line coordinates of each channel's transverse axes T_i at its point r_i."""
-    return np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)
-
-
-def weighted_system(
-    model, s, e, data, sigma, *, lines, tilt, transverse, weighed=None, riding=None
-) -> tuple[WeightedSystem, np.ndarray]:
-    """The weighted system and the model's masslines H.
-
-    A sensor reading (d_i + T_i τ_i)·a(r_i) has line coordinates (d', r_i × d') = s_i + L_i τ_i, with
-    L_i = ``lines`` (:func:`transverse_lines`), so ∂H_ij/∂τ_i = L_iᵀ M⁻¹ w_j; the prior
-    τ_ik ~ N(0, transverse²) adds the rows τ_ik / transverse. A scale reading adds the row
-    (m_W − θ_0)/σ_W, with ∂θ_0/∂θ̃_0 = m₀ (the model's mass scale) its only non-zero derivative. ``riding``
-    (n_e, p): the mass riding at each exciter (:class:`Estimate`).
-    """
-    G, H = sensitivities(model, s, e, riding)
-    D = None
-    if lines is not None:
-        D = driven(model, e, riding) @ lines / sigma[:, :, None]
-    scale = {}
-    if weighed is not None:
-        row = np.eye(model.p)[0] * model.scale[0] / weighed.sd
-        scale = {"scale_row": row, "scale_r": (weighed.mass - model.theta[0]) / weighed.sd}
-    prior = -tilt / max(transverse, 1e-300)
-    present = int(np.isfinite(sigma).sum())
-    system = WeightedSystem(G / sigma[:, :, None], D, (data - H) / sigma, prior, transverse, present=present, **scale)
-    return system, H
-
-
 def damped(trial, theta, dtheta, tilt, dtilt, before: float, halvings: int = 40):
     """(h, trial(θ + h Δθ, τ + h Δτ)) for the first h of 1, ½, ¼, … whose system's objective Σr² is at most
     ``before`` (finite); ``trial`` gives (model, system, …) at the parameters θ (SI) and tilts τ.
@@ -294,28 +149,27 @@ def estimate(
     present = np.isfinite(sigma)
     start = data if present.all() else completed(data, present, planar)  # a missing pair: σ = inf, no weight
     model = RigidModel(starting_body(start, planar), planar)
-    s0, e = model.coordinates(data.sensors), model.coordinates(data.exciters)
-    points, directions = data.sensors.points, data.sensors.directions
-    T = None if planar or transverse <= 0 else perpendicular_bases(directions)
-    lines = None if T is None else transverse_lines(points, T)
-    tilt = np.zeros((len(directions), 0 if T is None else 2))
-    constrained = False
+    axes = None if planar or transverse <= 0 else perpendicular_bases(data.sensors.directions)
+    problem = WeightedProblem(
+        data=data, sigma=sigma, planar=planar, sensors=model.coordinates(data.sensors),
+        exciters=model.coordinates(data.exciters), axes=axes, transverse=transverse, weighed=weighed, riding=riding,
+    )  # fmt: skip
+    last, constrained = gauss_newton(problem, model, iterations)
+    return estimate_at(problem, last, constrained)
 
-    def at(theta: np.ndarray, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
-        """The model re-centred at θ, its weighted system and masslines with the channels tilted by ``tilt``;
-        MasslineError (a ValueError) where θ is no body (a mass ≤ 0)."""
-        return on(RigidModel(model.body(theta), planar), tilt)
 
-    def on(moved: RigidModel, tilt: np.ndarray) -> tuple[RigidModel, WeightedSystem, np.ndarray, np.ndarray]:
-        """``moved``'s weighted system and masslines with the channels tilted by ``tilt``."""
-        s = s0 if T is None else s0 + (lines @ tilt[:, :, None])[:, :, 0]
-        system, H = weighted_system(
-            moved, s, e, data.values, sigma, lines=lines, tilt=tilt, transverse=transverse, weighed=weighed,
-            riding=riding,
-        )
-        return moved, system, H, tilt
+def gauss_newton(problem: WeightedProblem, model: RigidModel, iterations: int) -> tuple[Iterate, bool]:
+    """Damped Gauss–Newton on ``problem``'s weighted residuals from ``model``'s body, the channels read along
+    their axes, for at most ``iterations`` steps: the last iterate, and whether the physical-consistency
+    constraint was active (a step taken again inside P(θ) ⪰ ε I, :func:`.consistency.constrained_step`).
 
-    model, system, H, tilt = on(model, tilt)  # the start as given (θ → body loses J_G's digits far from O)
+    Each step (Δθ̃, Δτ) is :meth:`WeightedSystem.step`'s, damped (:func:`damped`) so that the objective Σr² does
+    not rise; it stops where no step lowers it or the step is below 1e-12. MasslineError (``DIVERGED``) where
+    the information is singular or a step not finite.
+    """
+    planar, constrained = problem.planar, False
+    # the start as given, not re-centred (θ → body loses J_G's digits far from O)
+    model, system, H, tilt = problem.on(model, problem.untilted)
     for _ in range(iterations):
         try:
             x, tau, _ = system.step()
@@ -329,30 +183,39 @@ def estimate(
             raise MasslineError(DIVERGED)
         # from an inconsistent start the (constrained) full step is the way back to a body: taken whole
         ceiling = np.inf if not (planar or is_consistent(theta, model.scale[-1])) else system.chi2_sum
-        taken = damped(at, theta, model.scale * x, tilt, tau, ceiling)
+        taken = damped(partial(problem.at, model), theta, model.scale * x, tilt, tau, ceiling)
         if taken is None:  # no step along (x, τ) lowers the objective: as far as Gauss–Newton goes
             break
         h, (model, system, H, tilt) = taken
         if h * max(np.abs(x).max(), np.abs(tau).max(initial=0.0)) < 1e-12:
             break
+    return Iterate(model, system, H, tilt), constrained
+
+
+def estimate_at(problem: WeightedProblem, last: Iterate, constrained: bool) -> Estimate:
+    """The :class:`Estimate` at the ``last`` iterate of ``problem`` (``constrained``: whether the consistency
+    constraint was active): its body; the covariance of θ̃, the inverse information scaled up by the reduced χ²
+    (:func:`reduced_chi2`) when that is above 1; the residuals H − model, (m/s²)/N (nan at a missing pair);
+    each channel's transverse reading T_i τ_i (n_s, 3); the scale's studentised residual."""
+    system, axes = last.system, problem.axes
     chi2, dof, leverage = reduced_chi2(system)
     covariance = np.linalg.inv(system.step()[2]) * (max(chi2, 1.0) if np.isfinite(chi2) else 1.0)
-    readings = np.zeros_like(directions) if T is None else np.einsum("nak,nk->na", T, tilt)
-    prior = 0.0 if T is None else transverse
-    z = studentised(system.scale_r, leverage) if weighed is not None else np.nan
+    directions = problem.data.sensors.directions
+    readings = np.zeros_like(directions) if axes is None else np.einsum("nak,nk->na", axes, last.tilt)
+    z = studentised(system.scale_r, leverage) if problem.weighed is not None else np.nan
     return Estimate(
-        body=model.nominal,
-        model=model,
+        body=last.model.nominal,
+        model=last.model,
         covariance=covariance,
         chi2=chi2,
         dof=dof,
-        residual=np.where(present, data.values - H, np.nan),
+        residual=np.where(np.isfinite(problem.sigma), problem.data.values - last.masslines, np.nan),
         constrained=constrained,
         transverse=readings,
-        prior=prior,
-        weighed=weighed,
+        prior=0.0 if axes is None else problem.transverse,
+        weighed=problem.weighed,
         weighed_z=z,
-        riding=riding,
+        riding=problem.riding,
     )
 
 

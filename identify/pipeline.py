@@ -11,27 +11,18 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.identify.zones import given_band
-from massline.identify.band_choice import choose_band
+from massline.identify.band_masslines import BandMasslines, recording_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
+from massline.identify.identification_warnings import identification_warnings
 from massline.identify.mains import MainsLines, find_mains
-from massline.identify.missing_pairs import check_determined, missing_warnings
-from massline.identify.repeats import repeat_warnings
-from massline.identify.massline_fit import BandFit, fit_band
-from massline.identify.plausibility import nominal_warnings, units_warnings
+from massline.identify.missing_pairs import check_determined
+from massline.identify.massline_fit import BandFit
+from massline.identify.plausibility import nominal_warnings
 from massline.identify.sensor_mass import Housings, file_labels
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
-from massline.identify.suspicions import (
-    band_warnings,
-    coherence_warnings,
-    fit_warnings,
-    recording_warnings,
-    truncation_warnings,
-    weighing_warnings,
-)
-from massline.identify.resonances import bounding_modes
-from massline.identify.uncertainty import bootstrap, combined_std, seen_truncation, truncation_std, with_truncation
+from massline.identify.suspicions import recording_warnings
+from massline.identify.uncertainty import identified_spread
 from massline.identify.warning_codes import CodedWarning
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
@@ -46,7 +37,7 @@ from massline.core.rigid_body import RigidBody
 from massline.export.body import Body
 from massline.export.units import SI, Units
 from massline.uff.grid import to_recording
-from massline.uff.runs import coherence_weights, read_runs
+from massline.uff.runs import read_runs
 from massline.uff.recording import Recording
 
 PAPER_METHODS = [f"{k}+{d}" for k in KINEMATICS for d in DYNAMICS] + ["plate"]
@@ -115,12 +106,6 @@ def paper_body(data: Masslines, method: str, best: Estimate) -> RigidBody:
     if method == "plate":
         return best.model.body(plate_theta(found.mass, found.cog, found.inertia_cog))
     return found.body
-
-
-def absent(recording: Recording, present: np.ndarray) -> list:
-    """The (response, reference) labels of the pairs without a massline (``present`` (n_s, n_e) False)."""
-    rows, columns = np.nonzero(~present)
-    return [(recording.sensor_channels[i], recording.exciter_channels[j]) for i, j in zip(rows, columns)]
 
 
 def usable_lines(recording: Recording) -> tuple[Recording, tuple[CodedWarning, ...]]:
@@ -290,69 +275,39 @@ def identify_recording(
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)
     riding = riding_masses(recording.exciters, exciter_mass, planar)
-    f = recording.frequencies
-    weights = coherence_weights(recording.coherence)
-    if band:
-        chosen = given_band(f, *band)
-    else:
-        chosen = choose_band(f, recording.frf, recording.sensors, recording.exciters, planar=planar, weights=weights)
-    modes = bounding_modes(f, recording.frf, chosen, recording.sensors, recording.exciters, planar)
-    used = replace(chosen, suspension_top=modes[0], first_elastic=modes[1])  # the resonances the record shows
-    fit = fit_band(f, recording.frf, used.low, used.high, weights)
-    richer = fit_band(f, recording.frf, used.low, used.high, weights, richer=True)
-    present = np.isfinite(fit.values)  # a pair with no FRF, or too few lines in the band: no massline
-    check_method(method, planar, weighed, exciter_mass, int((~present).sum()))
-    data = Masslines(np.where(present, fit.values, 0.0), recording.sensors, recording.exciters)
-    sigma = np.where(present, np.maximum(fit.std, 1e-9 * np.nanmax(np.abs(fit.values))), np.inf)
-    check_determined(data, present, planar, (recording.sensor_channels, recording.exciter_channels))
+    chosen, used = recording_band(recording, band, planar)
+    fitted = BandMasslines.of(recording, used)
+    check_method(method, planar, weighed, exciter_mass, fitted.missing)
+    check_determined(fitted.data, fitted.present, planar, (recording.sensor_channels, recording.exciter_channels))
     housings = Housings.on(recording.sensors, sensor_mass, file_labels(recording))
     prior = None if weighed is None else weighed.plus(housings.total)
-    try:
-        best = estimate(data, sigma, planar, transverse, weighed=prior, riding=riding)
-    except MasslineError as refused:  # what the recording says against its band is the likely reason: said too
-        against = recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
-        raise MasslineError("; ".join([str(refused)] + [w.text for w in against])) from None
+    best = estimated(recording, chosen, fitted, planar, transverse, prior=prior, riding=riding)
     bare = housings.removed(best)  # refused first when the housings leave no physical body
-    seen = np.where(present, seen_truncation(fit.truncation, fit, richer), 0.0)
-    shift = truncation_std(data, np.nan_to_num(seen), sigma, best, prior)
-    draws_found = bootstrap(data, sigma, best, draws) if draws else []
-    tested_std = with_truncation(combined_std(best, draws_found, draws), shift, planar)
-    statistical = combined_std(bare, housings.removed_from_each(draws_found, planar), draws)
-    std = with_truncation(statistical, shift, planar)
-    tested = best.body if method == "best" else paper_body(data, method, best)
-    in_band = (f >= used.low) & (f <= used.high)
-    channels = [f"{s} / {e}" for s in recording.sensor_channels for e in recording.exciter_channels]
-    warnings = (
-        fit_warnings(best.chi2, best.dof)
-        + weighing_warnings(best.weighed_z, weighed, housings.total)
-        + band_warnings(used, int(in_band.sum()))
-        + coherence_warnings(recording.frf, recording.coherence, in_band, channels)
-        + truncation_warnings(shift, statistical, bare.body)
-        + recording_warnings(f, recording.frf, recording.coherence, chosen, recording.exponential_window)
-        + units_warnings(tested, np.vstack([recording.sensors.points, recording.exciters.points]), planar)
-        + missing_warnings(absent(recording, present), present.size)
-        + repeat_warnings(recording, used.low, used.high, [coherence_weights(r.coherence) for r in recording.repeats])
-    )
+    spread = identified_spread(fitted.data, fitted.sigma, fitted.truncation, best, bare=bare, housings=housings,
+                               draws=draws)  # fmt: skip
+    tested = best.body if method == "best" else paper_body(fitted.data, method, best)
+    warnings = identification_warnings(recording, (chosen, used), fitted, best, spread, weighed=weighed,
+                                       housings=housings, bare=bare.body, tested=tested)  # fmt: skip
     return Identification(
-        recording=recording,
-        band=used,
-        fit=fit,
-        data=data,
-        sigma=sigma,
-        planar=planar,
-        best=best,
-        std=std,
-        body=housings.removed_from(tested, planar),
-        method=method,
-        notes=notes + aside,
-        warnings=tuple(warnings),
-        housings=housings,
-        tested=tested,
-        tested_std=tested_std,
-        weighed=weighed,
-        exciter_mass=exciter_mass,
-        mains=mains,
-    )
+        recording=recording, band=used, fit=fitted.fit, data=fitted.data, sigma=fitted.sigma, planar=planar, best=best,
+        std=spread.bare, body=housings.removed_from(tested, planar), method=method, notes=notes + aside,
+        warnings=warnings, housings=housings, tested=tested, tested_std=spread.tested, weighed=weighed,
+        exciter_mass=exciter_mass, mains=mains,
+    )  # fmt: skip
+
+
+def estimated(
+    recording: Recording, chosen: Band, masslines: BandMasslines, planar: bool, transverse: float, *, prior, riding
+) -> Estimate:
+    """The weighted estimate of the band fits' ``masslines`` (:func:`.estimator.estimate`, with the scale's reading
+    ``prior`` of the body as tested and the exciters' ``riding`` masses); where it is refused, what ``recording``
+    says against its ``chosen`` band is said too, the likely reason."""
+    try:
+        return estimate(masslines.data, masslines.sigma, planar, transverse, weighed=prior, riding=riding)
+    except MasslineError as refused:
+        f, frf, coherence = recording.frequencies, recording.frf, recording.coherence
+        against = recording_warnings(f, frf, coherence, chosen, recording.exponential_window)
+        raise MasslineError("; ".join([str(refused)] + [w.text for w in against])) from None
 
 
 def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:

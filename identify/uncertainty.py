@@ -23,10 +23,13 @@ the data show, and that one massline made the whole shift.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
+from massline.identify.sensor_mass import Housings
 from massline.identify.massline_fit import BandFit
 from massline.core.accuracy import covariance_std
 from massline.core.errors import MasslineError
@@ -125,6 +128,52 @@ def combined_std(result: Estimate, bodies: list[RigidBody], draws: int) -> dict:
         for key in combined:
             combined[key] = np.where(np.isnan(informed[key]), np.nan, combined[key])
     return combined
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Spread:
+    """identify's 1-σ of the body as tested and of the bare body, and the parts its warnings weigh.
+
+    Attributes
+    ----------
+    tested : dict
+        1-σ of every property of the body as tested (identify's std keys, SI): the larger of the information's
+        and the bootstrap's (:func:`combined_std`), the truncation added in quadrature (:func:`with_truncation`).
+    bare : dict
+        The same of the bare body: the accelerometer housings taken off the estimate and each draw.
+    statistical : dict
+        ``bare`` without the truncation.
+    truncation : (25,) array
+        How far the property entries move when the masslines move by their tails' next term
+        (:func:`truncation_std`), SI.
+    """
+
+    tested: dict
+    bare: dict
+    statistical: dict
+    truncation: np.ndarray
+
+
+def identified_spread(
+    data: Masslines,
+    sigma: np.ndarray,
+    shift: np.ndarray,
+    result: Estimate,
+    *,
+    bare: Estimate,
+    housings: Housings,
+    draws: int,
+) -> Spread:
+    """The 1-σ of ``result``'s body and of ``bare``'s (``result`` with the ``housings`` taken off), from the
+    information and ``draws`` bootstrap re-estimates (none: the information's alone), with the truncation of the
+    masslines ``data`` by ``shift`` (n_s, n_e), (m/s²)/N (NaN: none); ``sigma`` their 1-σ, (m/s²)/N."""
+    planar = result.model.planar
+    truncation = truncation_std(data, np.nan_to_num(shift), sigma, result, result.weighed)
+    bodies = bootstrap(data, sigma, result, draws) if draws else []
+    tested = with_truncation(combined_std(result, bodies, draws), truncation, planar)
+    statistical = combined_std(bare, housings.removed_from_each(bodies, planar), draws)
+    bare_std = with_truncation(statistical, truncation, planar)
+    return Spread(tested=tested, bare=bare_std, statistical=statistical, truncation=truncation)
 
 
 def property_std(data: Masslines, sigma: np.ndarray, result: Estimate, draws: int = 100) -> dict:

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from massline.identify.band_choice import candidate_sums
-from massline.identify.estimator import WeightedSystem, reduced_chi2
+from massline.identify.estimator import reduced_chi2
 from massline.identify.massline_fit import fit_band, solve, truncation_shift
+from massline.identify.weighted_system import WeightedSystem
 
 
 def design(frequencies, low, high, richer=False):
