@@ -1,5 +1,7 @@
 """Work budgets: a search that may run long counts its work in units of the same size on any machine (not in
-seconds, so that where it stops is reproducible) and stops at its limit, saying what it reached.
+seconds, so that where it stops is reproducible on a machine, whatever its load) and stops at its limit, saying
+what it reached. The count itself is not the same on every CPU: the diagnosable search meets trials tied in
+exact arithmetic, which the BLAS kernel's rounding orders (docs/validation.md, planned supports and bands).
 
 The diagnosable search (:mod:`.diagnosable_plan`) counts diagnosability evaluations: one per layout whose
 leverages and confusions (:mod:`.diagnosability`) are computed, a stack of trials counting as many as it holds.
