@@ -1,8 +1,9 @@
 """Every warning's premise is checked against the data: silent where the premise is false, raised where it holds.
 
-Issue 26 found warnings with false premises: a record-length advice for a resonance the record did not hold, an
-impact test's window on shaker data, cables blamed for small cross-axis FRFs, an elastic mode quoted at the
-edge of the resonance-free stretch (827 Hz for a mode at 2008 Hz), and a tail truncation the data did not show.
+The blind suite (benchmarks/diagnose_blind.py) showed warnings with false premises: a record-length advice for a
+resonance the record did not hold, an impact test's window on shaker data, cables blamed for small cross-axis
+FRFs, an elastic mode quoted at the edge of the resonance-free stretch (827 Hz for a mode at 2008 Hz), and a tail
+truncation the data did not show.
 Each code of :data:`massline.identify.warning_codes.CODES` is tested here both ways, on virtual tests where the
 virtual test can make the premise true, else on the check itself; the clean files of the bracket's default plan
 (``massline plan bracket``) carry no warning, and every resonance identify, diagnose and the report quote is the
