@@ -24,7 +24,7 @@ import numpy as np
 import pyuff
 from common import measured, surface_lines
 
-from massline.identify import pipeline
+from massline.identify import band_masslines, pipeline, uncertainty
 from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.placement.hand_layouts import structure_exciters
@@ -35,12 +35,12 @@ from massline.uff.writer import write_uff
 from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.acquisition import Acquisition, run
 
-STAGES = {  # the pipeline's stage functions, timed by their names in identify.pipeline
-    "choose_band": "band choice",
-    "fit_band": "fits",
-    "estimate": "estimate",
-    "truncation_std": "truncation",
-    "bootstrap": "bootstrap",
+STAGES = {  # the pipeline's stage functions, timed where the pipeline calls them: (module, name) → stage
+    (band_masslines, "choose_band"): "band choice",
+    (band_masslines, "fit_band"): "fits",
+    (pipeline, "estimate"): "estimate",
+    (uncertainty, "truncation_std"): "truncation",
+    (uncertainty, "bootstrap"): "bootstrap",
 }
 
 
@@ -57,25 +57,25 @@ def identify_file(path: Path, seconds: dict):
 @contextmanager
 def stages_timed(seconds: dict):
     """The pipeline's stage functions (STAGES) timed while inside: their seconds added up in ``seconds``."""
-    originals = {name: getattr(pipeline, name) for name in STAGES}
+    originals = {place: getattr(*place) for place in STAGES}
 
-    def timed(name, work):
+    def timed(place, work):
         def run(*args, **kwargs):
             start = time.perf_counter()
             try:
                 return work(*args, **kwargs)
             finally:
-                seconds[STAGES[name]] = seconds.get(STAGES[name], 0.0) + time.perf_counter() - start
+                seconds[STAGES[place]] = seconds.get(STAGES[place], 0.0) + time.perf_counter() - start
 
         return run
 
-    for name, work in originals.items():
-        setattr(pipeline, name, timed(name, work))
+    for (module, name), work in originals.items():
+        setattr(module, name, timed((module, name), work))
     try:
         yield
     finally:
-        for name, work in originals.items():
-            setattr(pipeline, name, work)
+        for (module, name), work in originals.items():
+            setattr(module, name, work)
 
 
 def main() -> None:

@@ -15,6 +15,7 @@ renders the same error with :meth:`MasslineError.spelled` and its table of names
 from __future__ import annotations
 
 import re
+import sys
 from collections.abc import Mapping
 
 _START, _SEPARATOR, _END = "\x02", "\x01", "\x03"  # control characters no message or user input holds
@@ -74,3 +75,11 @@ class MasslineError(ValueError):
 
 class SingularLayoutError(MasslineError):
     """A sensor/exciter layout whose equations are singular, with the reason."""
+
+
+def solver_errors() -> tuple[type[Exception], ...]:
+    """cvxpy's SolverError where cvxpy is loaded, else nothing: for an ``except`` clause around a step that may
+    solve a convex problem, so that importing the module costs nothing (cvxpy takes ~0.9 s to load, and a
+    SolverError can only be raised once it is loaded)."""
+    module = sys.modules.get("cvxpy.error")
+    return (module.SolverError,) if module is not None else ()

@@ -26,13 +26,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from cvxpy.error import SolverError
 
 from massline.identify.estimator import Estimate, estimate
 from massline.identify.sensor_mass import Housings
 from massline.identify.massline_fit import BandFit
 from massline.core.accuracy import covariance_std
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, solver_errors
 from massline.core.masslines import Masslines
 from massline.core.properties import VECTOR_SIZE, property_vector, std_of
 from massline.core.rigid_body import RigidBody
@@ -89,7 +88,7 @@ def truncation_std(data: Masslines, shift: np.ndarray, sigma: np.ndarray, result
         moved = Masslines(data.values - fraction * shift, data.sensors, data.exciters)
         try:
             again = estimate(moved, sigma, planar, result.prior, weighed=weighed, riding=result.riding)
-        except (MasslineError, np.linalg.LinAlgError, SolverError):
+        except (MasslineError, np.linalg.LinAlgError, *solver_errors()):
             continue
         return np.abs(aligned(property_vector(again.body, planar), reference) - reference) / fraction
     return np.full(VECTOR_SIZE, np.inf)

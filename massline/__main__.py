@@ -41,12 +41,25 @@ import sys  # noqa: E402
 from typing import NoReturn  # noqa: E402
 
 INTERRUPTED = 130
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def one_blas_thread() -> None:
+    """One BLAS thread unless the user's environment says otherwise, set before numpy loads its BLAS.
+
+    massline's linear algebra is many small solves (6 to 10 parameters, a few thousand spectral lines): a BLAS
+    thread pool only spins and contends there, so that a 1200 × 4 least squares takes 17 ms with OpenBLAS's
+    threads on a machine doing other work and 0.5 ms with one (``benchmarks/blas_threads.py``).
+    """
+    for variable in BLAS_THREADS:
+        os.environ.setdefault(variable, "1")
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run ``massline`` with ``argv`` (default: the command line); return the exit code."""
     global _EARLY
     interrupt, _EARLY = (_EARLY or _noting()), None  # the one installed at import serves the first run
+    one_blas_thread()
     try:
         from massline.cli.app import run
 

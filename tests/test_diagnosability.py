@@ -185,7 +185,7 @@ def table(name: str, seeds, folder: Path) -> dict:
     return out
 
 
-@pytest.mark.slow
+@pytest.mark.long  # eight virtual tests of the structure diagnosed (minutes): the long tier
 def test_a_faulty_channel_is_located_on_the_default_plan_and_not_on_the_minimal(tmp_path):
     """Located: the first fault named sits at the faulty channel, or, none named, the unexplained finding does.
     Named too in 5 of these 6: a −29 % gain on one channel is fitted as well by an 11 mm shift and a tilt of its

@@ -43,6 +43,9 @@ from massline.virtual.scenarios import (
     write_case,
 )
 
+# the long tier (pytest -m long): 55 virtual tests diagnosed, minutes on one worker; CI runs it
+pytestmark = pytest.mark.long
+
 BENCHES = {
     "bracket": (Budget(sensors=12, exciters=4, triaxial=2), (70e9, 0.33)),  # aluminium
     "structure": (Budget(sensors=14, exciters=4), (210e9, 0.3)),  # steel

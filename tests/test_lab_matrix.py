@@ -5,7 +5,14 @@ and each other file style once (the runs' styles on a soft cord). The whole matr
 import pytest
 from lab_matrix import BODIES, SUPPORTS, cell
 
-CASES = [(body, "exporter", support) for body in BODIES for support in SUPPORTS] + [
+# the exporter's file on the soft cord for each body, and each other style once; the stiff cord and foam under the
+# exporter's file, one cell per body each, in the long tier (pytest -m long)
+LONG = pytest.mark.long
+CASES = [
+    (body, "exporter", support) if support == "soft" else pytest.param(body, "exporter", support, marks=LONG)
+    for body in BODIES
+    for support in SUPPORTS
+] + [
     ("bracket", "impact", "soft"),
     ("structure", "local", "foam"),
     ("plate", "plain", "stiff"),

@@ -135,8 +135,9 @@ def test_a_fault_the_band_fits_cannot_see_is_covered_by_the_chi2_scaled_sigma():
     within an FRF): reduced χ² ≈ 100, and only the ± scaled by it covers. Over 100 seeds of the steel box
     (13 × 6 masslines, transverse readings fitted) the error of the mass, each CoG coordinate and each principal
     moment is within 2σ of the scaled ± in ≥ 85 % of them (95 % for a normal error, 90–96 % measured; the bound
-    leaves 2.5 binomial σ below 0.9); the unscaled ± (÷ √χ²) covers about 16 % (P(|z| < 0.2); 8–21 %
-    measured), under 30 % here."""
+    sits 1.7 binomial σ below 0.9: a property at 90 % fails it 4 % of the time, at 95.4 % 1e-5, and one whose ±
+    is 1.58× too small, 79 % within, 90 %); the unscaled ± (÷ √χ²) covers about 16 % (P(|z| < 0.2); 8–21 %
+    measured), under 30 % here (exceeded by chance 3e-4 of the time; 90 % of the time at 36 %)."""
     body = OBLIQUE["steel box"]
     exact = synthesise(body, *layout())
     claimed = np.full(exact.values.shape, 2e-4 * np.abs(exact.values).max())

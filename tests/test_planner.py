@@ -145,7 +145,7 @@ def _exhaustive_best(planner, model, noise, n_s, n_e, k_s, k_e):
     return -np.inf
 
 
-@pytest.mark.slow
+@pytest.mark.long  # 10 × 960,960 layouts' log det (a minute): the long tier
 def test_exhaustive_search_finds_nothing_better_on_small_sets(structure):
     """Ten random instances of 16 sensor and 10 exciter candidate lines (26 ≤ 30)."""
     mesh = bundled("structure").mesh

@@ -32,7 +32,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from cvxpy.error import SolverError
 
 from massline.identify.diagnose.effect_fit import Fit, fit, is_body, penalty, score, with_model_form
 from massline.identify.diagnose.effect_model import Block, Layout, Problem
@@ -49,7 +48,7 @@ from massline.identify.estimator import TRANSVERSE, estimate
 from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
 from massline.core.band import Band
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, solver_errors
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
@@ -122,7 +121,7 @@ def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, tran
                 body = attempt()
             if is_body(body):
                 return body
-        except (np.linalg.LinAlgError, SolverError, MasslineError):
+        except (np.linalg.LinAlgError, MasslineError, *solver_errors()):
             continue
     mass = 1 / np.median(np.abs(masslines.values))
     return RigidBody(mass, layout.sensors.points.mean(axis=0), mass * layout.extent**2 * np.eye(3))

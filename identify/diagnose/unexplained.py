@@ -28,11 +28,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2 as chi2_distribution
 
-from cvxpy.error import SolverError
 
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate, estimate
-from massline.core.errors import MasslineError
+from massline.core.errors import MasslineError, solver_errors
 from massline.core.masslines import Masslines
 from massline.identify.suspicions import CHANCE, beyond_chance
 
@@ -68,7 +67,7 @@ def estimated(found, data: Masslines, sigma: np.ndarray, riding: np.ndarray | No
     try:
         with np.errstate(invalid="ignore", divide="ignore"):
             return estimate(data, sigma, found.planar, found.best.prior, riding=riding)
-    except (np.linalg.LinAlgError, SolverError, MasslineError, ValueError):
+    except (np.linalg.LinAlgError, MasslineError, ValueError, *solver_errors()):
         return None
 
 
