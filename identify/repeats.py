@@ -10,8 +10,8 @@ calibration. It is warned with the runs named; within noise the join is used sil
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2 as chi2_distribution
 
+from massline.core.chi_square import chi2_sf
 from massline.identify.massline_fit import fit_band
 from massline.identify.warning_codes import CodedWarning
 
@@ -37,7 +37,7 @@ def repeat_warnings(recording, low: float, high: float, weights: list) -> list[C
     found = []
     for repeat, w in zip(repeats, weights):
         chi2, dof, spread = disagreement(recording.frequencies, repeat.frf, low, high, w)
-        if dof and chi2_distribution.sf(chi2, dof) < FALSE_ALARM / len(repeats):
+        if dof and chi2_sf(chi2, dof) < FALSE_ALARM / len(repeats):
             pair = f"{recording.sensor_channels[repeat.sensor]} / {recording.exciter_channels[repeat.exciter]}"
             found.append(CodedWarning(
                 "repeat_disagrees",

@@ -34,8 +34,8 @@ left out of every median, and says nothing either way.
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2 as chi2_distribution
 
+from massline.core.chi_square import chi2_isf
 from massline.identify.missing_lines import median_present, missing_as_nan, present
 from massline.identify.warning_codes import CodedWarning
 from massline.identify.resonances import massline_level, peak_curve
@@ -66,7 +66,7 @@ def beyond_chance(chi2: float, dof: float) -> bool:
     """Whether a reduced χ² over ``dof`` degrees of freedom is more than chance and the noise's own uncertainty
     allow: beyond its distribution's ``CHANCE`` tail, and above ``MISFIT`` (the 1-σ of a fit estimated from its
     own scatter is itself known to a few tens of percent). One test for identify, diagnose and the reports."""
-    return bool(np.isfinite(chi2) and chi2 * dof > chi2_distribution.isf(CHANCE, max(dof, 1)) and chi2 > MISFIT)
+    return bool(np.isfinite(chi2) and chi2 * dof > chi2_isf(CHANCE, max(dof, 1)) and chi2 > MISFIT)
 
 
 def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize_scalar
-from scipy.stats import chi2 as chi2_distribution
 
+from massline.core.chi_square import chi2_isf
 from massline.core.information import sensitivities
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.finding import Finding
@@ -100,8 +100,8 @@ def gauge_mass(data, sigma: np.ndarray, planar: bool, transverse: float, without
     else:
         curvature = (chi2_at(m + 2 * h) - 2 * chi2_at(m + h) + after) / h**2
     std = np.sqrt(2 * spread / curvature) if curvature > 0 else np.inf
-    beyond_chance = (before - after) / spread > chi2_distribution.isf(CHANCE, 1)
-    explains = fit.chi2 <= max(EXPLAINED * without.chi2, chi2_distribution.isf(CHANCE, fit.dof) / fit.dof)
+    beyond_chance = (before - after) / spread > chi2_isf(CHANCE, 1)
+    explains = fit.chi2 <= max(EXPLAINED * without.chi2, chi2_isf(CHANCE, fit.dof) / fit.dof)
     plausible = m < 0.99 * min(largest, LARGEST * fit.body.mass)  # the bare body too carries it: a gauge, not a body
     if not (beyond_chance and explains and plausible and m >= SIGMAS * std):
         return None

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import nnls
-from scipy.stats import chi2 as chi2_distribution
 
+from massline.core.chi_square import chi2_isf
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.effects.sensor_mass_loading import SensorMassLoading
 from massline.identify.diagnose.finding import Finding
@@ -151,7 +151,7 @@ def mass_loading(
         return None
     information = np.linalg.pinv(covariance)
     chi2_before = float(delta @ information @ delta)
-    if chi2_before < chi2_distribution.isf(CHANCE, p):
+    if chi2_before < chi2_isf(CHANCE, p):
         return None
     weighed = [(every, channels, points, sum(point_mass_theta(1.0, r, planar) for r in points), "sensor")
                for every, channels, points in hypotheses(sensors)]  # fmt: skip
@@ -165,12 +165,12 @@ def mass_loading(
         fits.append((float(rest @ information @ rest), every, channels, points, mass, 1 / np.sqrt(weight), side))
     fits.sort(key=lambda f: f[0])
     chi2_after, every, channels, points, mass, std, side = fits[0]
-    explains = chi2_after < max(chi2_distribution.isf(CHANCE, p - 1), EXPLAINED * chi2_before)
+    explains = chi2_after < max(chi2_isf(CHANCE, p - 1), EXPLAINED * chi2_before)
     alone = len(fits) == 1 or fits[1][0] - chi2_after > EVIDENCE
     each = each_housing(delta, information, planar, sensors, nominal, chi2_before)  # also where a gauge fits best
     if not (explains and alone) or mass < SIGMAS * std or mass * len(points) > 0.5 * nominal.mass:
         return each
-    within_chance = chi2_after < chi2_distribution.isf(CHANCE, p - 1)
+    within_chance = chi2_after < chi2_isf(CHANCE, p - 1)
     if each is not None and not within_chance and chi2_after - each.chi2_after > EVIDENCE:
         return each  # one mass for the housings leaves more than chance; their own masses do not
     return MassLoading(Housings.alike(mass, points), every, planar, channels, std, chi2_before, chi2_after, side)
@@ -191,7 +191,7 @@ def each_housing(
     loaded = masses > 0
     rest = delta - phi @ masses
     chi2_after = float(rest @ information @ rest)
-    if not loaded.any() or chi2_after > chi2_distribution.isf(CHANCE, max(len(delta) - loaded.sum(), 1)):
+    if not loaded.any() or chi2_after > chi2_isf(CHANCE, max(len(delta) - loaded.sum(), 1)):
         return None
     covariance = np.linalg.pinv(phi[:, loaded].T @ information @ phi[:, loaded])
     std, total_std = np.sqrt(np.diag(covariance)), float(np.sqrt(covariance.sum()))

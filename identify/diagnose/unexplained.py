@@ -26,9 +26,9 @@ chance is the finding ``off_axis`` (:func:`off_axis`).
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2 as chi2_distribution
 
 
+from massline.core.chi_square import chi2_isf
 from massline.identify.diagnose.finding import Finding
 from massline.identify.estimator import Estimate, estimate
 from massline.core.errors import MasslineError, solver_errors
@@ -191,7 +191,7 @@ def off_axis(found, withdrawn: list = ()) -> Finding | None:
     because identify took the tilt up; None when every channel is within its prior."""
     z2 = tilts(found.best)
     channel = int(np.argmax(z2)) if z2.size else 0
-    if not z2.size or z2[channel] <= chi2_distribution.isf(CHANCE, 2):
+    if not z2.size or z2[channel] <= chi2_isf(CHANCE, 2):
         return None
     angle = float(np.degrees(np.arctan(np.sqrt(z2[channel]) * found.best.prior)))
     parameters = {"hits": [], "shape": "off_axis", "angle_deg": angle}
