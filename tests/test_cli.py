@@ -140,7 +140,7 @@ PROGRESS = re.compile(r"^\[ *\d+\.\d s\] \S")  # a plain progress line: seconds 
 def test_plan_off_a_terminal_shows_progress_on_stderr_and_says_where_its_search_stopped(tmp_path):
     """Off a terminal the progress is plain lines on stderr, nothing else there, and stdout holds results only;
     a search out of evaluations plans the minimal layout and says so in the console, plan.json and the report."""
-    full = massline("plan", "structure", "--out", tmp_path / "full")  # seconds of work: progress lines after 1 s
+    full = massline("plan", "plate", "--out", tmp_path / "full")  # seconds of work: progress lines after 1 s
     lines = full.stderr.splitlines()
     assert full.returncode == 0 and lines and all(PROGRESS.match(line) for line in lines), full.stderr
     assert not any(PROGRESS.match(line) for line in full.stdout.splitlines())
