@@ -20,7 +20,7 @@ The unmutated copy must pass the same selection, so a failure is the mutation's.
   floor on the reduced χ² decides and hides it; the threshold is pinned at 10 degrees of freedom, where the rate
   decides, against the stated one in a thousand (``test_warning_premises``).
 * kgf read as a newton: no file of the tests labels its force in kgf; every spelling the UFF reader accepts is read
-  at its SI factor (``test_uff_reader``).
+  at its SI factor (``test_unit_labels``).
 """
 
 import os
@@ -76,7 +76,7 @@ MUTATIONS = {
         "uff/frf_kind.py",
         '"kgf": (G, FORCE),',
         '"kgf": (1.0, FORCE),',
-        ["test_uff_reader.py", "-k", "unit_spelling"],
+        ["test_unit_labels.py", "-k", "unit_spelling"],
     ),
 }
 
