@@ -18,6 +18,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import bundled
 from scipy.stats import chi2 as chi2_distribution
 from test_cli import massline
@@ -261,11 +262,9 @@ def test_the_bodys_size_and_the_mesh_warn_only_on_a_mislabelled_body():
 
 
 @pytest.fixture(scope="module")
-def default_plan(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("default")
-    result = massline("plan", "bracket", "--out", folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "plan.json"
+def default_plan():
+    """``massline plan bracket``, run once this session."""
+    return session_cache.plan("bracket")
 
 
 def simulated(plan, folder, name, *options) -> tuple:
@@ -285,7 +284,8 @@ def quoted_resonances(found) -> list[float]:
 @pytest.mark.parametrize(
     "name, options",
     [("cord", ("--seed", "0")), ("seed1", ("--seed", "1")), ("seed2", ("--seed", "2")),
-     ("impact", ("--impact",)), ("foam", ("--suspension", "foam"))],
+     pytest.param("impact", ("--impact",), marks=pytest.mark.long),  # a 51,200-line hammer record: long tier
+     ("foam", ("--suspension", "foam"))],
 )  # fmt: skip
 def test_the_default_plans_clean_files_are_quiet_and_quote_the_truths_resonances(default_plan, tmp_path, name, options):
     """identify gives no warning; the resonances it keeps with its band (what the warnings and the report
