@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import FIXTURE_MESHES, bundled
 
 from massline.identify.pipeline import PAPER_METHODS
@@ -101,15 +102,15 @@ def test_demo_refuses_to_overwrite_an_earlier_demo(tmp_path):
     assert (tmp_path / "plan.json").read_text() == "precious" and len(list(tmp_path.iterdir())) == 1
 
 
-def test_plan_writes_plan_json(tmp_path):
-    out = tmp_path / "plan"
-    run = massline("plan", "structure", "--out", out)
-    assert run.returncode == 0, run.stderr
-    assert "certified" in run.stdout and "Hammer hits" in run.stdout
+def test_plan_writes_plan_json():
+    """``massline plan structure`` as run once this session (test_simulate_cli simulates the same plan)."""
+    folder = session_cache.command("plan", "structure")
+    out, stdout = folder / "out", (folder / "stdout.txt").read_text()
+    assert "certified" in stdout and "Hammer hits" in stdout
     doc = json.loads((out / "plan.json").read_text())
     assert {"mesh", "units", "nominal", "sensors", "exciters", "criterion", "predicted_std"} <= set(doc)
     assert len(doc["sensors"]) >= 8 and len(doc["exciters"]) >= 4  # the default: the cheapest diagnosable plan
-    assert doc["diagnosability"]["diagnosable"] and "diagnosable" in run.stdout
+    assert doc["diagnosability"]["diagnosable"] and "diagnosable" in stdout
     assert doc["diagnosability"]["cost"]["minimal_lines"] == 6 and doc["diagnosability"]["cost"]["minimal_hits"] == 3
     assert set(doc["sensors"][0]) == {"node", "candidate", "point", "direction", "triaxial", "mount"}
     assert {"log_det", "condition_numbers", "d_efficiency_lower_bound"} <= set(doc["criterion"])
@@ -117,7 +118,7 @@ def test_plan_writes_plan_json(tmp_path):
     # cost some per cent
     assert doc["criterion"]["d_efficiency_lower_bound"] >= 0.85
     assert {"mass", "cog", "inertia_cog", "principal_moments", "principal_axes"} <= set(doc["predicted_std"])
-    again = massline("plan", "structure", "--out", out)
+    again = massline("plan", "structure", "--out", out)  # refused before any work: the shared plan is kept
     assert again.returncode == 2 and "--force" in again.stderr
 
 
