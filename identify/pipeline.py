@@ -18,8 +18,8 @@ from massline.identify.identification_warnings import identification_warnings
 from massline.identify.mains import MainsLines, find_mains
 from massline.identify.missing_pairs import check_determined
 from massline.identify.massline_fit import BandFit
-from massline.identify.plausibility import nominal_warnings
-from massline.identify.sensor_mass import Housings, file_labels
+from massline.identify.plausibility import DENSITY_CODES, nominal_warnings
+from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
 from massline.identify.uncertainty import identified_spread
@@ -327,7 +327,11 @@ def support_corrected(recording: Recording, band, support, **options) -> tuple[R
 
 
 def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:
-    """``found`` with a warning when its mass is far from the ``nominal`` body's (a mesh given to identify)."""
+    """``found`` with its mass weighed against the ``nominal`` body's (a mesh given to identify), which decides the
+    9.81× suspicion in the density's place (:func:`.plausibility.nominal_warnings`)."""
     if nominal is None:
         return found
-    return replace(found, warnings=found.warnings + tuple(nominal_warnings(found.body, nominal)))
+    kept = tuple(w for w in found.warnings if w.code not in DENSITY_CODES)
+    housings = len(housing_points(found.recording.sensors))
+    against = nominal_warnings(found.body, nominal, found.std["mass"], housings)
+    return replace(found, warnings=kept + tuple(against))
