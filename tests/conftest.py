@@ -60,3 +60,16 @@ def assert_body_close(found, expected, rtol=1e-9):
     assert abs(found.mass - expected.mass) <= rtol * expected.mass
     assert np.abs(found.cog - expected.cog).max() <= rtol * expected.radius_of_gyration
     assert np.abs(found.inertia_cog - expected.inertia_cog).max() <= rtol * np.abs(expected.inertia_cog).max()
+
+
+@pytest.fixture(scope="session")
+def bracket_default_plan(tmp_path_factory):
+    """``massline plan bracket --out plan``, the README walkthrough's first step, once per session: its plan.json."""
+    import subprocess
+    import sys
+
+    folder = tmp_path_factory.mktemp("bracket-default")
+    run = subprocess.run([sys.executable, "-m", "massline", "plan", "bracket", "--out", str(folder)], capture_output=True,
+                         text=True)  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    return folder / "plan.json"
