@@ -23,7 +23,7 @@ from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
 from massline.identify.uncertainty import identified_spread
-from massline.identify.warning_codes import CodedWarning
+from massline.identify.warning_codes import CodedWarning, codes_of
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
 from massline.core.errors import MasslineError, param
@@ -336,5 +336,6 @@ def against_nominal(found: Identification, nominal: RigidBody | None) -> Identif
         return found
     kept = tuple(w for w in found.warnings if w.code not in DENSITY_CODES)
     housings = len(housing_points(found.recording.sensors))
-    against = nominal_warnings(found.body, nominal, found.std["mass"], housings)
+    misfit = "model_misfit" in codes_of(found.warnings)
+    against = nominal_warnings(found.body, nominal, found.std["mass"], housings, misfit)
     return replace(found, warnings=kept + tuple(against))

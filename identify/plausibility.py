@@ -176,21 +176,24 @@ def excess_sentence(excess: float, housings: int) -> str:
     return "masses taken off twice (--sensor-mass, --exciter-mass), or a mesh heavier than the part"
 
 
-def nominal_warnings(body: RigidBody, nominal: RigidBody, sd: float = 0.0, housings: int = 0) -> list[CodedWarning]:
+def nominal_warnings(
+    body: RigidBody, nominal: RigidBody, sd: float = 0.0, housings: int = 0, misfit: bool = False
+) -> list[CodedWarning]:
     """The identified mass (kg, its 1-σ ``sd``) against the nominal mesh's: near 9.81× or 1/9.81× it, a unit label
     (:func:`by_g_warnings`); else beyond SIGMAS σ and NOMINAL of it, an attachment not given (``housings``: the
-    accelerometers on the body) or the mesh."""
+    accelerometers on the body) or the mesh; or, where the rigid model does not fit (``misfit``), the misfit."""
     by_g = by_g_warnings(body.mass, nominal.mass)
     excess = body.mass - nominal.mass
     if by_g or abs(excess) <= max(SIGMAS * sd, NOMINAL * nominal.mass):
         return by_g
     side = "heavier" if excess > 0 else "lighter"
     z = f", {abs(excess) / sd:.0f}σ" if sd > 0 else ""
+    first = "the rigid model does not fit the masslines: the fault massline diagnose finds, or " if misfit else ""
     return [
         CodedWarning(
             "nominal_mass_mismatch",
             f"the identified mass {body.mass:.4g} kg is {abs(excess) / nominal.mass:.1%} {side} than the mesh's nominal "
-            f"{nominal.mass:.4g} kg ({weight(abs(excess))}{z}): {excess_sentence(excess, housings)}; else check "
-            "the mesh's density",
+            f"{nominal.mass:.4g} kg ({weight(abs(excess))}{z}): {first}{excess_sentence(excess, housings)}; else "
+            "check the mesh's density",
         )
     ]

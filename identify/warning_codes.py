@@ -38,7 +38,8 @@ CODES = {
     "the support model",
     "identify_no_band": "identify found no band: the properties are on the given band",
     "identify_refused": "identify refuses the file as it came",
-    "frf_missing": "response-reference pairs without an FRF (or lines in the band): estimated from those present",
+    "frf_missing": "response-reference pairs without an FRF (or lines in the band), or geometry nodes without any: "
+    "estimated from those present",
     "repeat_disagrees": "a pair measured in several runs differs between them beyond their noise",
 }
 

@@ -285,6 +285,8 @@ def test_a_body_heavier_than_its_mesh_names_the_masses_not_given():
     assert nominal_warnings(replace(hub, mass=0.300), hub, 1e-4, 8) == []  # 1.7 %: within 2 %
     [lighter] = nominal_warnings(replace(hub, mass=0.280), hub, 1e-4, 8)
     assert "lighter" in lighter.text and "taken off twice" in lighter.text
+    [misfit] = nominal_warnings(loaded, hub, 5e-4, 8, misfit=True)
+    assert "the rigid model does not fit" in misfit.text and "massline diagnose" in misfit.text
 
 
 # --- the bracket's default plan: quiet, and its frequencies the truth's ------------------------------------
