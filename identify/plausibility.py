@@ -43,7 +43,7 @@ DENSEST = 22_600.0  # kg/m³, osmium: no body holds denser material
 LIGHTEST = 1.2  # kg/m³, air: a body this light over the hull of its measured points would float
 LIGHT = 100.0  # kg/m³, the inertia ellipsoid's floor: a closed shell's is 1.4 ρ t/R (aluminium, t/R = 1/40: 94)
 NOMINAL = 0.02  # relative mass difference from a nominal mesh (with 3σ) that says something rides on the body
-SIGMAS = 3.0
+SIGMAS = 3.0  # ... and beyond this many of its 1-σ
 BY_G = 0.15  # within this fraction of 9.81× (or 1/9.81×) the mesh's mass: a g label on a body within 15 % of its mesh
 LABELS = "check the file's unit labels (dataset 164's length unit, and g/N against (m/s²)/N in the FRF labels)"
 
