@@ -23,15 +23,19 @@ FIXTURE_MESHES = FIXTURES / "meshes"
 
 
 def pytest_configure(config):
-    """One FE-model cache for the session, shared by its workers and the commands they run (never the user's);
-    the process that made it (xdist's controller, whose environment the workers inherit) removes it at the end."""
-    if "MASSLINE_CACHE" not in os.environ:
-        os.environ["MASSLINE_CACHE"] = config._massline_cache = tempfile.mkdtemp(prefix="massline-fe-")
+    """One FE-model cache for the session, shared by its workers and the commands they run (never the user's), and
+    one folder of plans and virtual tests built once for every worker (:mod:`session_cache`); the process that made
+    them (xdist's controller, whose environment the workers inherit) removes them at the end."""
+    config._massline_folders = []
+    for variable, prefix in (("MASSLINE_CACHE", "massline-fe-"), ("MASSLINE_TEST_SHARED", "massline-shared-")):
+        if variable not in os.environ:
+            os.environ[variable] = tempfile.mkdtemp(prefix=prefix)
+            config._massline_folders.append(os.environ[variable])
 
 
 def pytest_unconfigure(config):
-    if getattr(config, "_massline_cache", None):
-        shutil.rmtree(config._massline_cache, ignore_errors=True)
+    for folder in getattr(config, "_massline_folders", ()):
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def bundled(name: str):
@@ -63,13 +67,22 @@ def assert_body_close(found, expected, rtol=1e-9):
 
 
 @pytest.fixture(scope="session")
-def bracket_default_plan(tmp_path_factory):
-    """``massline plan bracket --out plan``, the README walkthrough's first step, once per session: its plan.json."""
-    import subprocess
-    import sys
+def bracket_default_plan():
+    """``massline plan bracket --out plan``, the README walkthrough's first step, once per session for every worker
+    (:mod:`session_cache`): its plan.json."""
+    import session_cache
 
-    folder = tmp_path_factory.mktemp("bracket-default")
-    run = subprocess.run([sys.executable, "-m", "massline", "plan", "bracket", "--out", str(folder)], capture_output=True,
-                         text=True)  # fmt: skip
-    assert run.returncode == 0, run.stderr
-    return folder / "plan.json"
+    return session_cache.plan("bracket")
+
+
+# Modules of a minute or more, sent to the workers first (xdist hands out whole modules in collection order) so that
+# the two workers finish together instead of one running the last long module alone; the band story builds the demo
+# that the identification report's module then reads (session_cache).
+FIRST = ("test_simulate_cli", "test_band_story", "test_cli", "test_support_fit", "test_diagnosability", "test_footprints",
+         "test_mains", "test_warning_premises", "test_lab_matrix", "test_identification_report", "test_report",
+         "test_identify", "test_elastic", "test_round_parts", "test_mountable")  # fmt: skip
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {name: k for k, name in enumerate(FIRST)}
+    items.sort(key=lambda item: rank.get(getattr(item.module, "__name__", ""), len(FIRST)))  # stable: each module's order is kept

@@ -7,6 +7,7 @@ import re
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import bundled
 from test_cli import massline
 
@@ -78,11 +79,10 @@ def test_no_frf_strays_beyond_the_tolerance_inside_the_planned_band(name):
 
 
 @pytest.fixture(scope="module")
-def demo(tmp_path_factory):
-    out = tmp_path_factory.mktemp("demo")
-    run = massline("demo", "--out", out)
-    assert run.returncode == 0, run.stderr
-    return out, run.stdout
+def demo():
+    """``massline demo``'s folder and console, run once this session (shared with the demo's own tests)."""
+    folder = session_cache.command("demo")
+    return folder / "out", (folder / "stdout.txt").read_text()
 
 
 def printed(text: str) -> tuple[str, str]:

@@ -112,7 +112,7 @@ def test_exchanges_on_every_candidate_carry_the_working_sets_layout_on():
     assert after > before + 0.05, (before, after)
 
 
-@pytest.mark.slow
+@pytest.mark.long  # the certificate at scale (half a minute); the small planners above check its arithmetic
 def test_minimal_plan_on_1e5_lines_is_certified_within_95_percent():
     """A large body's scale: 1e5 candidate lines, the paper's 6 × 3. Time is measured in benchmarks/plan_scaling.py
     (about 4 s on 2 cores); here the branch and bound is given room for a slower machine."""

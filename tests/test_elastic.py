@@ -54,6 +54,7 @@ def test_tetrahedra_fill_the_surface_exactly(name):
     assert volumes.sum() == pytest.approx(mesh.volume, rel=1e-13)
 
 
+@pytest.mark.long  # two FE solves of a CAD part, timed against each other: the long tier
 def test_a_part_whose_small_features_refine_the_default_mesh_is_graded_faster():
     """featuretype.STL (5 × 2.5 × 1.38 in, small holes and chamfers): at its default size netgen's default grading
     gives 78 000 DOF, a solve of most of a minute; graded faster it stays under FEATURE_DOFS and fills the solid

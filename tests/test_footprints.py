@@ -5,12 +5,13 @@ import numpy as np
 import pytest
 from conftest import FIXTURE_MESHES, bundled
 from test_cli import massline
+from test_diagnosability import default_plan as diagnosable_default
 from test_mountable import CAD
 
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
 from massline.meshes.loader import load_body
-from massline.placement.diagnosable_plan import cheapest_diagnosable, minimal_budget
+from massline.placement.diagnosable_plan import minimal_budget
 from massline.placement.footprints import (
     Footprint,
     Sites,
@@ -128,7 +129,9 @@ def test_minimal_plans_of_the_bundled_bodies_are_mountable_together(minimal_plan
 
 @pytest.fixture(scope="module", params=BODIES)
 def default_plan(request):
-    return cheapest_diagnosable(bundled(request.param), certify_steps=5000)
+    """The default plan as test_diagnosability searches it (uncertified: the footprints do not depend on the
+    certificate), computed once per worker."""
+    return diagnosable_default(request.param)[1]
 
 
 @pytest.mark.slow

@@ -3,10 +3,10 @@ legible pictures, printable on A4, openable offline."""
 
 import json
 import re
-import time
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import bundled
 from test_cli import massline
 from test_report import CHROMIUM, assert_a4_page, assert_legible, pictures
@@ -154,20 +154,21 @@ def test_identify_report_of_a_plate_shows_the_in_plane_axes_only(plate, tmp_path
 
 
 @pytest.mark.slow
-def test_demo_tells_the_whole_story_under_two_minutes(tmp_path):
-    start = time.perf_counter()
-    result = massline("demo", "--out", tmp_path / "demo")
-    seconds = time.perf_counter() - start
-    assert result.returncode == 0, result.stderr
+def test_demo_tells_the_whole_story_under_two_minutes():
+    """The demo as run once this session (the band story reads the same run): its wall time, its three reports
+    where it says, and the story it tells accurate."""
+    folder = session_cache.command("demo")
+    out, stdout = folder / "out", (folder / "stdout.txt").read_text()
+    seconds = float((folder / "seconds.txt").read_text())
     assert seconds < 120, f"the demo took {seconds:.0f} s"
-    text = " ".join(result.stdout.split())
+    text = " ".join(stdout.split())
     assert "the tool was not told" in text and "named first, at its place" in text
     for name in ("placement-report.html", "identification-report.html", "diagnosis-report.html"):
-        assert str(tmp_path / "demo" / name) in "".join(result.stdout.split()), f"where {name} is"
-        assert (tmp_path / "demo" / name).stat().st_size > 50_000
+        assert str(out / name) in "".join(stdout.split()), f"where {name} is"
+        assert (out / name).stat().st_size > 50_000
     for name in ("plan.json", "test.uff", "truth.json"):
-        assert (tmp_path / "demo" / name).exists()
-    assert_the_demo_is_accurate(result.stdout, json.loads((tmp_path / "demo" / "truth.json").read_text()))
+        assert (out / name).exists()
+    assert_the_demo_is_accurate(stdout, json.loads((out / "truth.json").read_text()))
 
 
 def signed_number(text: str) -> float:

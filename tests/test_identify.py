@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import bundled
 from test_cli import massline
 from test_uff_reader import BAD, assert_command_refuses
@@ -162,11 +163,8 @@ def test_identify_command_refuses_bad_files_in_one_line(tmp_path, case):
 
 
 @pytest.fixture(scope="module")
-def bracket_plan(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("bracket")
-    result = massline("plan", "bracket", "--sensors", "12", "--triaxial", "2", "--exciters", "4", "--out", folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "plan.json"
+def bracket_plan():
+    return session_cache.plan("bracket", "--sensors", "12", "--triaxial", "2", "--exciters", "4")
 
 
 @pytest.fixture(scope="module")
@@ -216,7 +214,7 @@ def test_realistic_test_with_transverse_sensitivity_meets_the_bounds(bracket_tes
     assert abs(b.mass - body.mass) < 3 * std["mass"]
 
 
-@pytest.mark.slow
+@pytest.mark.long  # a statistical check over 50 virtual tests: the long tier (the realistic tests above check one each)
 def test_reported_sigma_is_honest_over_50_repeats(bracket_test):
     """The same realistic bracket test, 50 seeds: every property's true error within 2σ in ≥ 94 % of them (the
     claim in docs/identifying.md; 95 % for a normal error). With ``-s`` it prints the errors' median and worst."""

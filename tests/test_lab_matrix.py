@@ -6,14 +6,14 @@ import pytest
 from lab_matrix import BODIES, SUPPORTS, cell
 
 # the exporter's file on the soft cord for each body, and each other style once; the stiff cord and foam under the
-# exporter's file, one cell per body each, in the long tier (pytest -m long)
+# exporter's file, one cell per body each, and the impact file's cell in the long tier (pytest -m long)
 LONG = pytest.mark.long
 CASES = [
     (body, "exporter", support) if support == "soft" else pytest.param(body, "exporter", support, marks=LONG)
     for body in BODIES
     for support in SUPPORTS
 ] + [
-    ("bracket", "impact", "soft"),
+    pytest.param("bracket", "impact", "soft", marks=LONG),  # a 51,200-line hammer record: the long tier
     ("structure", "local", "foam"),
     ("plate", "plain", "stiff"),
     ("bracket", "gaps", "soft"),  # one file per reference, 5 % of the FRFs dropped

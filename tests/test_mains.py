@@ -109,7 +109,7 @@ def test_diagnose_names_the_hum_as_test_physics():
     assert any(w["code"] == "mains_set_aside" for w in diagnosis.document["warnings"])
 
 
-@pytest.mark.slow
+@pytest.mark.long  # two 51,200-line hammer records: the long tier (the shaker's hums above cover the same search)
 def test_an_impact_test_hum_is_found_and_set_aside():
     """H1 over 5 hits, each at its own mains phase: the hum's lines, spread by the exponential window."""
     clean_recording, _ = recorded("bracket", "impact")

@@ -34,6 +34,9 @@ from pathlib import Path
 
 import pytest
 
+# it checks the suite, not the product: each mutation reruns test files on a copy (minutes in all): the long tier
+pytestmark = pytest.mark.long
+
 ROOT = Path(__file__).resolve().parent.parent
 TESTS = Path(__file__).resolve().parent
 

@@ -74,7 +74,7 @@ def test_the_paper_s_layout_on_a_cylinder_puts_one_line_and_one_hit_on_blocks(pa
     assert edge_margin(body, p) > -1e-9 and largest_gap(body, p) <= PAD_GAP
 
 
-@pytest.mark.slow
+@pytest.mark.long  # the diagnosable search on a turned part (a minute each): the long tier
 @pytest.mark.parametrize("name", ["cylinder", "shaft"])
 def test_the_default_plan_of_a_turned_part_is_diagnosable(parts, name):
     """The plans once refused: the cheapest diagnosable layout of a stepped shaft and a cylinder (32 sections),
@@ -87,7 +87,7 @@ def test_the_default_plan_of_a_turned_part_is_diagnosable(parts, name):
     assert edge_margin(body, p) > -1e-9 and largest_gap(body, p) <= PAD_GAP
 
 
-@pytest.mark.slow
+@pytest.mark.long  # a 128-section cylinder planned: the long tier
 def test_plans_on_32_and_128_sections_agree(parts):
     """The same cylinder tessellated at 32 and 128 sections: the minimal plans' worst predicted 1-σ within 10 %."""
     worst = [plan(parts("cylinder", n), Budget(6, 3), certify_steps=0).worst_relative_std for n in (32, 128)]
@@ -143,7 +143,7 @@ def test_triaxials_on_a_turned_part_need_one_hit_on_a_block(parts):
     assert edge_margin(body, p) > -1e-9 and np.isfinite(p.worst_relative_std)
 
 
-@pytest.mark.slow
+@pytest.mark.long  # planned and rendered end to end through the command line (over a minute): the long tier
 def test_a_part_rounded_all_over_is_planned_and_rendered(tmp_path):
     """A box with every edge filleted has no sharp edge at all: planned (its flat faces and fillets), its report
     rendered without edge lines, its mounts in plan.json."""

@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import assert_body_close, bundled
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -124,12 +125,9 @@ def test_housings_heavier_than_the_body_are_refused(structure):
 
 
 @pytest.fixture(scope="module")
-def structure_plan(tmp_path_factory):
+def structure_plan():
     """The planner's layout on the structure: 12 uniaxial and 2 triaxial accelerometers (14 housings), 4 hits."""
-    folder = tmp_path_factory.mktemp("structure")
-    result = massline("plan", "structure", "--sensors", "12", "--triaxial", "2", "--exciters", "4", "--out", folder)
-    assert result.returncode == 0, result.stderr
-    return folder / "plan.json"
+    return session_cache.plan("structure", "--sensors", "12", "--triaxial", "2", "--exciters", "4")
 
 
 @pytest.fixture(scope="module")

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import session_cache
 import pyuff
 from conftest import bundled
 from test_cli import massline
@@ -20,11 +21,8 @@ pytestmark = pytest.mark.slow
 
 
 def default_plan(body: str, tmp_path_factory):
-    """``massline plan BODY`` with its defaults, into a fresh folder; the path of its plan.json."""
-    folder = tmp_path_factory.mktemp(body)
-    run = massline("plan", body, "--out", folder)
-    assert run.returncode == 0, run.stderr
-    return folder / "plan.json"
+    """``massline plan BODY`` with its defaults, run once this session; the path of its plan.json."""
+    return session_cache.plan(body)
 
 
 @pytest.fixture(scope="module")
@@ -184,6 +182,7 @@ def test_a_truncating_setting_is_kept_with_a_warning(planned, tmp_path, args, wo
     assert json.loads(out.with_suffix(".truth.json").read_text())["warnings"] == [line.removeprefix("warning: ")]
 
 
+@pytest.mark.long  # the analyser's default record for the pendulum modes, 51,200 lines: the long tier
 def test_default_impact_test_of_the_bracket_identifies_its_mass(bracket_default_plan, tmp_path):
     """An analyser set up as a lab would: a record long enough for the pendulum modes, fmax a few times the
     band's top; identify given the predicted band the console printed recovers the mass."""

@@ -88,6 +88,7 @@ def test_a_support_moves_the_masslines_through_the_flexibility_as_first_order_sa
     np.testing.assert_allclose(cross.real, predicted, atol=0.2 * scale)
 
 
+@pytest.mark.long  # the support model fitted to every FRF of a stiff-cord test (a minute): the long tier
 def test_identify_recovers_the_body_from_a_stiff_cord_given_its_kind_alone(structure):
     """A noiseless record on a cord whose bounce is f₁/4: identify as it comes is off by per cents; with the support
     model built from the soft default cord ('--suspension cord') and the elastic frequencies assumed 5 % high,

@@ -322,7 +322,8 @@ def quoted_resonances(found) -> list[float]:
 @pytest.mark.parametrize(
     "name, options",
     [("cord", ("--seed", "0")), ("seed1", ("--seed", "1")), ("seed2", ("--seed", "2")),
-     ("impact", ("--impact",)), ("foam", ("--suspension", "foam"))],
+     pytest.param("impact", ("--impact",), marks=pytest.mark.long),  # a 51,200-line hammer record: long tier
+     ("foam", ("--suspension", "foam"))],
 )  # fmt: skip
 def test_the_default_plans_clean_files_are_quiet_and_quote_the_truths_resonances(
     bracket_default_plan, tmp_path, name, options

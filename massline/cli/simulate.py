@@ -141,15 +141,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
 
 
+def file_units(text: str) -> str:
+    """``--units`` as every command spells lengths (m, mm, in; SI too), as dataset 164's system: SI, MM or IN."""
+    system = {"m": "SI", "si": "SI", "mm": "MM", "in": "IN"}.get(text.strip().lower())
+    if system is None:
+        raise argparse.ArgumentTypeError(f"'{text}' is no unit system of the file: give m, mm or in")
+    return system
+
+
 def add_file_arguments(parser: argparse.ArgumentParser) -> None:
     """How the recording is written: records, unit system, acceleration unit, node datasets, the 0 Hz line."""
     parser.add_argument("--binary", action="store_true", help="write FRFs as binary 58b records")
     parser.add_argument(
         "--units",
-        type=str.upper,
-        choices=sorted(UNITS),
+        type=file_units,
         default="MM",
-        help="the file's unit system (dataset 164): SI (m, N), MM (mm, mN) or IN (in, lbf); default MM",
+        metavar="{m,mm,in}",
+        help="the file's unit system (dataset 164): m (m, N), mm (mm, mN) or in (in, lbf); default mm",
     )
     parser.add_argument(
         "--acceleration",

@@ -204,6 +204,12 @@ class LocationEffect(Effect):
     moves = "point"
 
     @classmethod
+    def check_size(cls, size: float) -> None:
+        """A distance from 0 to 1 m: a point farther than that from its label is another point of the plan."""
+        super().check_size(size)
+        need(0 <= size <= 1.0, f"effect {cls.name}: an offset of {size:g} m is no mounting error: give 0 to 1 m")
+
+    @classmethod
     def plausible(cls, result, block: Block, v: np.ndarray, tau: np.ndarray) -> bool:
         """An offset of more than three times the layout's size is none."""
         return np.linalg.norm(v) < 3 * result.problem.layout.extent

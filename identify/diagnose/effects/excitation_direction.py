@@ -14,6 +14,7 @@ from massline.identify.diagnose.effects.base import (
     Effect,
     block_values,
     moved_lines,
+    need,
     perpendicular,
     pm,
     rotation,
@@ -28,6 +29,12 @@ class ExcitationDirection(Effect):
     moves = "axis"
     rank = 10
     blind_range = (8.0, 20.0)
+
+    @classmethod
+    def check_size(cls, size):
+        super().check_size(size)
+        need(abs(size) <= 90.0, f"effect {cls.name}: a tilt of {size:g}° is past the perpendicular: give at most 90°"
+             " (a reversed axis is a sign)")  # fmt: skip
 
     def simulate(self, state, lines, targets, rng):
         directions = []

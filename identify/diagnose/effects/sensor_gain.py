@@ -7,7 +7,7 @@ Simulated: the channel's reading scaled by (1 + ``size``). Diagnosed: one value 
 
 from __future__ import annotations
 
-from massline.identify.diagnose.effects.base import Block, Effect, block_values, pm
+from massline.identify.diagnose.effects.base import Block, Effect, block_values, need, pm
 from massline.core.numbers import formatted, signed, value_with_sigma
 
 
@@ -18,6 +18,12 @@ class SensorGain(Effect):
     moves = "gain"
     rank = 1
     blind_range = (0.05, 0.3)  # either sign
+
+    @classmethod
+    def check_size(cls, size):
+        super().check_size(size)
+        need(-0.9 < size < 10.0, f"effect {cls.name}: a reading (1 + g) of {1 + size:g} times the true one is no "
+             "sensitivity a channel table holds: give −0.9 < g < 10 (sensor_polarity flips a sign)")  # fmt: skip
 
     def simulate(self, state, lines, targets, rng):
         for t in targets:

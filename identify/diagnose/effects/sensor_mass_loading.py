@@ -7,7 +7,7 @@ undone on the body (its masses taken off), not on the recording.
 
 from __future__ import annotations
 
-from massline.identify.diagnose.effects.base import Effect, accelerometers, pm
+from massline.identify.diagnose.effects.base import Effect, accelerometers, need, pm
 from massline.core.numbers import formatted
 
 
@@ -19,6 +19,11 @@ class SensorMassLoading(Effect):
     undone_on = "body"
     blind_range = (0.02, 0.05)  # fraction of the body's mass
     adds_mass = True
+
+    @classmethod
+    def check_size(cls, size):
+        super().check_size(size)
+        need(size >= 0, f"effect {cls.name}: a housing's mass is ≥ 0 kg, not {size:g}")
 
     def simulate(self, state, lines, targets, rng):
         for t, _ in accelerometers(lines, targets):

@@ -7,7 +7,7 @@ components under the datasheet's prior (:mod:`..effect_model`), and one beyond i
 
 from __future__ import annotations
 
-from massline.identify.diagnose.effects.base import Effect, perpendicular
+from massline.identify.diagnose.effects.base import Effect, need, perpendicular
 
 
 class TransverseSensitivity(Effect):
@@ -15,6 +15,12 @@ class TransverseSensitivity(Effect):
     unit = "fraction"
     summary = "reads s·(a·t) besides a·d, t ⊥ d at random"
     model = None
+
+    @classmethod
+    def check_size(cls, size):
+        super().check_size(size)
+        need(abs(size) < 1.0, f"effect {cls.name}: a cross-axis reading of {size:g} of the main one is a broken "
+             "accelerometer, not a datasheet's: give less than 1 (a few per cent, e.g. 0.03)")  # fmt: skip
 
     def simulate(self, state, lines, targets, rng):
         drawn = []
