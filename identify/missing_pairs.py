@@ -10,7 +10,8 @@ the estimate. Three things follow from it:
   g_ij = ∂H_ij/∂θ̃ (``core.information``; the kinematic eq. 6 and dynamic eq. 9 steps joined), have rank p:
   :func:`undetermined` says which parameter combination is lost otherwise, and which missing FRF would restore
   it;
-- :func:`missing_warnings` lists what is missing, by code.
+- :func:`missing_warnings` lists what is missing, by code, and :func:`unmeasured_notes` the geometry's nodes that no
+  FRF measures at all (a file cut short loses whole channels, which only its geometry still shows).
 """
 
 from __future__ import annotations
@@ -183,15 +184,48 @@ def check_determined(data: Masslines, present: np.ndarray, planar: bool, labels:
         raise MasslineError(why)
 
 
+def missing_statement(missing: list, pairs: int, reason: str = "no FRF") -> str:
+    """'2 of 28 response-reference pairs have no FRF (7:+X / 103:+X, …)' (``missing``: (response, reference)
+    labels of ``pairs``); '' when none is missing."""
+    if not missing:
+        return ""
+    return f"{len(missing)} of {pairs} response-reference pairs have {reason} ({listed(f'{s} / {e}' for s, e in missing)})"
+
+
 def missing_warnings(missing: list, pairs: int, reason: str = "no FRF") -> list[CodedWarning]:
     """The pairs left out of the estimate (``missing``: (response, reference) labels), by code."""
     if not missing:
         return []
-    shown = ", ".join(f"{s} / {e}" for s, e in missing[:SHOWN]) + (", …" if len(missing) > SHOWN else "")
     return [
         CodedWarning(
             "frf_missing",
-            f"{len(missing)} of {pairs} response-reference pairs have {reason} ({shown}): the properties and "
-            "their ± are from the pairs present",
+            f"{missing_statement(missing, pairs, reason)}: the properties and their ± are from the pairs present",
         )
     ]
+
+
+def listed(items, shown: int = SHOWN) -> str:
+    """The first ``shown`` of ``items``, joined, with '…' when there are more."""
+    items = [str(x) for x in items]
+    return ", ".join(items[:shown]) + (", …" if len(items) > shown else "")
+
+
+def unmeasured_notes(nodes: tuple) -> tuple[CodedWarning, ...]:
+    """The geometry's ``nodes`` (numbers) that no FRF has as its response or reference, by code: said, never
+    estimated from."""
+    if not nodes:
+        return ()
+    return (CodedWarning("frf_missing", f"{unmeasured_statement(nodes)}: no response or reference there (a channel "
+                         "lost or a file cut short, or a wireframe's points)"),)  # fmt: skip
+
+
+def unmeasured_statement(nodes: tuple) -> str:
+    """'2 node(s) of the file's geometry have no FRF (8, 9)'; '' for none."""
+    return f"{len(nodes)} node(s) of the file's geometry have no FRF ({listed(nodes)})" if nodes else ""
+
+
+def incomplete(missing: list, pairs: int, nodes: tuple) -> str:
+    """What a file lacks, for a refusal: the ``missing`` pairs of ``pairs`` and the geometry's ``nodes`` without an
+    FRF, in one clause ('' when it lacks nothing)."""
+    said = [x for x in (missing_statement(missing, pairs), unmeasured_statement(nodes)) if x]
+    return f"the file is incomplete: {'; '.join(said)}" if said else ""

@@ -14,16 +14,16 @@ import numpy as np
 from massline.identify.band_masslines import BandMasslines, recording_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
-from massline.identify.identification_warnings import identification_warnings
+from massline.identify.identification_warnings import absent, identification_warnings
 from massline.identify.mains import MainsLines, find_mains
-from massline.identify.missing_pairs import check_determined
+from massline.identify.missing_pairs import check_determined, incomplete, unmeasured_notes
 from massline.identify.massline_fit import BandFit
-from massline.identify.plausibility import nominal_warnings
-from massline.identify.sensor_mass import Housings, file_labels
+from massline.identify.plausibility import DENSITY_CODES, nominal_warnings
+from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
 from massline.identify.uncertainty import identified_spread
-from massline.identify.warning_codes import CodedWarning
+from massline.identify.warning_codes import CodedWarning, codes_of
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
 from massline.core.errors import MasslineError, param
@@ -271,6 +271,7 @@ def identify_recording(
         notes = found.notes + (CodedWarning("support_modelled", fit.note),)
         return replace(found, support_fit=fit, notes=notes, warnings=found.warnings + fit.warnings)
     recording, notes = usable_lines(as_recording(recording))
+    notes += unmeasured_notes(recording.unmeasured_nodes)
     recording, mains, aside = without_mains(recording)
     planar = is_planar(recording.sensors, recording.exciters)
     check_method(method, planar, weighed, exciter_mass)
@@ -307,7 +308,9 @@ def estimated(
     except MasslineError as refused:
         f, frf, coherence = recording.frequencies, recording.frf, recording.coherence
         against = recording_warnings(f, frf, coherence, chosen, recording.exponential_window)
-        raise MasslineError("; ".join([str(refused)] + [w.text for w in against])) from None
+        lacks = incomplete(absent(recording, recording.present), recording.present.size, recording.unmeasured_nodes)
+        said = [str(refused)] + [w.text for w in against] + ([lacks] if lacks else [])
+        raise MasslineError("; ".join(said)) from None
 
 
 def support_corrected(recording: Recording, band, support, **options) -> tuple[Recording, SupportFit]:
@@ -327,7 +330,12 @@ def support_corrected(recording: Recording, band, support, **options) -> tuple[R
 
 
 def against_nominal(found: Identification, nominal: RigidBody | None) -> Identification:
-    """``found`` with a warning when its mass is far from the ``nominal`` body's (a mesh given to identify)."""
+    """``found`` with its mass weighed against the ``nominal`` body's (a mesh given to identify), which decides the
+    9.81× suspicion in the density's place (:func:`.plausibility.nominal_warnings`)."""
     if nominal is None:
         return found
-    return replace(found, warnings=found.warnings + tuple(nominal_warnings(found.body, nominal)))
+    kept = tuple(w for w in found.warnings if w.code not in DENSITY_CODES)
+    housings = len(housing_points(found.recording.sensors))
+    misfit = "model_misfit" in codes_of(found.warnings)
+    against = nominal_warnings(found.body, nominal, found.std["mass"], housings, misfit)
+    return replace(found, warnings=kept + tuple(against))

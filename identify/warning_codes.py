@@ -22,11 +22,15 @@ CODES = {
     "given_band_near_elastic": "a band given by hand ends at or above the elastic modes",
     "short_record": "the record is too short to resolve the lowest resonance",
     "force_roll_off": "the coherence falls where the force spectrum rolls off (a soft hammer tip)",
-    "denser_than_any_material": "the mass and inertia need material denser than any element (a length label)",
+    "denser_than_any_material": "the mass and inertia need material denser than any element, even read 9.81× "
+    "lighter (a length label)",
     "lighter_than_air": "the mass over the hull of the measured points is lighter than air (a length label)",
-    "heavy_for_extent": "the mass over the measured points' hull is above any structural metal's density",
-    "light_for_extent": "the mass over the measured points' hull is below a hollow body's floor",
-    "nominal_mass_mismatch": "the mass is far from the nominal mesh's (--mesh)",
+    "heavy_for_extent": "9.81× heavy: the inertia ellipsoid denser than any element by less than 9.81×, or (--mesh) "
+    "the mass near 9.81× the mesh's",
+    "light_for_extent": "9.81× light: the inertia ellipsoid below a solid's floor, or (--mesh) the mass near 1/9.81× "
+    "the mesh's",
+    "nominal_mass_mismatch": "the mass differs from the nominal mesh's (--mesh) by more than 3σ and 2 %: a mass not "
+    "given (--sensor-mass, --exciter-mass), or the mesh",
     "dc_line_set_aside": "the file's lines at or below 0 Hz were set aside",
     "mains_set_aside": "the lines of mains interference (a fundamental and its harmonics) were set aside",
     "support_modelled": "the support's departure from the masslines, modelled with the mesh's FE model, was taken off",
@@ -34,7 +38,8 @@ CODES = {
     "the support model",
     "identify_no_band": "identify found no band: the properties are on the given band",
     "identify_refused": "identify refuses the file as it came",
-    "frf_missing": "response-reference pairs without an FRF (or lines in the band): estimated from those present",
+    "frf_missing": "response-reference pairs without an FRF (or lines in the band), or geometry nodes without any: "
+    "estimated from those present",
     "repeat_disagrees": "a pair measured in several runs differs between them beyond their noise",
 }
 

@@ -66,6 +66,15 @@ def assert_body_close(found, expected, rtol=1e-9):
     assert np.abs(found.inertia_cog - expected.inertia_cog).max() <= rtol * np.abs(expected.inertia_cog).max()
 
 
+@pytest.fixture(scope="session")
+def bracket_default_plan():
+    """``massline plan bracket --out plan``, the README walkthrough's first step, once per session for every worker
+    (:mod:`session_cache`): its plan.json."""
+    import session_cache
+
+    return session_cache.plan("bracket")
+
+
 # Modules of a minute or more, sent to the workers first (xdist hands out whole modules in collection order) so that
 # the two workers finish together instead of one running the last long module alone; the band story builds the demo
 # that the identification report's module then reads (session_cache).

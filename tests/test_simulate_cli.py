@@ -182,17 +182,12 @@ def test_a_truncating_setting_is_kept_with_a_warning(planned, tmp_path, args, wo
     assert json.loads(out.with_suffix(".truth.json").read_text())["warnings"] == [line.removeprefix("warning: ")]
 
 
-@pytest.fixture(scope="module")
-def bracket_plan(tmp_path_factory):
-    return default_plan("bracket", tmp_path_factory)
-
-
 @pytest.mark.long  # the analyser's default record for the pendulum modes, 51,200 lines: the long tier
-def test_default_impact_test_of_the_bracket_identifies_its_mass(bracket_plan, tmp_path):
+def test_default_impact_test_of_the_bracket_identifies_its_mass(bracket_default_plan, tmp_path):
     """An analyser set up as a lab would: a record long enough for the pendulum modes, fmax a few times the
     band's top; identify given the predicted band the console printed recovers the mass."""
     out = tmp_path / "impact.uff"
-    run = massline("simulate", bracket_plan, "--impact", "--out", out)
+    run = massline("simulate", bracket_default_plan, "--impact", "--out", out)
     assert run.returncode == 0, run.stderr
     assert "warning" not in run.stdout
     truth = json.loads(out.with_suffix(".truth.json").read_text())

@@ -21,6 +21,13 @@ SYMBOLS = {  # symbol (lower case, as UNIT_SYMBOLS keys it): a label holding it 
 }
 EXPORTED = {  # whole labels as exporters write them: (numerator, denominator) and the factor to (m/s²)/N
     "Gs/N (ME'scope)": ("Gs/N", "NONE", G_N),
+    "Gs/N over N": ("Gs/N", "N", G_N),
+    "Gs over N": ("Gs", "N", G_N),
+    "g/N": ("g", "N", G_N),
+    "g/lbf": ("g", "lbf", G_N / LBF_N),
+    "m/s^2/N": ("m/s^2", "N", 1.0),
+    "m/s²/N": ("m/s²", "N", 1.0),
+    "(m/s^2)/lbf": ("m/s^2", "lbf", 1 / LBF_N),
     "G's/N": ("G's", "N", G_N),
     "g's/N": ("g's", "N", G_N),
     "gn/N": ("gn", "N", G_N),

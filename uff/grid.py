@@ -173,4 +173,11 @@ def to_recording(contents: UffContents) -> Recording:
         exponential_window=bool(EXPONENTIAL & set(contents.windows)),
         runs=contents.runs,
         repeats=repeats,
+        unmeasured_nodes=unmeasured_nodes(contents),
     )
+
+
+def unmeasured_nodes(contents: UffContents) -> tuple[int, ...]:
+    """The geometry's node numbers, in file order, that no FRF has as its response or its reference."""
+    used = {frf.response.node for frf in contents.frfs} | {frf.reference.node for frf in contents.frfs}
+    return tuple(int(n) for n in contents.node_ids if int(n) not in used)

@@ -112,6 +112,9 @@ class Recording:
     repeats : tuple of Repeat
         The pairs measured in more than one run, each run's FRF on the recording's lines; ``frf`` holds their
         combination (:func:`massline.uff.runs.combined`).
+    unmeasured_nodes : tuple of int
+        The geometry's nodes (datasets 15, 2411) that no FRF has as its response or its reference: points planned
+        and not measured (a channel lost, a file cut short), or a wireframe's.
 
     ``frf`` (and ``coherence``) hold NaN at the lines an FRF was not measured on: a pair no run measured
     (NaN at every line, :attr:`present` False), or an FRF on a coarser or shorter axis than the union of the
@@ -129,6 +132,7 @@ class Recording:
     exponential_window: bool = False
     runs: tuple = ()
     repeats: tuple = ()
+    unmeasured_nodes: tuple = ()
 
     def __post_init__(self):
         f = np.asarray(self.frequencies, dtype=float)

@@ -46,6 +46,7 @@ from massline.identify.pipeline import (
     without_mains,
 )
 from massline.identify.missing_lines import mean_present
+from massline.identify.missing_pairs import unmeasured_notes
 from massline.identify.tails import BandData
 from massline.identify.warning_codes import CodedWarning
 from massline.core.band import Band
@@ -275,7 +276,7 @@ def diagnose_recording(
                                            exciter_mass=exciter_mass)  # fmt: skip
         modelled = (CodedWarning("support_modelled", fit.note),)
     recording, notes = usable_lines(recording)
-    notes = modelled + notes
+    notes = modelled + notes + unmeasured_notes(recording.unmeasured_nodes)
     cleaned, mains, aside = without_mains(recording) if held(MainsInterference.name) else (recording, None, ())
     notes += aside
     planar = is_planar(recording.sensors, recording.exciters)
