@@ -173,18 +173,21 @@ def band_phrase(band: Band) -> str:
 
 
 def plan_mesh(doc: dict, plan_path: str | Path) -> BodyMesh:
-    """The mesh a plan was made on: a bundled name, a path as given, or a path beside the plan file
-    ``plan_path``."""
+    """The mesh a plan was made on: a bundled name, a path relative to the plan file ``plan_path``'s folder (as
+    ``massline plan`` writes it, so that the plan works from any folder and moves with its mesh), or a path as
+    given from the current folder (plans written before)."""
     plan_path = Path(plan_path)
     name, units, density = doc.get("mesh"), doc.get("units", "m"), doc.get("density")
-    if name in BUNDLED and not Path(name).exists():
+    beside, given = plan_path.parent / (name or ""), Path(name or "")
+    if name in BUNDLED and not beside.is_file() and not given.is_file():
         return planned_body(load_body(BUNDLED[name].path, "m", density or BUNDLED[name].density), doc)
-    path = Path(name or "")
-    if not path.exists() and (plan_path.parent / path).exists():
-        path = plan_path.parent / path
-    if not path.is_file():
-        raise MasslineError(f"the plan's mesh '{name}' is not found: run from the folder where it was planned")
-    return planned_body(load_body(path, units, density), doc)
+    for path in (beside, given):
+        if name and path.is_file():
+            return planned_body(load_body(path, units, density), doc)
+    raise MasslineError(
+        f"the plan's mesh '{name}' is not at {beside}, where plan.json names it relative to itself: keep the mesh "
+        "where it was when planned relative to the plan's folder (move both together), or plan again"
+    )
 
 
 def planned_body(body: BodyMesh, doc: dict) -> BodyMesh:

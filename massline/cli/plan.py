@@ -4,6 +4,7 @@ massline band it predicts → DIR/plan.json."""
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,7 @@ from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.information import NoiseModel
 from massline.core.lines import Lines
 from massline.core.numbering import point_groups
+from massline.meshes import BUNDLED
 from massline.meshes.loader import UNITS
 from massline.placement.on_surface import is_plate, plan
 from massline.placement.mounts import mounts
@@ -248,6 +250,14 @@ def check_memory(candidates: int, axes: bool, available: float | None = None) ->
         )
 
 
+def mesh_entry(mesh: str, folder: Path) -> str:
+    """plan.json's name of its mesh: a bundled name as given; a file's path relative to the plan's ``folder``, so
+    that the plan works from any folder and moves with its mesh (read back by ``virtual.planned_test.plan_mesh``)."""
+    if mesh in BUNDLED and not Path(mesh).is_file():
+        return mesh
+    return os.path.relpath(Path(mesh).resolve(), folder.resolve())
+
+
 def run(args: argparse.Namespace, console: Console) -> None:
     out = Path(args.out)
     target, report = claim_folder(out, ("plan.json", "report.html"), args.force)
@@ -291,7 +301,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         test, fe = plan_test(body, str(args.mesh), result.sensors, result.exciters, fe=fe, housings=carried)
         say_material(console, fe)
     say_fe_model(console, fe)
-    doc = plan_to_dict(result, str(args.mesh), body.units, body.density, test)
+    doc = plan_to_dict(result, mesh_entry(str(args.mesh), out), body.units, body.density, test)
     if housings.any:
         doc["loading"] = loading(body.nominal, carried, housings, doc["predicted_std"])
         console.print(loading_sentence(doc["loading"]))
