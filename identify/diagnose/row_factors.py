@@ -1,0 +1,221 @@
+"""A channel's chain in frequency: one factor F(f; p) on every FRF of its row, fitted on the band's lines.
+
+A delay or a mount's resonance leaves a channel's masslines nearly as they are (F → 1 as f → 0, and each FRF's
+own Cω² + Dω⁴ tail takes up a smooth rise), but not its lines: a rigid body's FRF columns lie, at every line, in
+the span of the sensors' line coordinates S (n_s, q) — the massline and the support's tail alike. Row i read
+through F breaks that, line by line. With each column j whitened by its lines' noise σ_ij (W_j = diag(1/σ_·j),
+read from the lines' second differences, where a smooth trend cancels: :func:`line_noise`), the rigid motion at
+every line estimated, and row i divided by k F(f; p) (k a real constant, a gain's or a sign's, profiled out),
+
+    χ²(k, p) = Σ_jf ‖(I − P_j)(y_jf + e_i c_jf)‖²,   c_jf = (k / F(f; p) − 1) y_ijf,   P_j = W_jS (W_jS)⁺,
+
+which, r_jf = (I − P_j) y_jf being the rigid misfit now and α_j = (I − P_j)_ii, is
+
+    χ²(k, p) = χ²₀ + Σ_jf 2 Re(c̄_jf r_ijf) + α_j |c_jf|²,
+
+quadratic in k, profiled over p on a grid and polished (:func:`profile`). p's 1-σ comes from the curvature,
+scaled by √(χ²/dof) where the fit leaves more than the noise (correlated lines, elastic tails). The effect is
+accepted by the diagnosis's criterion: the χ² it removes, so scaled, beyond ``EVIDENCE`` + ln n (Schwarz's
+price of its one value). Proven on the lines, not on identify's masslines, which do not show it
+(:func:`massline.identify.diagnose.undone.proven_apart`). A smooth factor of frequency no effect of the library holds, 1 + a₁ f/f_top + a₂
+(f/f_top)² with complex a, is the library-free shape of the row (:func:`smooth_shape`): a row it explains
+beyond the same criterion is a misfit the library cannot name.
+Needs every FRF on every line and more channels than rigid motions plus one (else no row is checked).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from massline.identify.diagnose.effect_model import Layout
+from massline.identify.diagnose.corrections import corrected
+from massline.identify.diagnose.effects import modelled, named
+from massline.identify.diagnose.finding import Finding
+from massline.identify.diagnose.screens import kinematic_matrix
+from massline.identify.tails import BandData
+
+EVIDENCE = 10.0  # ΔBIC of very strong evidence, as the diagnosis's (Kass & Raftery 1995)
+GRID = 81  # values of p tried before polishing
+MOST_ROWS = 3  # channels one recording's chains are corrected on before the rest is left to the other stages
+SMOOTH = 4  # the library-free shape's values: two complex coefficients
+
+
+def line_noise(frf: np.ndarray) -> np.ndarray:
+    """σ_ij (n_s, n_e): the noise of one real component of one line, from second differences along the lines,
+    E|Δ²n|² = 6 E|n|² for white noise, where a smooth trend (a tail, a delay, a mount) cancels."""
+    second = frf[..., :-2] - 2 * frf[..., 1:-1] + frf[..., 2:]
+    return np.sqrt(np.mean(np.abs(second) ** 2, axis=-1) / 12)
+
+
+@dataclass(frozen=True, eq=False)
+class Rows:
+    """The band's FRFs whitened column by column, their rigid misfit and each channel's share of it.
+
+    ``y`` (n_s, n_e, n_f) whitened FRFs, ``r`` their misfit (I − P_j) y, ``alpha`` (n_s, n_e) = (I − P_j)_ii,
+    ``chi2`` the misfit's Σ|r|², ``dof`` its degrees of freedom, ``frequencies`` Hz."""
+
+    y: np.ndarray
+    r: np.ndarray
+    alpha: np.ndarray
+    chi2: float
+    dof: int
+    frequencies: np.ndarray
+
+    @classmethod
+    def of(cls, band: BandData, layout: Layout) -> "Rows":
+        S = kinematic_matrix(layout.sensors, layout.planar)
+        y = band.frf / line_noise(band.frf)[..., None]
+        weights = 1 / line_noise(band.frf)
+        r, alpha = np.empty_like(y), np.empty(weights.shape)
+        for j in range(y.shape[1]):
+            WS = weights[:, j, None] * S
+            residual = np.eye(len(S)) - WS @ np.linalg.pinv(WS)
+            r[:, j] = residual @ y[:, j]
+            alpha[:, j] = np.diag(residual)
+        dof = 2 * y.shape[1] * y.shape[2] * (len(S) - S.shape[1])
+        return cls(y, r, alpha, float(np.sum(np.abs(r) ** 2)), dof, band.frequencies)
+
+    def cost(self, i: int, inverse: np.ndarray, hits=slice(None)) -> tuple[float, float]:
+        """min over k of χ²(k) with row ``i`` times k / F (``inverse`` 1/F at the lines), and that k; over the
+        columns ``hits`` (default all)."""
+        y, r, a = self.y[i, hits], self.r[i, hits], self.alpha[i, hits][:, None]
+        z = y * inverse
+        k = np.sum(a * np.real(np.conj(z) * y) - np.real(np.conj(z) * r)) / max(np.sum(a * np.abs(z) ** 2), 1e-300)
+        c = k * z - y
+        chi2 = np.sum(np.abs(self.r[:, hits]) ** 2)
+        return float(chi2 + np.sum(2 * np.real(np.conj(c) * r) + a * np.abs(c) ** 2)), float(k)
+
+    def scale(self, chi2: float, values: int) -> float:
+        """max(χ²/dof, 1) of a fit with ``values`` more values: the noise as the fit leaves it."""
+        return max(chi2 / max(self.dof - values, 1), 1.0)
+
+
+@dataclass(frozen=True)
+class RowFit:
+    """One effect's factor fitted on one channel's row: p and its 1-σ, the gain k profiled with it, and the χ² it
+    removes scaled by the fit's reduced χ² (``gain``)."""
+
+    effect: str
+    channel: int
+    value: float
+    sigma: float
+    factor: float
+    gain: float
+    top: float
+
+    def finding(self, before: float, after: float) -> Finding:
+        """The finding, its evidence the scaled χ² removed and the channel's rigid misfit in the noise's units
+        (reduced χ² of its row) ``before`` and ``after`` the factor is undone."""
+        effect = named(self.effect)
+        parameters = {**effect.row_parameters(self.value, self.sigma), "top_hz": self.top}
+        evidence = {"delta_chi2_lines": self.gain, "values": 1, "row_chi2_reduced": {"before": before, "after": after}}
+        return Finding(self.effect, (self.channel,), None, parameters, evidence)
+
+
+def least(rows: Rows, i: int, effect, grid: np.ndarray, to_p, hits=slice(None)) -> tuple[float, float]:
+    """(t, χ²) at the least χ² over the search variable t (p = ``to_p``(t)) on the columns ``hits``: the best of
+    ``grid``, polished by bounded Brent between its neighbours."""
+    f = rows.frequencies
+
+    def cost(t: float) -> float:
+        return rows.cost(i, 1 / effect.factor(f, float(to_p(t))), hits)[0]
+
+    k = int(np.argmin([cost(t) for t in grid]))
+    best = minimize_scalar(cost, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]), method="bounded",
+                           options={"xatol": 1e-10 * max(abs(grid[k]), 1e-12)})  # fmt: skip
+    return float(best.x), float(best.fun)
+
+
+def profile(rows: Rows, i: int, effect) -> RowFit:
+    """``effect``'s p on channel ``i`` (grid over its ``search_range``, then bounded Brent) and the χ² it removes
+    against none (F = 1), both with k profiled. Its 1-σ: the curvature's, and the spread of p leaving each hit
+    out in turn (jackknife), which measures what the lines' other misfits (an elastic tail on that row) lend it."""
+    f = rows.frequencies
+    low, high, log = effect.search_range(float(f[-1]))
+    to_p = np.exp if log else (lambda t: t)
+    grid = np.linspace(*(np.log([low, high]) if log else (low, high)), GRID)
+    t, chi2 = least(rows, i, effect, grid, to_p)
+    none, _ = rows.cost(i, np.ones(len(f)))
+    spread = rows.scale(chi2, 1)
+    h = 1e-3 * (grid[1] - grid[0])
+
+    def cost(t: float) -> float:
+        return rows.cost(i, 1 / effect.factor(f, float(to_p(t))))[0]
+
+    curvature = (cost(t + h) - 2 * chi2 + cost(t - h)) / h**2
+    n_e = rows.y.shape[1]
+    left = [least(rows, i, effect, grid, to_p, np.arange(n_e) != j)[0] for j in range(n_e)] if n_e > 2 else [t]
+    jackknife = (n_e - 1) / n_e * np.sum((np.array(left) - np.mean(left)) ** 2)
+    sigma_t = np.sqrt(2 * spread / curvature + jackknife) if curvature > 0 else np.nan
+    value = float(to_p(t))
+    sigma = float(value * sigma_t if log else sigma_t)
+    factor = rows.cost(i, 1 / effect.factor(f, value))[1]
+    return RowFit(effect.name, i, value, sigma, factor, (none - chi2) / spread, float(f[-1]))
+
+
+def smooth_shape(rows: Rows, i: int) -> float:
+    """The χ² a smooth factor of frequency on row ``i``, 1 − a₁u − a₂u² (u = f/f_top, a complex), removes beyond a
+    constant factor's, scaled by the fit's reduced χ²: the library-free shape (linearised: least squares).
+
+    Row i changed by c_jf changes χ² by |r_ijf/√α_j + √α_j c_jf|² − |r_ijf|²/α_j, so each shape is a least-squares
+    fit of its columns (c = −b y for b = 1, u, u²) to −r/√α."""
+    u = rows.frequencies / rows.frequencies[-1]
+    y, r, a = rows.y[i], rows.r[i], np.sqrt(rows.alpha[i])[:, None]
+    basis = np.stack([-y * a, -(u * y) * a, -(u**2 * y) * a], axis=-1).reshape(-1, 3)
+    target = -(r / a).ravel()
+
+    def removed(columns: int) -> float:
+        b = basis[:, :columns]
+        return float(np.sum(np.abs(target) ** 2) - np.sum(np.abs(target - b @ np.linalg.lstsq(b, target)[0]) ** 2))
+
+    full = removed(3)
+    return (full - removed(1)) / rows.scale(rows.chi2 - full, SMOOTH + 2)
+
+
+def checked(band: BandData, layout: Layout) -> bool:
+    """Whether the rows can be checked: every FRF on every line, and more channels than rigid motions plus one."""
+    return bool(np.isfinite(band.frf).all()) and len(layout.sensors) > (3 if layout.planar else 6) + 1
+
+
+def accepted(fit: RowFit, n_values: int) -> bool:
+    """The diagnosis's criterion: the scaled χ² removed beyond ``EVIDENCE`` + ln n, p finite with a finite 1-σ."""
+    return fit.gain > EVIDENCE + np.log(n_values) and np.isfinite(fit.sigma) and fit.sigma > 0
+
+
+def row_misfit(rows: Rows, i: int) -> float:
+    """Channel ``i``'s rigid misfit over the band's lines in the noise's units: Σ_jf |r_ijf|²/α_j over its 2 n_e n_f
+    values (the leave-one-out residual's reduced χ²; ≈ 1 for a channel that reads its point as the others do)."""
+    return float(np.sum(np.abs(rows.r[i]) ** 2 / rows.alpha[i][:, None]) / (2 * rows.r[i].size))
+
+
+def row_findings(band: BandData, layout: Layout) -> list:
+    """The row effects of the registry the band's lines prove, one channel at a time, the most evident first (each
+    channel's effect of largest χ² removed, then the others again on the band with it undone)."""
+    found = []
+    if not checked(band, layout) or not modelled("row"):
+        return found
+    n_values = 2 * band.frf.size
+    for _ in range(MOST_ROWS):
+        rows = Rows.of(band, layout)
+        done = {c for f in found for c in f.channels}
+        fits = [profile(rows, i, e) for i in range(len(layout.sensors)) if i not in done for e in modelled("row")]
+        passing = [f for f in fits if accepted(f, n_values)]
+        if not passing:
+            break
+        best = max(passing, key=lambda f: f.gain)
+        trial = best.finding(row_misfit(rows, best.channel), np.nan)
+        band = BandData(band.frequencies, named(best.effect).correct_lines(band.frequencies, band.frf.copy(), trial))
+        after = row_misfit(Rows.of(band, layout), best.channel)
+        found.append(best.finding(trial.evidence["row_chi2_reduced"]["before"], after))
+    return found
+
+
+def chains_undone(recording, low: float, high: float, layout: Layout) -> tuple[list, object]:
+    """The row effects the lines of ``recording`` between ``low`` and ``high`` Hz prove (:func:`row_findings`), and
+    the recording with them undone, on which the rest of the diagnosis searches."""
+    f = recording.frequencies
+    found = row_findings(BandData.from_recording(f, recording.frf, low, high), layout)
+    return found, corrected(recording, found)
