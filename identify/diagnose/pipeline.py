@@ -29,6 +29,7 @@ from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_p
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
+from massline.identify.diagnose.misfit_signatures import signed
 from massline.identify.diagnose.row_factors import chains_undone
 from massline.identify.diagnose.placed import beside_a_spread_misfit, at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified, identified_after
@@ -297,7 +298,7 @@ def diagnose_recording(
     if before is not None and not exciter_mass and held(ExcitationMassLoading.name):
         gauge = gauge_mass(before.data, before.sigma, planar, transverse, before.best)
     searched = cleaned if gauge is None else shifted(cleaned, gauge)  # the other effects, on the bare body
-    chains, searched = chains_undone(searched, used.low, used.high, layout)  # read through no factor of frequency
+    chains, in_frequency, searched = chains_undone(searched, used.low, used.high, layout)  # the chains' factors
     data = BandData.from_recording(f, searched.frf, used.low, used.high)
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
@@ -344,7 +345,8 @@ def diagnose_recording(
         findings = findings + [mains_finding(mains)]
     if before is None and not any(f.kind == "fault" for f in findings):  # refused, and no fault named undoes it
         left = refused_misfit(screens, withdrawn)
-    findings = faults_first(findings + ([] if left is None else [left]))
+    findings = faults_first(findings + in_frequency + ([] if left is None else [left]))
+    findings = signed(findings, BandData.from_recording(f, cleaned.frf, used.low, used.high), layout)
     return DiagnosisRun(
         recording=recording,
         band=used,

@@ -17,9 +17,10 @@ quadratic in k, profiled over p on a grid and polished (:func:`profile`). p's 1-
 scaled by √(χ²/dof) where the fit leaves more than the noise (correlated lines, elastic tails). The effect is
 accepted by the diagnosis's criterion: the χ² it removes, so scaled, beyond ``EVIDENCE`` + ln n (Schwarz's
 price of its one value). Proven on the lines, not on identify's masslines, which do not show it
-(:func:`massline.identify.diagnose.undone.proven_apart`). A smooth factor of frequency no effect of the library holds, 1 + a₁ f/f_top + a₂
-(f/f_top)² with complex a, is the library-free shape of the row (:func:`smooth_shape`): a row it explains
-beyond the same criterion is a misfit the library cannot name.
+(:func:`massline.identify.diagnose.undone.proven_apart`). The signatures' shapes in frequency, a phase ∝ f and a
+magnitude rising towards a resonance (:mod:`.signature`), are the library-free accounts of a row: a row one of
+them explains by more than ``EVIDENCE`` beyond every effect of the library is a misfit the library cannot name
+(a smooth polynomial factor was tried instead: the plate's elastic tails gave it χ² 80 on clean files).
 Needs every FRF on every line and more channels than rigid motions plus one (else no row is checked).
 """
 
@@ -35,12 +36,12 @@ from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.effects import modelled, named
 from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.screens import kinematic_matrix
+from massline.identify.diagnose.signature import FREQUENCY_SHAPES
 from massline.identify.tails import BandData
 
 EVIDENCE = 10.0  # ΔBIC of very strong evidence, as the diagnosis's (Kass & Raftery 1995)
 GRID = 61  # values of p tried before polishing
 MOST_ROWS = 3  # channels one recording's chains are corrected on before the rest is left to the other stages
-SMOOTH = 4  # the library-free shape's values: two complex coefficients
 
 
 def line_noise(frf: np.ndarray) -> np.ndarray:
@@ -173,25 +174,6 @@ def with_jackknife(rows: Rows, fit: RowFit) -> RowFit:
     return replace(fit, sigma=float(np.exp(t) * sigma_t if log else sigma_t))
 
 
-def smooth_shape(rows: Rows, i: int) -> float:
-    """The χ² a smooth factor of frequency on row ``i``, 1 − a₁u − a₂u² (u = f/f_top, a complex), removes beyond a
-    constant factor's, scaled by the fit's reduced χ²: the library-free shape (linearised: least squares).
-
-    Row i changed by c_jf changes χ² by |r_ijf/√α_j + √α_j c_jf|² − |r_ijf|²/α_j, so each shape is a least-squares
-    fit of its columns (c = −b y for b = 1, u, u²) to −r/√α."""
-    u = rows.frequencies / rows.frequencies[-1]
-    y, r, a = rows.y[i], rows.r[i], np.sqrt(rows.alpha[i])[:, None]
-    basis = np.stack([-y * a, -(u * y) * a, -(u**2 * y) * a], axis=-1).reshape(-1, 3)
-    target = -(r / a).ravel()
-
-    def removed(columns: int) -> float:
-        b = basis[:, :columns]
-        return float(np.sum(np.abs(target) ** 2) - np.sum(np.abs(target - b @ np.linalg.lstsq(b, target)[0]) ** 2))
-
-    full = removed(3)
-    return (full - removed(1)) / rows.scale(rows.chi2 - full, SMOOTH + 2)
-
-
 def checked(band: BandData, layout: Layout) -> bool:
     """Whether the rows can be checked: every FRF on every line, and more channels than rigid motions plus one."""
     return bool(np.isfinite(band.frf).all()) and len(layout.sensors) > (3 if layout.planar else 6) + 1
@@ -208,31 +190,62 @@ def row_misfit(rows: Rows, i: int) -> float:
     return float(np.sum(np.abs(rows.r[i]) ** 2 / rows.alpha[i][:, None]) / (2 * rows.r[i].size))
 
 
-def row_findings(band: BandData, layout: Layout) -> list:
+def loco_ratio(rows: Rows, i: int) -> np.ndarray:
+    """ρ_i(f) (n_f,): channel ``i``'s row against the rigid motion the other channels see at each line (the
+    leave-one-out prediction y − r/α), weighted over the hits."""
+    y, r, a = rows.y[i], rows.r[i], rows.alpha[i][:, None]
+    predicted = y - r / a
+    return np.sum(np.conj(predicted) * y, axis=0) / np.sum(np.abs(predicted) ** 2, axis=0)
+
+
+def unexplained_row(fit: RowFit, rows: Rows, before: float) -> Finding:
+    """The ``unexplained`` finding of a row a library-free shape explains and no effect of the library does:
+    its channel, the shape's signature and the lines' evidence."""
+    f = rows.frequencies
+    signature = {"signature": fit.effect, "frequencies_hz": [float(f[0]), float(f[-1])],
+                 "delay_s" if fit.effect == "phase_linear" else "resonance_hz": fit.value}  # fmt: skip
+    parameters = {"hits": [], "shape": "in_frequency", "also_channels": [], "also_hits": [], "signature": signature}
+    evidence = {"chi2_reduced": before, "dof": float(2 * rows.r[fit.channel].size), "withdrawn": [], "outfitted": [],
+                "delta_chi2_lines": fit.gain}  # fmt: skip
+    return Finding("unexplained", (fit.channel,), None, parameters, evidence)
+
+
+def row_findings(band: BandData, layout: Layout) -> tuple[list, list]:
     """The row effects of the registry the band's lines prove, one channel at a time, the most evident first (each
-    channel's effect of largest χ² removed, then the others again on the band with it undone)."""
-    found = []
-    if not checked(band, layout) or not modelled("row"):
-        return found
+    channel's best, then the others again on the band with it undone), and the rows a library-free shape
+    (:data:`.signature.FREQUENCY_SHAPES`) explains better than any effect by more than ``EVIDENCE``: those are
+    ``unexplained``, with the shape's signature (a delay's phase is no mount's rise)."""
+    found, left = [], []
+    if not checked(band, layout):
+        return found, left
     n_values = 2 * band.frf.size
     for _ in range(MOST_ROWS):
         rows = Rows.of(band, layout)
-        done = {c for f in found for c in f.channels}
-        fits = [profile(rows, i, e) for i in range(len(layout.sensors)) if i not in done for e in modelled("row")]
+        done = {c for f in found + left for c in f.channels}
+        fits = [profile(rows, i, e) for i in range(len(layout.sensors)) if i not in done
+                for e in modelled("row") + FREQUENCY_SHAPES]  # fmt: skip
         passing = [f for f in fits if accepted(f, n_values)]
         if not passing:
             break
-        best = with_jackknife(rows, max(passing, key=lambda f: f.gain))
-        trial = best.finding(row_misfit(rows, best.channel), np.nan)
-        band = BandData(band.frequencies, named(best.effect).correct_lines(band.frequencies, band.frf.copy(), trial))
-        after = row_misfit(Rows.of(band, layout), best.channel)
-        found.append(best.finding(trial.evidence["row_chi2_reduced"]["before"], after))
-    return found
+        channel = max(passing, key=lambda f: f.gain).channel
+        here = sorted((f for f in passing if f.channel == channel), key=lambda f: -f.gain)
+        effects = [f for f in here if f.effect not in {s.name for s in FREQUENCY_SHAPES}]
+        best = effects[0] if effects and effects[0].gain > here[0].gain - EVIDENCE else here[0]
+        factor = named(best.effect) if best in effects else next(s for s in FREQUENCY_SHAPES if s.name == best.effect)
+        before = row_misfit(rows, channel)
+        band = BandData(band.frequencies, band.frf.copy())
+        band.frf[channel] /= factor.factor(band.frequencies, best.value)
+        if best not in effects:
+            left.append(unexplained_row(best, rows, before))
+            continue
+        found.append(with_jackknife(rows, best).finding(before, row_misfit(Rows.of(band, layout), channel)))
+    return found, left
 
 
-def chains_undone(recording, low: float, high: float, layout: Layout) -> tuple[list, object]:
-    """The row effects the lines of ``recording`` between ``low`` and ``high`` Hz prove (:func:`row_findings`), and
-    the recording with them undone, on which the rest of the diagnosis searches."""
+def chains_undone(recording, low: float, high: float, layout: Layout) -> tuple[list, list, object]:
+    """The row effects the lines of ``recording`` between ``low`` and ``high`` Hz prove and the rows no effect
+    explains (:func:`row_findings`), and the recording with the effects undone, on which the rest of the diagnosis
+    searches."""
     f = recording.frequencies
-    found = row_findings(BandData.from_recording(f, recording.frf, low, high), layout)
-    return found, corrected(recording, found)
+    found, left = row_findings(BandData.from_recording(f, recording.frf, low, high), layout)
+    return found, left, corrected(recording, found)
