@@ -219,7 +219,7 @@ def row_finding(cls, body, sensors) -> tuple[Finding, object]:
     size recovered."""
     rec, _ = recorded(body, sensors, cls)
     band = BandData.from_recording(rec.frequencies, rec.frf, 5.0, 95.0)
-    found = row_findings(band, Layout.of(rec.sensors, rec.exciters, False))
+    found, _ = row_findings(band, Layout.of(rec.sensors, rec.exciters, False))
     assert found and (found[0].effect, found[0].channels) == (cls.name, place(cls))
     assert found[0].parameters[cls.parameter] == pytest.approx(SAMPLE[cls.unit], rel=1e-3)
     return found[0], rec
