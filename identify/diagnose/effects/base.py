@@ -253,6 +253,7 @@ class RowEffect(Effect):
 
     model: ClassVar[str | None] = "row"
     parameter: ClassVar[str] = ""  # the parameters' key of p (SI), its 1-σ under ``parameter + "_std"``
+    signature: ClassVar[str] = ""  # what its factor looks like in frequency (:mod:`..signature`)
 
     @classmethod
     def factor(cls, frequencies: np.ndarray, value: float) -> np.ndarray:

@@ -22,6 +22,7 @@ class ChannelDelay(RowEffect):
     unit = "s"
     summary = "reading delayed by τ: every FRF of the channel times e^(−iωτ)"
     parameter = "delay_s"
+    signature = "phase_linear"
     blind_range = (60e-6, 200e-6)  # two front ends' sample clocks, or anti-alias filters of different order
 
     @classmethod
