@@ -2,15 +2,16 @@
 
 Each case is what a user runs: ``massline plan BODY`` (the default plan), ``massline simulate`` (1 % noise, the
 default cord, the FE modes) with the effect on one or two channels drawn from the seed, then ``diagnose`` with
-the mesh's body. Sizes: a delay of 60–200 µs; a mount resonating at 2–4 × the plan's band top. A case is a hit
+the mesh's body on the plan's band (``--band``, as docs/diagnosing.md asks; ``--band identify``: identify's own,
+wider, where the body's elastic tails reach further in). Sizes: a delay of 60–200 µs; a mount resonating at 2–4 × the plan's band top. A case is a hit
 when every concealed channel is named with the effect, its size within 3σ of the truth, and the body after is
 within identify's bounds (mass 0.3 %, CoG 1 mm, principal moments 1 %; a plate's in-plane moments). The clean
 files count the false alarms (a row effect, or a misfit in frequency, named on a file with none); ``--without``
 takes each effect out of the registry and counts the files that get ``unexplained`` at every concealed channel
 with the effect's signature (phase_linear, rising).
 
-    python benchmarks/row_effects.py [--bodies plate,bracket,structure] [--seeds 6] [--no-clean] [--no-without]
-        [--out DIR]
+    python benchmarks/row_effects.py [--bodies plate,bracket,structure] [--seeds 6] [--band plan|identify]
+        [--no-clean] [--no-without] [--out DIR]
 
 Prints one line per case and the hit rates with their n.
 """
@@ -67,8 +68,9 @@ def within_bounds(body, bare, planar: bool) -> bool:
     return abs(body.mass / bare.mass - 1) < BOUNDS[0] and np.abs(cog).max() < BOUNDS[1] and np.abs(moments).max() < BOUNDS[2]
 
 
-def case(plan: Path, effect: str | None, seed: int, folder: Path, held: bool = True) -> dict:
-    """Simulate one case, diagnose it (the effect out of the registry unless ``held``); its outcome."""
+def case(plan: Path, effect: str | None, seed: int, folder: Path, held: bool = True, band: str = "plan") -> dict:
+    """Simulate one case, diagnose it (the effect out of the registry unless ``held``) on the plan's band or
+    identify's (``band``); its outcome."""
     channels, sizes = drawn(plan, effect, seed) if effect else ([], [])
     path = folder / f"{plan.parent.name}-{effect or 'clean'}-{seed}.uff"
     args = [a for c, s in zip(channels, sizes) for a in ("--effect", f"{effect}={s:.6g}@{c + 1}")]
@@ -78,7 +80,9 @@ def case(plan: Path, effect: str | None, seed: int, folder: Path, held: bool = T
     full = registry.EFFECTS
     registry.EFFECTS = full if held else tuple(e for e in full if e.name != effect)
     try:
-        found = diagnose_recording(path, None, mesh.nominal)
+        planned_band = json.loads(plan.read_text())["band"]
+        given = (planned_band["low_hz"], planned_band["high_hz"]) if band == "plan" else None
+        found = diagnose_recording(path, given, mesh.nominal)
     finally:
         registry.EFFECTS = full
     named = [f for f in found.findings if f.effect in EFFECTS]
@@ -110,6 +114,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="plate,bracket,structure")
     parser.add_argument("--seeds", type=int, default=6)
+    parser.add_argument("--band", choices=("plan", "identify"), default="plan")
     parser.add_argument("--no-clean", action="store_true")
     parser.add_argument("--no-without", action="store_true")
     parser.add_argument("--out", help="keep the plans and files here (default a temporary folder)")
@@ -124,7 +129,7 @@ def main() -> None:
             runs += [] if args.no_without else [(e, s, False) for e in EFFECTS for s in range(args.seeds)]
             runs += [] if args.no_clean else [(None, s, True) for s in range(args.seeds)]
             for effect, seed, held in runs:
-                row = case(plan, effect, seed, folder, held)
+                row = case(plan, effect, seed, folder, held, args.band)
                 rows.append(row)
                 print(json.dumps(row), flush=True)
     for effect in EFFECTS:
@@ -133,7 +138,8 @@ def main() -> None:
         print(f"{effect}: named at every channel, size within 3σ, body within bounds: {rate(named, 'hit')}; "
               f"out of the registry, unexplained at every channel with its signature: {rate(left, 'hit')}")
     clean = [r for r in rows if r["effect"] == "none"]
-    print(f"clean files with a row effect or a misfit in frequency named: {rate(clean, 'false_alarm')}")
+    print(f"clean files with a row effect or a misfit in frequency named: {rate(clean, 'false_alarm')} "
+          f"(diagnosed on {'the plan' if args.band == 'plan' else 'identify'}'s band)")
 
 
 if __name__ == "__main__":
