@@ -3,7 +3,8 @@
 Each case is what a user runs: ``massline plan BODY`` (the default plan), ``massline simulate`` (1 % noise, the
 default cord, the FE modes) with the effect on one or two channels drawn from the seed, then ``diagnose`` with
 the mesh's body on the plan's band (``--band``, as docs/diagnosing.md asks; ``--band identify``: identify's own,
-wider, where the body's elastic tails reach further in). Sizes: a delay of 60–200 µs; a mount resonating at 2–4 × the plan's band top. A case is a hit
+wider, where the body's elastic tails reach further in). Sizes: a delay of 60–200 µs; a mount resonating at
+2–4 × the plan's band top. A case is a hit
 when every concealed channel is named with the effect, its size within 3σ of the truth, and the body after is
 within identify's bounds (mass 0.3 %, CoG 1 mm, principal moments 1 %; a plate's in-plane moments). The clean
 files count the false alarms (a row effect, or a misfit in frequency, named on a file with none); ``--without``
@@ -65,7 +66,8 @@ def within_bounds(body, bare, planar: bool) -> bool:
     else:
         moments = body.principal_moments / bare.principal_moments - 1
         cog = body.cog - bare.cog
-    return abs(body.mass / bare.mass - 1) < BOUNDS[0] and np.abs(cog).max() < BOUNDS[1] and np.abs(moments).max() < BOUNDS[2]
+    errors = (abs(body.mass / bare.mass - 1), np.abs(cog).max(), np.abs(moments).max())
+    return all(e < bound for e, bound in zip(errors, BOUNDS))
 
 
 def case(plan: Path, effect: str | None, seed: int, folder: Path, held: bool = True, band: str = "plan") -> dict:
@@ -97,11 +99,16 @@ def case(plan: Path, effect: str | None, seed: int, folder: Path, held: bool = T
     body_ok = found.after_body is not None and within_bounds(found.after_body, mesh.nominal, found.planar)
     return {
         "body": body, "effect": effect or "none", "seed": seed, "held": held, "channels": [c + 1 for c in channels],
-        "sizes": sizes, "found": [(f.effect, [c + 1 for c in f.channels], f.parameters.get("delay_s", f.parameters.get("mount_hz")),
-                                   f.parameters.get("delay_s_std", f.parameters.get("mount_hz_std"))) for f in named + frequency],
+        "sizes": sizes, "found": [(f.effect, [c + 1 for c in f.channels], sizes_of(f)) for f in named + frequency],
         "hit": bool(all(sized) and body_ok if held else all(signed)), "within": bool(body_ok),
         "false_alarm": bool(named or frequency) and not effect,
     }  # fmt: skip
+
+
+def sizes_of(finding) -> list:
+    """A finding's size and 1-σ (a delay's s, a mount's Hz; none for an unexplained row)."""
+    p = finding.parameters
+    return [p.get(k, p.get(k.replace("delay_s", "mount_hz"))) for k in ("delay_s", "delay_s_std")]
 
 
 def rate(rows: list, key: str) -> str:

@@ -99,7 +99,11 @@ def test_out_of_the_registry_each_is_unexplained_at_its_channel_with_its_signatu
 
 @pytest.mark.parametrize(
     "text, words",
-    [("channel_delay=5@1", "delay must be"), ("mount_resonance=-550@2", "must lie in"), ("mount_resonance=nan@2", "finite")],
+    [
+        ("channel_delay=5@1", "delay must be"),
+        ("mount_resonance=-550@2", "must lie in"),
+        ("mount_resonance=nan@2", "finite"),
+    ],
 )
 def test_sizes_outside_their_physical_range_are_refused(text, words):
     with pytest.raises(MasslineError, match=words):

@@ -13,8 +13,8 @@ which, r_jf = (I − P_j) y_jf being the rigid misfit now and α_j = (I − P_j)
 
     χ²(k, p) = χ²₀ + Σ_jf 2 Re(c̄_jf r_ijf) + α_j |c_jf|²,
 
-quadratic in k, profiled over p on a grid and finer grids about its least (:func:`profile`). p's 1-σ comes from the curvature,
-scaled by √(χ²/dof) where the fit leaves more than the noise (correlated lines, elastic tails). The effect is
+quadratic in k, profiled over p on a grid and finer grids about its least (:func:`profile`). p's 1-σ comes from
+the curvature, scaled by √(χ²/dof) where the fit leaves more than the noise (correlated lines, elastic tails). The effect is
 accepted by the diagnosis's criterion: the χ² it removes, so scaled, beyond ``EVIDENCE`` + ln n (Schwarz's
 price of its one value). Proven on the lines, not on identify's masslines, which do not show it
 (:func:`massline.identify.diagnose.undone.proven_apart`). The signatures' shapes in frequency, a phase ∝ f and a
@@ -295,7 +295,8 @@ def refitted(band: BandData, layout: Layout, fits: list) -> list:
             out[k] = again
         if moved < 0.1:
             break
-    return [with_jackknife(Rows.of(undone_rows(band, out[:k] + out[k + 1 :]), layout), fit) for k, fit in enumerate(out)]
+    others = [out[:k] + out[k + 1 :] for k in range(len(out))]
+    return [with_jackknife(Rows.of(undone_rows(band, rest), layout), fit) for rest, fit in zip(others, out)]
 
 
 def row_findings(band: BandData, layout: Layout) -> tuple[list, list]:

@@ -18,7 +18,8 @@ that makes each signature:
 :func:`classify` fits each shape to ρ by weighted least squares (σ of ρ from its lines' second differences,
 where a smooth trend cancels) and keeps the least BIC (χ² + k ln n); ``narrow`` when most of what the best
 smooth shape leaves sits within a tenth of the band. (A ratio alone carries the body's own elastic tails too:
-rows are weighed on their rigid misfit instead, :mod:`.misfit_signatures`.) Pure functions of arrays: the places' ratios are taken in
+rows are weighed on their rigid misfit instead, :mod:`.misfit_signatures`.) Pure functions of arrays: the places'
+ratios are taken in
 :mod:`.row_factors` (a row against the others' rigid motion) and in the pipeline (a column against identify's
 masslines).
 """
@@ -138,11 +139,12 @@ def phrase(signature: dict) -> str:
         degrees = formatted(-360 * hi * signature["delay_s"], "+.1f")
         return f"a phase growing with frequency ({degrees}° at {hi:.0f} Hz: a delay or a filter)"
     if name == "rising":
-        return f"a magnitude rising towards a resonance near {signature['resonance_hz']:.0f} Hz above the band (a mount)"
+        near = signature["resonance_hz"]
+        return f"a magnitude rising towards a resonance near {near:.0f} Hz above the band (a mount)"
     if name == "narrow":
         return f"a narrow band around {signature['hz']:.1f} Hz (a resonance that is not the body's)"
     if name == "column_ripple":
         return f"a ripple along the hit's column every {signature['period_hz']:.1f} Hz (its force record)"
     if name == "constant":
-        return f"one constant factor over {lo:.0f}–{hi:.0f} Hz (a gain, a calibration, a sign)"
-    return f"a misfit spread over {lo:.0f}–{hi:.0f} Hz"
+        return f"one constant factor over {lo:.3g}–{hi:.3g} Hz (a gain, a calibration, a sign)"
+    return f"a misfit spread over {lo:.3g}–{hi:.3g} Hz"

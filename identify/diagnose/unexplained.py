@@ -224,13 +224,15 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
     shape = f"; its signature: {phrase(p['signature'])}" if "signature" in p else ""
     if p["shape"] == "in_frequency":
         return (
-            f"unexplained: sensor {sensors[finding.channels[0]]}: {SHAPES['in_frequency']} ({np.sqrt(e['chi2_reduced']):.1f}× "
-            f"the noise on its lines){shape}; no effect of the library explains it, so none is named"
+            f"unexplained: sensor {sensors[finding.channels[0]]}: {SHAPES['in_frequency']} "
+            f"({np.sqrt(e['chi2_reduced']):.1f}× the noise on its lines){shape}; no effect of the library explains it, "
+            "so none is named"
         )
     if p["shape"] == "off_axis":
         return (
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
-            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}{shape}; {none}"
+            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}{shape}; "
+            f"{none}"
         )
     if p["shape"] == "against_mesh":
         where = " and ".join(places) if places else ("the drive points" if p["excitation_side"] else "no one place")
@@ -243,8 +245,8 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
         return f"unexplained: identify finds no rigid body that fits the masslines; {where}{unproven}; {none}"
     return (
         f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
-        f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}{shape}; "
-        f"{none}"
+        f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}"
+        f"{shape}; {none}"
     )
 
 

@@ -21,7 +21,8 @@ HIGHEST = 1e5  # Hz: a stud-mounted accelerometer's resonance is tens of kHz; no
 class MountResonance(RowEffect):
     name = "mount_resonance"
     unit = "Hz"
-    summary = f"read through its mount's resonance at f_m: every FRF of the channel ÷ (1 − (f/f_m)² + 2iζf/f_m), ζ {DAMPING}"
+    summary = (f"read through its mount's resonance at f_m: every FRF of the channel ÷ (1 − (f/f_m)² + 2iζf/f_m), "
+               f"ζ {DAMPING}")  # fmt: skip
     parameter = "mount_hz"
     signature = "rising"
     blind_range = (2.0, 4.0)  # f_m / the planned band's upper edge: a rise of 6–33 % there
