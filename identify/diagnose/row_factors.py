@@ -46,6 +46,7 @@ SIZED = 2.0  # a factor named must depart from 1 at the band's top by this many 
 # spurious "mounts" on clean files had σ/f_m 0.5–2.6)
 MOST_ROWS = 3  # channels one recording's chains are corrected on before the rest is left to the other stages
 SWEEPS = 6  # refits of several rows, each with the others undone
+ALIKE = 0.9  # |cos| between two channels' residual directions beyond which a factor on one reads as on the other
 
 
 def line_noise(frf: np.ndarray) -> np.ndarray:
@@ -249,26 +250,35 @@ def sized(fit: RowFit) -> bool:
     return bool(np.isfinite(spread) and abs(departure(fit.value)) > SIZED * spread)
 
 
-def chosen(rows: Rows, passing: list) -> RowFit | None:
-    """Of the fits that pass the criterion, at the channel of the most evident one, those within ``EVIDENCE`` of it
-    (the data cannot tell them apart): the effects of the library first, then the library-free shapes, each in
-    order of evidence, the first whose size its jackknifed 1-σ proves (:func:`sized`). When none is, nothing is
-    chosen: the channel is undecided and no less evident name is given, there or at a channel whose misfit may be
-    its stand-in (a 146 Hz mount read 143 ± 27 Hz beside a delay elsewhere, and a delay a third as evident had been
-    named there; a plate's 80 µs delay on channel 3, unsized beside the body's elastic tail, left a −49 µs
-    "delay" on channel 2, whose residual direction is 0.96 of its).
-    A 64 µs delay's row is fitted as well by a "362 ± 130 Hz mount", the body's elastic tail lending it its rise:
-    within ``EVIDENCE``, the delay, sized, is chosen."""
-    shapes = {shape.name for shape in FREQUENCY_SHAPES}
-    if not passing:
-        return None
-    channel = max(passing, key=lambda f: f.gain).channel
-    here = sorted((f for f in passing if f.channel == channel), key=lambda f: -f.gain)
-    close = [f for f in here if f.gain > here[0].gain - EVIDENCE]
-    for pick in [f for f in close if f.effect not in shapes] + [f for f in close if f.effect in shapes]:
-        fit = with_jackknife(rows, pick)
-        if sized(fit):
-            return fit
+def alike(layout: Layout) -> np.ndarray:
+    """(n_s, n_s) bool: channels whose residual directions (I − SS⁺)e_i are within ``ALIKE`` of parallel — a factor
+    on one is read nearly as well as the opposite factor on the other (the plate's channels 2–4: 0.96–0.99)."""
+    S = kinematic_matrix(layout.sensors, layout.planar)
+    residual = np.eye(len(S)) - S @ np.linalg.pinv(S)
+    unit = residual / np.sqrt(np.maximum(np.diag(residual), 1e-300))[None]
+    return np.abs(unit.T @ unit) > ALIKE
+
+
+def chosen(rows: Rows, passing: list, layout: Layout) -> RowFit | None:
+    """Of the fits that pass the criterion, channel by channel from the most evident: those within ``EVIDENCE`` of
+    the channel's best (the data cannot tell them apart), the effects of the library first, then the library-free
+    shapes, each in order of evidence; the first whose size its jackknifed 1-σ proves (:func:`sized`). A channel
+    with none is undecided, and so is every channel whose residual direction is like its (:func:`alike`): no less
+    evident name is given where the misfit may be the undecided channel's (a 146 Hz mount read 143 ± 27 Hz beside a
+    delay elsewhere, and a delay a third as evident had been named there; a plate's 80 µs delay on channel 3,
+    unsized beside the body's elastic tail, left a −49 µs "delay" on channel 2). A 64 µs delay's row is fitted as
+    well by a "362 ± 130 Hz mount", the body's elastic tail lending it its rise: within ``EVIDENCE``, the delay,
+    sized, is chosen."""
+    shapes, similar = {shape.name for shape in FREQUENCY_SHAPES}, alike(layout)
+    while passing:
+        channel = max(passing, key=lambda f: f.gain).channel
+        here = sorted((f for f in passing if f.channel == channel), key=lambda f: -f.gain)
+        close = [f for f in here if f.gain > here[0].gain - EVIDENCE]
+        for pick in [f for f in close if f.effect not in shapes] + [f for f in close if f.effect in shapes]:
+            fit = with_jackknife(rows, pick)
+            if sized(fit):
+                return fit
+        passing = [f for f in passing if not similar[channel, f.channel]]
     return None
 
 
@@ -280,29 +290,41 @@ def undone_rows(band: BandData, fits: list) -> BandData:
     return BandData(band.frequencies, frf)
 
 
-def refitted(band: BandData, layout: Layout, fits: list) -> list:
-    """Each fit made again with the others undone, ``SWEEPS`` times or until none moves by a tenth of its curvature's
-    1-σ, then jackknifed (the first of two faulty rows is fitted while the second still bends the rigid motion the
-    others see: two mounts at 83 and 94 Hz on the plate read 118 ± 14 and 112 Hz, after one sweep 91 and 98 Hz,
-    after the sweeps 85.5 ± 2.7 and 94.1 ± 1.8)."""
-    out = list(fits)
+def settled(band: BandData, layout: Layout, fits: list) -> list:
+    """The fits, each taken out in turn and chosen again (:func:`chosen`) on the band with the others undone, until
+    none changes its channel, its effect or its value by a tenth of its 1-σ (``SWEEPS`` at most); a fit nothing
+    replaces is dropped. The first of two faulty rows is chosen while the second still bends the rigid motion the
+    others see: on the bracket delays of 172 and 141 µs on channels 8 and 1 were first read as −91 µs on channel 2
+    (whose residual direction is much like channel 1's), 88 µs on 8 and −30 µs on 5; two mounts at 83 and 94 Hz on
+    the plate as 118 ± 14 and 112 Hz."""
+    n_values = 2 * band.frf.size
     for _ in range(SWEEPS):
-        moved = 0.0
-        for k, fit in enumerate(out):
-            rows = Rows.of(undone_rows(band, out[:k] + out[k + 1 :]), layout)
-            again = profile(rows, fit.channel, model_of(fit.effect))
-            moved = max(moved, abs(again.value - fit.value) / again.sigma)
-            out[k] = again
-        if moved < 0.1:
+        changed, k = False, 0
+        while k < len(fits):
+            rest = fits[:k] + fits[k + 1 :]
+            rows = Rows.of(undone_rows(band, rest), layout)
+            again = chosen(rows, [f for f in trials(rows, layout, {f.channel for f in rest}) if accepted(f, n_values)],
+                           layout)
+            if again is None:
+                fits, changed = rest, True
+                continue
+            same = (again.channel, again.effect) == (fits[k].channel, fits[k].effect)
+            changed = changed or not same or abs(again.value - fits[k].value) > 0.1 * fits[k].sigma
+            fits, k = rest[:k] + [again] + rest[k:], k + 1
+        if not changed:
             break
-    others = [out[:k] + out[k + 1 :] for k in range(len(out))]
-    return [with_jackknife(Rows.of(undone_rows(band, rest), layout), fit) for rest, fit in zip(others, out)]
+    return fits
+
+
+def trials(rows: Rows, layout: Layout, done: set) -> list:
+    """Every row effect of the registry and every library-free shape fitted at every channel not in ``done``."""
+    return [profile(rows, i, e) for i in range(len(layout.sensors)) if i not in done
+            for e in modelled("row") + FREQUENCY_SHAPES]  # fmt: skip
 
 
 def row_findings(band: BandData, layout: Layout) -> tuple[list, list]:
     """The row effects of the registry the band's lines prove, one channel at a time, the most evident first (each
-    channel's best, then the others again on the band with it undone; when several, each fitted again with the
-    others undone), and the rows a library-free shape (:data:`.signature.FREQUENCY_SHAPES`) explains better than
+    channel's best, then the others again on the band with it undone; when several, :func:`settled`), and the rows a library-free shape (:data:`.signature.FREQUENCY_SHAPES`) explains better than
     any effect by more than ``EVIDENCE``: those are ``unexplained``, with the shape's signature (a delay's phase is
     no mount's rise)."""
     if not checked(band, layout):
@@ -310,14 +332,12 @@ def row_findings(band: BandData, layout: Layout) -> tuple[list, list]:
     n_values, fits = 2 * band.frf.size, []
     for _ in range(MOST_ROWS):
         rows = Rows.of(undone_rows(band, fits), layout)
-        done = {f.channel for f in fits}
-        trials = [profile(rows, i, e) for i in range(len(layout.sensors)) if i not in done
-                  for e in modelled("row") + FREQUENCY_SHAPES]  # fmt: skip
-        best = chosen(rows, [f for f in trials if accepted(f, n_values)])
+        best = chosen(rows, [f for f in trials(rows, layout, {f.channel for f in fits}) if accepted(f, n_values)],
+                      layout)
         if best is None:
             break
         fits.append(best)
-    fits = refitted(band, layout, fits) if len(fits) > 1 else fits
+    fits = settled(band, layout, fits) if len(fits) > 1 else fits
     found, left, shapes = [], [], {shape.name for shape in FREQUENCY_SHAPES}
     for fit in fits:
         rows = Rows.of(undone_rows(band, [f for f in fits if f is not fit]), layout)
