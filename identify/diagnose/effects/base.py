@@ -281,6 +281,16 @@ class RowEffect(Effect):
         return {cls.parameter: float(value), f"{cls.parameter}_std": float(sigma)}
 
     @classmethod
+    def lines_fit(cls, finding) -> str:
+        """The channel's misfit on the band's lines before and after, in the noise's units (√ of its row's reduced χ²
+        against the others' rigid motion)."""
+        fit = finding.evidence.get("row_chi2_reduced")
+        if not fit or not np.isfinite([fit["before"], fit["after"]]).all():
+            return ""
+        before, after = np.sqrt(fit["before"]), np.sqrt(fit["after"])
+        return f"; its lines {before:.2f}× → {after:.2f}× the noise off the others' rigid motion"
+
+    @classmethod
     def correct_lines(cls, frequencies, frf, finding):
         """The channel's FRFs ÷ F(f; p)."""
         channels = list(finding.channels)

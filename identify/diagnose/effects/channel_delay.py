@@ -45,7 +45,7 @@ class ChannelDelay(RowEffect):
         phase = f" ({formatted(-360 * top * p['delay_s'], '+.1f')}° at {top:.0f} Hz)" if np.isfinite(top) else ""
         return (
             f"{who} lags the others by {pm(1e6 * p['delay_s'], 1e6 * p['delay_s_std'])} µs{phase}: a front end out "
-            "of sync or an anti-alias filter that differs; undone as e^(iωτ) on its FRFs"
+            f"of sync or an anti-alias filter that differs; undone as e^(iωτ) on its FRFs{cls.lines_fit(finding)}"
         )
 
     @classmethod

@@ -58,6 +58,7 @@ class MountResonance(RowEffect):
         return (
             f"{who} is read through a mount resonating at {pm(p['mount_hz'], p['mount_hz_std'])} Hz (ζ "
             f"{p['damping']:g} taken{at_top}): check its wax, magnet base or adhesive; undone on its FRFs"
+            f"{cls.lines_fit(finding)}"
         )
 
     @classmethod
