@@ -20,20 +20,22 @@ from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.finding import UNEXPLAINED
 from massline.identify.diagnose.row_factors import EVIDENCE, Rows, checked, line_noise, profile
 from massline.identify.diagnose.signature import FREQUENCY_SHAPES, classify
-from massline.identify.tails import BandData
+from massline.identify.tails import MIN_LINES, BandData
 
 
 def massline_ratio(band: BandData, axis: int, k: int) -> np.ndarray:
     """ρ(f) of row (``axis`` 0) or column (``axis`` 1) ``k`` against each FRF's massline â, weighted by 1/σ², over
     the same ratio of every other row or column."""
     a = np.where(band.free.present, band.free.massline, 0.0)
-    w = np.where(np.isfinite(band.frf).all(axis=2), a / line_noise(band.frf) ** 2, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w = np.where(np.isfinite(band.frf).all(axis=2), a / line_noise(band.frf) ** 2, 0.0)
     H = np.nan_to_num(band.frf)
 
     def ratio(mask):
         weights = np.moveaxis(w, axis, 0)[mask]
-        return np.einsum("ab,abf->f", weights, np.moveaxis(H, axis, 0)[mask]) / np.sum(
-            weights * np.moveaxis(a, axis, 0)[mask])
+        with np.errstate(invalid="ignore", divide="ignore"):  # no FRF of the place measured: no ratio
+            return np.einsum("ab,abf->f", weights, np.moveaxis(H, axis, 0)[mask]) / np.sum(
+                weights * np.moveaxis(a, axis, 0)[mask])
 
     place = np.arange(band.frf.shape[axis]) == k
     return ratio(place) / ratio(~place)
@@ -60,11 +62,18 @@ def place_signature(band: BandData, layout: Layout, rows: Rows | None, finding) 
     hits = finding.parameters.get("hits", []) if finding.effect == UNEXPLAINED else []
     if finding.effect == UNEXPLAINED and finding.parameters.get("shape") == "spread":
         return {"signature": "spread", "frequencies_hz": [float(band.frequencies[0]), float(band.frequencies[-1])]}
-    if finding.channels:
-        i = finding.channels[0]
-        return row_signature(rows, i) if rows is not None else classify(band.frequencies, massline_ratio(band, 0, i))
+    if finding.channels and rows is not None:
+        return row_signature(rows, finding.channels[0])
     j = finding.exciter if finding.exciter is not None else (hits[0] if hits else None)
-    return None if j is None else classify(band.frequencies, massline_ratio(band, 1, j), column=True)
+    axis, k = (0, finding.channels[0]) if finding.channels else (1, j)
+    return None if k is None else classified(band.frequencies, massline_ratio(band, axis, k), axis == 1)
+
+
+def classified(frequencies: np.ndarray, ratio: np.ndarray, column: bool) -> dict | None:
+    """:func:`.signature.classify` on the lines where the ratio is defined (a pair not measured leaves lines
+    without it); None with fewer than ``MIN_LINES``."""
+    kept = np.isfinite(ratio)
+    return classify(frequencies[kept], ratio[kept], column) if kept.sum() >= MIN_LINES else None
 
 
 def signed(findings: list, band: BandData, layout: Layout) -> list:
