@@ -41,9 +41,7 @@ from massline.identify.tails import BandData
 EVIDENCE = 10.0  # ΔBIC of very strong evidence, as the diagnosis's (Kass & Raftery 1995)
 GRID = 61  # values of p tried before polishing
 ZOOM, ZOOMS = 21, 3  # each polish's values between the best's neighbours, and how many polishes (step ÷ 1000)
-SIZED = 2.0  # a factor named must depart from 1 at the band's top by this many of its jackknifed 1-σ (the
-# jackknife over four hits is itself uncertain: 3.0 left a 146 Hz mount read 143 ± 27 Hz unnamed; the plate's
-# spurious "mounts" on clean files had σ/f_m 0.5–2.6)
+SIZED = 2.0  # a factor named must depart from 1 at the band's top by this many of its 1-σ (``with_spread``'s)
 MOST_ROWS = 3  # channels one recording's chains are corrected on before the rest is left to the other stages
 SWEEPS = 6  # refits of several rows, each with the others undone
 ALIKE = 0.9  # |cos| between two channels' residual directions beyond which a factor on one reads as on the other
@@ -172,21 +170,31 @@ def profile(rows: Rows, i: int, effect) -> RowFit:
     return RowFit(effect.name, i, value, sigma, factor, float(none - chi2) / spread, float(f[-1]), float(f[0]))
 
 
-def with_jackknife(rows: Rows, fit: RowFit) -> RowFit:
-    """``fit`` with the spread of p leaving each hit out in turn (jackknife) added to its 1-σ: what the lines'
-    other misfits lend p (an elastic tail on that row: a 146 Hz mount on the plate read 156 ± 1.4 Hz from the
-    curvature alone, ± 13 Hz with the jackknife)."""
-    n_e = rows.y.shape[1]
-    if n_e < 3:
-        return fit
-    effect = model_of(fit.effect)
+def with_spread(rows: Rows, fit: RowFit) -> RowFit:
+    """``fit`` with its 1-σ grown by the hits' disagreement (Birge's ratio): p fitted on each hit's FRFs alone, each
+    with its curvature's 1-σ; where they differ by more than those allow, χ² over n_e − 1 degrees of freedom, the
+    lines' other misfits lend p something (an elastic tail on that row: a 146 Hz mount on the plate read 156 ± 1.4
+    Hz from the curvature alone), and the 1-σ of p from all hits grows by √(χ²/dof). A hit that barely sees the row
+    weighs little: leaving out the one hit that does (a jackknife) had read the structure's channel 8 as 230 ± 114
+    Hz, and left it unnamed."""
+    effect, f = model_of(fit.effect), rows.frequencies
     grid, to_p = search_grid(rows, effect)
-    left = np.array([least(rows, fit.channel, effect, grid, to_p, np.arange(n_e) != j)[0] for j in range(n_e)])
     log = to_p is np.exp
-    t = np.log(fit.value) if log else fit.value
-    sigma_t = fit.sigma / fit.value if log else fit.sigma
-    sigma_t = np.sqrt(sigma_t**2 + (n_e - 1) / n_e * np.sum((left - left.mean()) ** 2))
-    return replace(fit, sigma=float(np.exp(t) * sigma_t if log else sigma_t))
+    h = 1e-3 * (grid[1] - grid[0])
+    ts, weights = [], []
+    for j in range(rows.y.shape[1]):
+        t, chi2 = least(rows, fit.channel, effect, grid, to_p, [j])
+        around = rows.cost(fit.channel, 1 / effect.factor(f[None], to_p(np.array([t - h, t + h]))[:, None]), [j])[0]
+        curvature = (around.sum() - 2 * chi2) / h**2
+        if curvature > 0:
+            ts.append(t), weights.append(curvature / 2)
+    if len(ts) < 2:
+        return fit
+    ts, weights = np.array(ts), np.array(weights)
+    mean = np.sum(weights * ts) / np.sum(weights)
+    birge = np.sqrt(max(np.sum(weights * (ts - mean) ** 2) / (len(ts) - 1), 1.0) / np.sum(weights))
+    sigma_t = max(fit.sigma / fit.value if log else fit.sigma, birge)
+    return replace(fit, sigma=float(fit.value * sigma_t if log else sigma_t))
 
 
 def checked(band: BandData, layout: Layout) -> bool:
@@ -262,7 +270,7 @@ def alike(layout: Layout) -> np.ndarray:
 def chosen(rows: Rows, passing: list, layout: Layout) -> RowFit | None:
     """Of the fits that pass the criterion, channel by channel from the most evident: those within ``EVIDENCE`` of
     the channel's best (the data cannot tell them apart), the effects of the library first, then the library-free
-    shapes, each in order of evidence; the first whose size its jackknifed 1-σ proves (:func:`sized`). A channel
+    shapes, each in order of evidence; the first whose size its 1-σ (:func:`with_spread`) proves (:func:`sized`). A channel
     with none is undecided, and so is every channel whose residual direction is like its (:func:`alike`): no less
     evident name is given where the misfit may be the undecided channel's (a 146 Hz mount read 143 ± 27 Hz beside a
     delay elsewhere, and a delay a third as evident had been named there; a plate's 80 µs delay on channel 3,
@@ -275,7 +283,7 @@ def chosen(rows: Rows, passing: list, layout: Layout) -> RowFit | None:
         here = sorted((f for f in passing if f.channel == channel), key=lambda f: -f.gain)
         close = [f for f in here if f.gain > here[0].gain - EVIDENCE]
         for pick in [f for f in close if f.effect not in shapes] + [f for f in close if f.effect in shapes]:
-            fit = with_jackknife(rows, pick)
+            fit = with_spread(rows, pick)
             if sized(fit):
                 return fit
         passing = [f for f in passing if not similar[channel, f.channel]]
