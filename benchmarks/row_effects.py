@@ -11,8 +11,8 @@ files count the false alarms (a row effect, or a misfit in frequency, named on a
 takes each effect out of the registry and counts the files that get ``unexplained`` at every concealed channel
 with the effect's signature (phase_linear, rising).
 
-    python benchmarks/row_effects.py [--bodies plate,bracket,structure] [--seeds 6] [--band plan|identify]
-        [--no-clean] [--no-without] [--out DIR]
+    python benchmarks/row_effects.py [--bodies plate,bracket,structure] [--seeds 6] [--first-seed 0]
+        [--parts named,without,clean] [--band plan|identify] [--out DIR]
 
 Prints one line per case and the hit rates with their n.
 """
@@ -121,9 +121,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="plate,bracket,structure")
     parser.add_argument("--seeds", type=int, default=6)
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--parts", default="named,without,clean", help="the effects named, out of the registry, clean")
     parser.add_argument("--band", choices=("plan", "identify"), default="plan")
-    parser.add_argument("--no-clean", action="store_true")
-    parser.add_argument("--no-without", action="store_true")
     parser.add_argument("--out", help="keep the plans and files here (default a temporary folder)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -132,9 +132,10 @@ def main() -> None:
         rows = []
         for body in args.bodies.split(","):
             plan = planned(body, folder)
-            runs = [(e, s, True) for e in EFFECTS for s in range(args.seeds)]
-            runs += [] if args.no_without else [(e, s, False) for e in EFFECTS for s in range(args.seeds)]
-            runs += [] if args.no_clean else [(None, s, True) for s in range(args.seeds)]
+            seeds, parts = range(args.first_seed, args.first_seed + args.seeds), args.parts.split(",")
+            runs = [(e, s, True) for e in EFFECTS for s in seeds] if "named" in parts else []
+            runs += [(e, s, False) for e in EFFECTS for s in seeds] if "without" in parts else []
+            runs += [(None, s, True) for s in seeds] if "clean" in parts else []
             for effect, seed, held in runs:
                 row = case(plan, effect, seed, folder, held, args.band)
                 rows.append(row)
