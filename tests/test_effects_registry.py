@@ -30,6 +30,7 @@ from massline.identify.diagnose.finding import Finding, accepted_finding, findin
 from massline.identify.diagnose.gauge_mass import gauge_mass
 from massline.identify.diagnose.mass_loading import mass_loading
 from massline.identify.diagnose.notes import finding_note
+from massline.identify.diagnose.row_factors import row_findings
 from massline.identify.diagnose.screens import discrete_fixes, kinematic_matrix
 from massline.identify.mains import find_mains
 from massline.identify.pipeline import identify_recording
@@ -43,7 +44,7 @@ from massline.virtual.measurement import Noise
 from massline.virtual.scenarios import FAULTS
 from massline.virtual.suspension import Cord, Suspension
 
-SAMPLE = {"degrees": 10.0, "fraction": 0.2, "m": 0.01, "kg": 0.05}  # a clear size in each unit
+SAMPLE = {"degrees": 10.0, "fraction": 0.2, "m": 0.01, "kg": 0.05, "s": 1e-4, "Hz": 300.0}  # a clear size in each unit
 EXACT = Acquisition(100.0, 40, Noise(1e-8, 0.0), dc_line=False)  # 40 lines to 100 Hz, all but exact
 MAINS_HZ = 50.0  # a frequency effect's sample place
 
@@ -100,7 +101,7 @@ def test_the_registry_is_well_formed():
         assert cls.__module__ == f"massline.identify.diagnose.effects.{cls.name}"  # one module per effect
         assert cls.discrete or cls.unit, cls.name  # a size has a unit
         assert cls.simulated == (cls.perturbs in ("sensor", "exciter"))  # else the support or the modes
-        assert cls.model in ("block", "discrete", "tail", "mass", "gauge", "lines", None)
+        assert cls.model in ("block", "discrete", "tail", "mass", "gauge", "lines", "row", None)
         assert (cls.undone_on == "identify") == (cls.identify_option is not None)  # identify takes it as an option
         assert cls.place in ("lines", "frequency")
 
@@ -213,6 +214,17 @@ def lines_finding(cls, body, sensors) -> tuple[Finding, object]:
     return mains_finding(found), rec
 
 
+def row_finding(cls, body, sensors) -> tuple[Finding, object]:
+    """Its factor of frequency fitted on the band's lines of every channel's row: named first at its channel, its
+    size recovered."""
+    rec, _ = recorded(body, sensors, cls)
+    band = BandData.from_recording(rec.frequencies, rec.frf, 5.0, 95.0)
+    found, _ = row_findings(band, Layout.of(rec.sensors, rec.exciters, False))
+    assert found and (found[0].effect, found[0].channels) == (cls.name, place(cls))
+    assert found[0].parameters[cls.parameter] == pytest.approx(SAMPLE[cls.unit], rel=1e-3)
+    return found[0], rec
+
+
 FINDINGS = {
     "block": block_finding,
     "discrete": discrete_finding,
@@ -220,6 +232,7 @@ FINDINGS = {
     "mass": mass_finding,
     "gauge": gauge_finding,
     "lines": lines_finding,
+    "row": row_finding,
 }
 
 

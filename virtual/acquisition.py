@@ -199,12 +199,12 @@ def measure(
     def accelerance(f):
         if not inst.exciter_masses.any():
             H = model.accelerance(f, inst.sensor_points, inst.sensor_vectors, inst.exciter_points, inst.exciter_vectors)
-            return H[inst.channel_order]
+            return inst.read_through(H, f)[inst.channel_order]
         columns = [
             body.accelerance(f, inst.sensor_points, inst.sensor_vectors, p[None], v[None])
             for body, p, v in zip(bodies, inst.exciter_points, inst.exciter_vectors)
         ]
-        return np.concatenate(columns, axis=1)[inst.channel_order]
+        return inst.read_through(np.concatenate(columns, axis=1), f)[inst.channel_order]
 
     n_s, n_e = len(inst.sensor_vectors), len(inst.exciter_vectors)
     mass, masslines = scale

@@ -39,6 +39,9 @@ class Instrumentation:
         Recorded channel c holds the signal of sensor ``channel_order[c]``.
     hums : list of Hum
         Mains hum on the response channels (:mod:`massline.virtual.hum`), added as the test is recorded.
+    responses : list of (int, callable)
+        What a sensor's chain does to its reading in frequency: (sensor, F) with F(f Hz) → complex factor (a
+        front end's delay, a mount's resonance), applied to every FRF of that sensor as the test is recorded.
     applied : list of dict
         Every effect as drawn: name, size, lines (1-based), and the perpendicular chosen.
     """
@@ -52,6 +55,7 @@ class Instrumentation:
     exciter_masses: np.ndarray
     channel_order: np.ndarray
     hums: list = field(default_factory=list)
+    responses: list = field(default_factory=list)
     applied: list = field(default_factory=list)
 
     @classmethod
@@ -72,6 +76,20 @@ class Instrumentation:
         """Mains hum at ``fundamental`` Hz and its harmonics on every response channel, the fundamental's line at
         ``level`` × each channel's massline level (:class:`massline.virtual.hum.Hum`)."""
         self.hums.append(Hum(fundamental, level))
+
+    def add_response(self, sensor: int, factor) -> None:
+        """Sensor ``sensor`` (0-based) read through ``factor``: f (Hz, array) → its complex factor on every FRF."""
+        self.responses.append((sensor, factor))
+
+    def read_through(self, H: np.ndarray, frequencies: np.ndarray) -> np.ndarray:
+        """H (n_s, n_e, n_f) as the sensors' chains read it: each row times its responses' factors at ``frequencies``
+        (Hz)."""
+        if not self.responses:
+            return H
+        H = H.copy()
+        for sensor, factor in self.responses:
+            H[sensor] *= factor(np.asarray(frequencies, dtype=float))
+        return H
 
     def add_mass(self, mass: float, point: np.ndarray) -> None:
         """A point mass (kg) added to the body at ``point`` (m)."""

@@ -19,9 +19,9 @@ from massline.identify.diagnose.finding import Finding
 
 def undone(recording, finding: Finding):
     """The recording with one fault undone (test physics and mass loading: unchanged)."""
-    frf, sensors, exciters = named(finding.effect).correct(
-        recording.frf.copy(), recording.sensors, recording.exciters, finding
-    )
+    effect = named(finding.effect)
+    frf, sensors, exciters = effect.correct(recording.frf.copy(), recording.sensors, recording.exciters, finding)
+    frf = effect.correct_lines(recording.frequencies, frf, finding)
     return replace(recording, frf=frf, sensors=sensors, exciters=exciters)
 
 

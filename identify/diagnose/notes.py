@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import UNEXPLAINED, Finding
+from massline.identify.diagnose.signature import phrase
 from massline.identify.diagnose.unexplained import sentence as unexplained_sentence
 from massline.core.numbers import formatted
 
@@ -26,7 +27,9 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
     tail = f" (the data fit {' or '.join(also)} there as well)" if also else ""
     moved = e.get("moved")
     shift = f"; undoing it moves identify's mass by {formatted(moved['mass_percent'], '+.3f')} %" if moved else ""
-    return named(finding.effect).sentence(finding, who, hit) + tail + shift
+    signature = finding.parameters.get("signature")
+    shape = f"; its misfit in frequency: {phrase(signature)}" if signature else ""
+    return named(finding.effect).sentence(finding, who, hit) + tail + shift + shape
 
 
 def fit_sentence(chi2: dict, before: float, after: float, noise: float) -> str:

@@ -29,6 +29,8 @@ from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_p
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
 from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
 from massline.identify.diagnose.targeted import at_place
+from massline.identify.diagnose.misfit_signatures import signed
+from massline.identify.diagnose.row_factors import chains_undone
 from massline.identify.diagnose.placed import beside_a_spread_misfit, at_the_misfit, same_place, where_the_misfit_is
 from massline.identify.diagnose.undone import best_undone, identified, identified_after
 from massline.identify.suspicions import beyond_chance
@@ -297,12 +299,13 @@ def diagnose_recording(
     if before is not None and not exciter_mass and held(ExcitationMassLoading.name):
         gauge = gauge_mass(before.data, before.sigma, planar, transverse, before.best)
     searched = cleaned if gauge is None else shifted(cleaned, gauge)  # the other effects, on the bare body
+    chains, in_frequency, searched = chains_undone(searched, used.low, used.high, layout)  # the chains' factors
     data = BandData.from_recording(f, searched.frf, used.low, used.high)
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
     result = diagnose(data, layout, transverse, wide, record)
-    found = ([] if gauge is None else [gauge.finding()]) + result.findings
+    found = ([] if gauge is None else [gauge.finding()]) + chains + result.findings
     found, set_aside = where_the_misfit_is(found, None if before is None else unexplained(before))
 
     def proven(faults: list) -> tuple:
@@ -343,7 +346,8 @@ def diagnose_recording(
         findings = findings + [mains_finding(mains)]
     if before is None and not any(f.kind == "fault" for f in findings):  # refused, and no fault named undoes it
         left = refused_misfit(screens, withdrawn)
-    findings = faults_first(findings + ([] if left is None else [left]))
+    findings = faults_first(findings + in_frequency + ([] if left is None else [left]))
+    findings = signed(findings, BandData.from_recording(f, cleaned.frf, used.low, used.high), layout)
     return DiagnosisRun(
         recording=recording,
         band=used,

@@ -9,7 +9,7 @@ the name is not what the data prove, and the findings' proof on identify's χ² 
 from __future__ import annotations
 
 from massline.identify.diagnose.shapes import SCALE_EFFECTS
-from massline.identify.diagnose.undone import proven_by_mesh, undoable
+from massline.identify.diagnose.undone import proven_apart, undoable
 
 
 GROSS = 10.0  # reduced χ² left beyond which a misfit no one place holds still condemns the faults at its places
@@ -30,7 +30,7 @@ def where_the_misfit_is(found: list, misfit) -> tuple[list, list]:
     channels, hits = {*misfit.channels, *p.get("also_channels", ())}, {*p["hits"], *p.get("also_hits", ())}
 
     def elsewhere(f) -> bool:
-        if f.kind != "fault":
+        if f.kind != "fault" or proven_apart(f):
             return False
         if not f.channels and f.exciter is None:
             return misfit.parameters["shape"] == "one_channel"
@@ -63,7 +63,7 @@ def at_the_misfit(findings: list, left) -> list:
     here = [f for f in undoable(findings) if set(f.channels) & channels or f.exciter in hits]
     row_left = left.parameters["shape"] == "one_channel"
     kept = tuple(e for e in SCALE_EFFECTS if e != "sensor_gain") if row_left else SCALE_EFFECTS
-    return [f for f in here if not proven_by_mesh(f) and f.effect not in kept]
+    return [f for f in here if not proven_apart(f) and f.effect not in kept]
 
 
 def same_place(a, b) -> bool:
@@ -80,4 +80,4 @@ def beside_a_spread_misfit(findings: list, left) -> list:
     show them."""
     if left is None or left.parameters["shape"] != "spread":
         return []
-    return [f for f in undoable(findings) if not proven_by_mesh(f)]
+    return [f for f in undoable(findings) if not proven_apart(f)]

@@ -93,7 +93,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
                 gain = total_chi2(without) - total_chi2(after)
                 evidence = {**finding.evidence, "moved": moved(without.body, after.body), "chi2_explained": gain}
                 finding = replace(finding, evidence=evidence)
-                if not proven_by_mesh(finding):
+                if not proven_apart(finding):
                     if gain < EVIDENCE:  # nan (no redundancy): nothing can check it
                         withdrawn.append(finding)
                         continue
@@ -112,7 +112,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     if withdrawn:
         again, kept, more = identified_after(recording, marked, band, transverse, before, known)
         return again, kept, withdrawn + more
-    stand_ins = [f for f in undoable(marked) if not proven_by_mesh(f)]
+    stand_ins = [f for f in undoable(marked) if not proven_apart(f)]
     if stand_ins and before is not None and not explains_the_misfit(before, after):
         again, kept, _ = identified_after(recording, [f for f in marked if f not in stand_ins], band, transverse,
                                           before, known)  # fmt: skip
@@ -240,6 +240,13 @@ def proven_by_mesh(finding) -> bool:
     """Whether the finding's evidence is the body's excess over the mesh (:mod:`.mass_loading`), which the
     masslines alone cannot show: a mass riding at every drive point looks, to them, like a heavier body."""
     return bool(finding.parameters.get("against_mesh"))
+
+
+def proven_apart(finding) -> bool:
+    """Whether the finding is proven where identify's masslines cannot show it: by the mesh (:func:`proven_by_mesh`)
+    or by the band's lines (a channel's factor of frequency, :mod:`.row_factors`: a delay's phase and a mount's
+    rise are taken up by each FRF's tails in identify's massline fit)."""
+    return proven_by_mesh(finding) or named(finding.effect).model == "row"
 
 
 def identify_options(findings: list) -> dict:

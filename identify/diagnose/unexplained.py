@@ -30,6 +30,7 @@ import numpy as np
 
 from massline.core.chi_square import chi2_isf
 from massline.identify.diagnose.finding import Finding
+from massline.identify.diagnose.signature import phrase
 from massline.identify.estimator import Estimate, estimate
 from massline.core.errors import MasslineError, solver_errors
 from massline.core.masslines import Masslines
@@ -45,6 +46,8 @@ SHAPES = {
     "spread": "no one channel or hit holds it (physics the rigid model leaves out: the support acting through "
     "the body's flexibility, elastic modes in the band, several faults at once)",
     "against_mesh": "the body identified is heavier than the mesh's in the pattern of a mass there",
+    "in_frequency": "its lines depart in frequency from the rigid motion the other channels see, which its "
+    "masslines do not show",
     "refused": "the channel farthest from the others' rigid motion (a flipped or swapped channel, or a band across a "
     "resonance)",
 }
@@ -218,10 +221,18 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
         if factors
         else "no effect of the library explains it, so none is named"
     )
+    shape = f"; its signature: {phrase(p['signature'])}" if "signature" in p else ""
+    if p["shape"] == "in_frequency":
+        return (
+            f"unexplained: sensor {sensors[finding.channels[0]]}: {SHAPES['in_frequency']} "
+            f"({np.sqrt(e['chi2_reduced']):.1f}× the noise on its lines){shape}; no effect of the library explains it, "
+            "so none is named"
+        )
     if p["shape"] == "off_axis":
         return (
             f"unexplained: identify reads sensor {sensors[finding.channels[0]]} along an axis {p['angle_deg']:.1f}° "
-            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}; {none}"
+            f"off its label, {np.sqrt(e['prior_chi2']):.1f}× the datasheet's cross-axis reading{unproven}{shape}; "
+            f"{none}"
         )
     if p["shape"] == "against_mesh":
         where = " and ".join(places) if places else ("the drive points" if p["excitation_side"] else "no one place")
@@ -234,8 +245,8 @@ def sentence(finding: Finding, sensors: list, hits: list) -> str:
         return f"unexplained: identify finds no rigid body that fits the masslines; {where}{unproven}; {none}"
     return (
         f"unexplained: with every named fault undone the rigid model still leaves {np.sqrt(e['chi2_reduced']):.1f}× "
-        f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}; "
-        f"{none}"
+        f"the noise in the masslines (reduced χ² {e['chi2_reduced']:.3g}); {where}{SHAPES[p['shape']]}{unproven}"
+        f"{shape}; {none}"
     )
 
 

@@ -12,11 +12,13 @@ import math
 
 from massline.core.errors import MasslineError, param
 from massline.identify.diagnose.effects.base import Block, Effect, Scene
+from massline.identify.diagnose.effects.channel_delay import ChannelDelay
 from massline.identify.diagnose.effects.channel_swap import ChannelSwap
 from massline.identify.diagnose.effects.excitation_direction import ExcitationDirection
 from massline.identify.diagnose.effects.excitation_location import ExcitationLocation
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
 from massline.identify.diagnose.effects.mains_interference import MainsInterference
+from massline.identify.diagnose.effects.mount_resonance import MountResonance
 from massline.identify.diagnose.effects.residual_flexibility import ResidualFlexibility
 from massline.identify.diagnose.effects.sensor_direction import SensorDirection
 from massline.identify.diagnose.effects.sensor_gain import SensorGain
@@ -34,6 +36,8 @@ EFFECTS: tuple[type[Effect], ...] = (
     SensorLocation,
     SensorMassLoading,
     ChannelSwap,
+    ChannelDelay,
+    MountResonance,
     ExcitationDirection,
     ExcitationLocation,
     ExcitationMassLoading,
@@ -62,7 +66,7 @@ def simulated() -> tuple[type[Effect], ...]:
 
 
 def modelled(model: str) -> tuple[type[Effect], ...]:
-    """The effects the diagnosis models as ``model`` ("block", "discrete", "tail", "mass", "gauge")."""
+    """The effects the diagnosis models as ``model`` ("block", "discrete", "tail", "mass", "gauge", "lines", "row")."""
     return tuple(cls for cls in EFFECTS if cls.model == model)
 
 

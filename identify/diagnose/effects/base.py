@@ -176,6 +176,12 @@ class Effect:
         return frf, sensors, exciters
 
     @classmethod
+    def correct_lines(cls, frequencies: np.ndarray, frf: np.ndarray, finding) -> np.ndarray:
+        """The FRFs (n_s, n_e, n_f) with what the finding does in frequency undone at ``frequencies`` (Hz): unchanged
+        unless the effect acts line by line (:class:`RowEffect`)."""
+        return frf
+
+    @classmethod
     def option_value(cls, finding) -> float:
         """What identify is given (``identify_option``) to undo the finding (an effect undone by identify)."""
         raise NotImplementedError(f"{cls.name} is not undone by identify")
@@ -243,6 +249,59 @@ class TailEffect(Effect):
     def tail_evidence(cls, reduced) -> dict:
         """What the evidence adds about the tail's form (nothing by default)."""
         return {}
+
+
+class RowEffect(Effect):
+    """A sensor's chain reading its row through a factor of frequency F(f; p), the same on every FRF of the channel
+    (a front end's delay, a mount's resonance). Its masslines barely show it (F → 1 as f → 0, and each FRF's tails
+    take up a smooth rise), so the diagnosis fits p on the band's lines of the row, jointly with the rigid motion at
+    every line (:mod:`massline.identify.diagnose.row_factors`); undone by dividing the row by F."""
+
+    model: ClassVar[str | None] = "row"
+    parameter: ClassVar[str] = ""  # the parameters' key of p (SI), its 1-σ under ``parameter + "_std"``
+    signature: ClassVar[str] = ""  # what its factor looks like in frequency (:mod:`..signature`)
+
+    @classmethod
+    def factor(cls, frequencies: np.ndarray, value: float) -> np.ndarray:
+        """F(f; p) at ``frequencies`` (Hz): what the channel reads per unit of what its point does."""
+        raise NotImplementedError
+
+    @classmethod
+    def search_range(cls, top: float) -> tuple[float, float, bool]:
+        """(low, high, logarithmic) of p searched on a band whose top line is ``top`` Hz."""
+        raise NotImplementedError
+
+    def simulate(self, state, lines, targets, rng):
+        for t in targets:
+            state.add_response(t, lambda f, value=self.size: type(self).factor(f, value))
+        return {}
+
+    @classmethod
+    def value_of(cls, finding) -> float:
+        """p of a finding."""
+        return float(finding.parameters[cls.parameter])
+
+    @classmethod
+    def row_parameters(cls, value: float, sigma: float) -> dict:
+        """The finding's parameters: p and its 1-σ."""
+        return {cls.parameter: float(value), f"{cls.parameter}_std": float(sigma)}
+
+    @classmethod
+    def lines_fit(cls, finding) -> str:
+        """The channel's misfit on the band's lines before and after, in the noise's units (√ of its row's reduced χ²
+        against the others' rigid motion)."""
+        fit = finding.evidence.get("row_chi2_reduced")
+        if not fit or not np.isfinite([fit["before"], fit["after"]]).all():
+            return ""
+        before, after = np.sqrt(fit["before"]), np.sqrt(fit["after"])
+        return f"; its lines {before:.2f}× → {after:.2f}× the noise off the others' rigid motion"
+
+    @classmethod
+    def correct_lines(cls, frequencies, frf, finding):
+        """The channel's FRFs ÷ F(f; p)."""
+        channels = list(finding.channels)
+        frf[channels] = frf[channels] / cls.factor(frequencies, cls.value_of(finding))
+        return frf
 
 
 def accelerometers(lines: Lines, targets: list[int]) -> list[tuple[int, list[int]]]:
