@@ -21,6 +21,7 @@ from massline.identify.recording_noise import (
 )
 from massline.identify.tails import BandData
 from massline.identify.warning_codes import codes_of
+from massline.reports.identification_report import noise_note
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.uff.reader import read_uff
 from massline.virtual.acquisition import Acquisition, run
@@ -101,6 +102,8 @@ def test_identify_states_the_noise_and_a_clean_fit_sits_at_it(clean):
     assert noise["method"] == "coherence" and noise["relative"] == pytest.approx(NOISE, rel=0.03)
     assert 0.9 < noise["fit_over_noise"] < 1.1
     assert not {"fit_below_noise", "noise_above_coherence"} & codes_of(found.warnings)
+    said = f"noise: {100 * noise['relative']:.2f} % of the FRFs over the band (RMS, from the coherence)"
+    assert said in noise_note(found)  # the identification report's band note
 
 
 def test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned(clean):
