@@ -173,11 +173,11 @@ class Identification:
     @property
     def noise_payload(self) -> dict | None:
         """The recording's noise over the band (relative RMS, how it was found, the line differences' check) and
-        the band fits' relative RMS residual against it (None: not measured)."""
+        the band fits' relative RMS residual against it (NaN on a noiseless recording; None: not measured)."""
         if self.noise is None:
             return None
-        residual = band_residual(self.fit, self.noise)
-        return {**self.noise.payload, "fit": residual, "fit_over_noise": residual / self.noise.relative()}
+        residual, level = band_residual(self.fit, self.noise), self.noise.relative()
+        return {**self.noise.payload, "fit": residual, "fit_over_noise": residual / level if level > 0 else np.nan}
 
     @property
     def payload(self) -> dict:

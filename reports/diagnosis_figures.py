@@ -26,6 +26,7 @@ def diagnosis_figure(
     ``grid`` the maps above the curves, a page wide."""
     band = result.band
     own = np.sqrt(2 * noise.lines * noise.sigma**2 / band.energy)  # each FRF's own noise, relative
+    own = np.maximum(own, 1e-12)  # a noiseless recording's: the residuals at the numbers' precision
     maps = [np.sqrt(fit.rss / band.energy) / own for fit in (result.before, result.after)]
     panels = 3 if off_rigid is None else 4
     if grid:

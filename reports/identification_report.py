@@ -240,9 +240,11 @@ def noise_note(found: Identification) -> str:
     noise = found.noise_payload
     if noise is None:
         return ""
+    ratio = noise["fit_over_noise"]
+    left = f"; the band fits leave {ratio:.2f}× it" if np.isfinite(ratio) else ""
     return (
         f" The recording's noise: {100 * noise['relative']:.2f} % of the FRFs over the band (RMS, from the "
-        f"{escape(noise['method'])}); the band fits leave {noise['fit_over_noise']:.2f}× it."
+        f"{escape(noise['method'])}){left}."
     )
 
 
