@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from conftest import FIXTURE_UFF, bundled
 
+from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.identify.recording_noise import (
     above_coherence,
@@ -104,6 +105,19 @@ def test_identify_states_the_noise_and_a_clean_fit_sits_at_it(clean):
     assert not {"fit_below_noise", "noise_above_coherence"} & codes_of(found.warnings)
     said = f"noise: {100 * noise['relative']:.2f} % of the FRFs over the band (RMS, from the coherence)"
     assert said in noise_note(found)  # the identification report's band note
+
+
+def test_the_diagnosis_measures_a_delayed_pair_of_channels_against_the_recordings_noise(clean):
+    """Two channels 120 µs late: the diagnosis's noise is the recording's 1 %, and its fit after the tails is
+    reported above it, where the old yardstick (the band fits' residual) put that fit inside the noise."""
+    recording, _ = clean
+    moved = delayed(recording)
+    found = diagnose_recording(moved)
+    after, noise = found.result.relative_rms("after"), found.result.noise
+    assert found.document["fit"]["noise_method"] == "coherence" and noise == pytest.approx(NOISE, rel=0.03)
+    assert after > 1.1 * noise
+    band = (found.band.low, found.band.high)
+    assert residual_noise(moved, band) > after  # the old yardstick: "within the noise"
 
 
 def test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned(clean):
