@@ -25,6 +25,7 @@ from massline.identify.warning_codes import codes_of
 from massline.reports.identification_report import noise_note
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
 from massline.uff.reader import read_uff
+from massline.uff.writer import write_uff
 from massline.virtual.acquisition import Acquisition, run
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension
@@ -118,6 +119,17 @@ def test_the_diagnosis_measures_a_delayed_pair_of_channels_against_the_recording
     assert after > 1.1 * noise
     band = (found.band.low, found.band.high)
     assert residual_noise(moved, band) > after  # the old yardstick: "within the noise"
+
+
+def test_a_file_without_coherence_records_takes_the_line_differences(clean, tmp_path):
+    recording, _ = clean
+    path = tmp_path / "bare.uff"
+    write_uff(path, replace(recording, coherence=None))
+    found = identify_recording(path, draws=0)
+    assert found.recording.coherence is None
+    noise = found.payload["noise"]
+    assert noise["method"] == "line differences" and noise["relative"] == pytest.approx(NOISE, rel=0.05)
+    assert 0.9 < noise["fit_over_noise"] < 1.1
 
 
 def test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned(clean):
