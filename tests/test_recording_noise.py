@@ -14,16 +14,11 @@ from conftest import FIXTURE_UFF, bundled
 
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
-from massline.identify.recording_noise import (
-    above_coherence,
-    below_noise,
-    recording_noise,
-    stated_averages,
-)
+from massline.identify.recording_noise import above_coherence, below_noise, recording_noise, stated_averages
 from massline.identify.tails import BandData
 from massline.identify.warning_codes import codes_of
-from massline.reports.identification_report import noise_note
 from massline.placement.hand_layouts import structure_exciters, structure_sensors
+from massline.reports.identification_report import noise_note
 from massline.uff.reader import read_uff
 from massline.uff.writer import write_uff
 from massline.virtual.acquisition import Acquisition, run
