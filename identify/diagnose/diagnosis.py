@@ -70,7 +70,8 @@ class Diagnosis:
     ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
     shown); ``estimates`` the same two models on the estimation band with identify's per-FRF tails.
     ``fixes`` are the discrete corrections applied to the recording: (effect name, channels), e.g. a
-    flipped polarity or a swap.
+    flipped polarity or a swap. ``noise`` is the recording's relative RMS noise over the band
+    (:mod:`massline.identify.recording_noise`), what both fits are measured against.
     """
 
     findings: list
