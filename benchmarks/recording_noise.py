@@ -1,6 +1,7 @@
 """The recording's noise against the simulated noise, and every fit against that noise: docs/identifying.md's table.
 
-    python benchmarks/recording_noise.py [--bodies plate,bracket,structure] [--seeds 3] [--no-diagnose] [--jobs 2]
+    python benchmarks/recording_noise.py [--bodies plate,bracket,structure] [--seeds 3] [--effects A,B]
+        [--no-diagnose] [--jobs 2] [--out DIR]
 
 Each case is what a user runs: ``massline plan BODY`` (the default plan), ``massline simulate`` with 1 % noise
 (the lab's file: 0 Hz line, coherence, the plan's cord) clean or with one effect of the registry concealed at a
@@ -92,10 +93,14 @@ def main() -> None:
     parser.add_argument("--bodies", default="plate,bracket,structure")
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--no-diagnose", action="store_true", help="identify only (no diagnosis's fit)")
+    parser.add_argument("--effects", default=None, help="the effects to conceal, comma-separated (default: clean and "
+                        "every one simulate conceals; 'clean' for none)")  # fmt: skip
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None, help="keep the plans and files here")
     args = parser.parse_args()
-    effects = [None] + [cls.name for cls in simulated()]
+    every = [None] + [cls.name for cls in simulated()]
+    chosen = None if args.effects is None else args.effects.split(",")
+    effects = [e for e in every if chosen is None or (e or "clean") in chosen]
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.out or Path(scratch)
         folder.mkdir(parents=True, exist_ok=True)

@@ -30,7 +30,7 @@ so is a fit that leaves less than the noise, :func:`below_noise`).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -87,6 +87,12 @@ class RecordingNoise:
         power = np.sum((self.lines * self.mean_square)[ok])
         return float(np.sqrt(np.sum((2 * self.lines * sigma**2)[ok]) / power)) if power > 0 else float("nan")
 
+    def on(self, frequencies: np.ndarray, frf: np.ndarray, low: float, high: float) -> RecordingNoise:
+        """The same noise relative to other FRFs (n_s, n_e, n_f) over the band [low, high] Hz: those a fit sees
+        when the recording was moved first (a force gauge's riding mass taken off each column)."""
+        lines, mean_square = band_power(frequencies, frf, low, high)
+        return replace(self, lines=lines, mean_square=mean_square)
+
     @property
     def coherence_relative(self) -> float | None:
         """The relative noise the coherence gives, over the FRFs that use it (None: none does)."""
@@ -102,6 +108,14 @@ class RecordingNoise:
             "method": self.method,
             "line_differences": self.relative(self.differences),
         }
+
+
+def band_power(frequencies: np.ndarray, frf: np.ndarray, low: float, high: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each FRF's lines in the band [low, high] Hz and its mean |H|² over them, ((m/s²)/N)² (0 where it has none)."""
+    H = frf[:, :, band_lines(frequencies, low, high)]
+    has = np.isfinite(H)
+    lines = np.count_nonzero(has, axis=2)
+    return lines, np.sum(np.abs(np.where(has, H, 0)) ** 2, axis=2) / np.maximum(lines, 1)
 
 
 def stated_averages(header: str) -> int:
@@ -182,9 +196,7 @@ def recording_noise(
         gamma2 = coherence[:, :, keep].reshape(flat.shape)
         told = np.array([coherence_sigma(h, g, averages) for h, g in zip(flat, gamma2)]).reshape(H.shape[:2])
     from_coherence = np.isfinite(told) & np.isfinite(differences)
-    has = np.isfinite(H)
-    lines = np.count_nonzero(has, axis=2)
-    mean_square = np.sum(np.where(has, np.abs(np.where(has, H, 0)) ** 2, 0.0), axis=2) / np.maximum(lines, 1)
+    lines, mean_square = band_power(frequencies, frf, low, high)
     return RecordingNoise(
         sigma=np.where(from_coherence, told, differences),
         differences=differences,

@@ -140,6 +140,16 @@ def test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned(c
     assert below_noise(quiet, 0.0, "the fit") == [] and above_coherence(quiet) == []
 
 
+def test_the_noise_is_stated_relative_to_the_frfs_a_fit_sees(clean):
+    """Measured on the recording as it came, stated against FRFs moved first (a gauge's mass taken off each
+    column): twice the FRFs, half the relative noise."""
+    recording, band = clean
+    noise = recording_noise(recording.frequencies, recording.frf, recording.coherence, *band)
+    moved = noise.on(recording.frequencies, 2 * recording.frf, *band)
+    assert moved.relative() == pytest.approx(noise.relative() / 2, rel=1e-12)
+    np.testing.assert_array_equal(moved.sigma, noise.sigma)
+
+
 def test_the_coherences_averages_scale_its_noise_as_the_header_states_them(clean):
     recording, band = clean
     one = recording_noise(recording.frequencies, recording.frf, recording.coherence, *band)

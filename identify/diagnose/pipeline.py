@@ -303,8 +303,9 @@ def diagnose_recording(
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
-    averages = stated_averages(recording.description)
+    averages = stated_averages(recording.description)  # measured as recorded, relative to the FRFs searched
     noise = recording_noise(f, cleaned.frf, cleaned.coherence, used.low, used.high, averages)
+    noise = noise.on(f, searched.frf, used.low, used.high)
     result = diagnose(data, layout, transverse, wide, record, noise.relative())
     found = ([] if gauge is None else [gauge.finding()]) + result.findings
     found, set_aside = where_the_misfit_is(found, None if before is None else unexplained(before))
