@@ -18,6 +18,7 @@ from massline.core.lines import Lines
 from massline.core.masslines import Masslines
 from massline.identify.band_choice import choose_band
 from massline.identify.massline_fit import BandFit, fit_band
+from massline.identify.recording_noise import RecordingNoise, recording_noise, stated_averages
 from massline.identify.resonances import bounding_modes
 from massline.identify.uncertainty import seen_truncation
 from massline.identify.zones import given_band
@@ -55,6 +56,14 @@ def recording_band(recording: Recording, band, planar: bool) -> tuple[Band, Band
     return chosen, replace(chosen, suspension_top=suspension_top, first_elastic=first_elastic)
 
 
+def band_residual(fit: BandFit, noise: RecordingNoise) -> float:
+    """The band fits' RMS residual relative to the FRFs over the band, √(Σ_ij Σ_lines |r|² / Σ_ij Σ_lines |H|²)
+    (``fit.quality`` is each FRF's per real part, relative to |A|): comparable with ``noise.relative()``."""
+    squares = 2 * noise.lines * (fit.quality * fit.values) ** 2
+    ok = np.isfinite(squares)
+    return float(np.sqrt(np.sum(squares[ok]) / np.sum((noise.lines * noise.mean_square)[ok])))
+
+
 @dataclass(frozen=True, eq=False)
 class BandMasslines:
     """Each FRF's band fit, and the masslines and 1-σ the estimator takes from it.
@@ -67,12 +76,16 @@ class BandMasslines:
         The same with each tail's next term, B₂/ω⁴ and D₂ω⁶, fitted too.
     sensors, exciters : Lines
         The recording's sensor and exciter lines (rows and columns).
+    noise : RecordingNoise
+        Each FRF's noise over the band, from the recording alone (:mod:`.recording_noise`): what the fit is
+        measured against.
     """
 
     fit: BandFit
     richer: BandFit
     sensors: Lines
     exciters: Lines
+    noise: RecordingNoise
 
     @classmethod
     def of(cls, recording: Recording, band: Band) -> BandMasslines:
@@ -80,7 +93,14 @@ class BandMasslines:
         f, frf, weights = recording.frequencies, recording.frf, coherence_weights(recording.coherence)
         fit = fit_band(f, frf, band.low, band.high, weights)
         richer = fit_band(f, frf, band.low, band.high, weights, richer=True)
-        return cls(fit, richer, recording.sensors, recording.exciters)
+        averages = stated_averages(recording.description)
+        noise = recording_noise(f, frf, recording.coherence, band.low, band.high, averages)
+        return cls(fit, richer, recording.sensors, recording.exciters, noise)
+
+    @property
+    def residual(self) -> float:
+        """The band fits' relative RMS residual (:func:`band_residual`)."""
+        return band_residual(self.fit, self.noise)
 
     @cached_property
     def present(self) -> np.ndarray:

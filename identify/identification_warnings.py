@@ -1,6 +1,6 @@
 """The warnings an identification carries, in the order identify lists them: what the fit, the scale, the
-band, the coherence, the tails' truncation, the recording itself, the density, the missing pairs and the
-repeated runs say against its result (:mod:`.suspicions` and the modules beside it).
+band, the coherence, the tails' truncation, the recording itself, the density, the missing pairs, the
+repeated runs and the recording's noise say against its result (:mod:`.suspicions` and the modules beside it).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from massline.identify.band_masslines import BandMasslines
 from massline.identify.estimator import Estimate
 from massline.identify.missing_pairs import missing_warnings
 from massline.identify.plausibility import units_warnings
+from massline.identify.recording_noise import above_coherence, below_noise
 from massline.identify.repeats import repeat_warnings
 from massline.identify.sensor_mass import Housings
 from massline.identify.suspicions import (
@@ -88,4 +89,6 @@ def identification_warnings(
         + units_warnings(tested, points, best.model.planar)
         + missing_warnings(absent(recording, present), present.size)
         + repeat_warnings(recording, used.low, used.high, repeated)
+        + below_noise(masslines.noise, masslines.residual, "identify's band fit")
+        + above_coherence(masslines.noise)
     )

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.identify.band_masslines import BandMasslines, recording_band
+from massline.identify.band_masslines import BandMasslines, band_residual, recording_band
 from massline.identify.estimator import TRANSVERSE, Estimate, estimate
 from massline.identify.exciter_mass import riding_masses
 from massline.identify.identification_warnings import absent, identification_warnings
@@ -19,6 +19,7 @@ from massline.identify.mains import MainsLines, find_mains
 from massline.identify.missing_pairs import check_determined, incomplete, unmeasured_notes
 from massline.identify.massline_fit import BandFit
 from massline.identify.plausibility import DENSITY_CODES, nominal_warnings
+from massline.identify.recording_noise import RecordingNoise
 from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
@@ -143,7 +144,9 @@ class Identification:
     (the same as ``body`` / ``std`` without housings). ``weighed`` is the scale's reading of the bare body, when
     given. ``recording`` is the one identified: the file's without its lines at or below 0 Hz and the lines of
     any mains interference (``mains``); ``notes`` say what was set aside. ``exciter_mass`` is the force gauges'
-    structure-side mass (kg) each column was fitted with (0: a hammer), never part of ``body``.
+    structure-side mass (kg) each column was fitted with (0: a hammer), never part of ``body``. ``noise`` is each
+    FRF's noise over the band as the recording shows it (:mod:`.recording_noise`), the one every fit is measured
+    against.
     """
 
     recording: Recording
@@ -165,6 +168,16 @@ class Identification:
     exciter_mass: float = 0.0
     mains: MainsLines | None = None
     support_fit: SupportFit | None = None
+    noise: RecordingNoise | None = None
+
+    @property
+    def noise_payload(self) -> dict | None:
+        """The recording's noise over the band (relative RMS, how it was found, the line differences' check) and
+        the band fits' relative RMS residual against it (NaN on a noiseless recording; None: not measured)."""
+        if self.noise is None:
+            return None
+        residual, level = band_residual(self.fit, self.noise), self.noise.relative()
+        return {**self.noise.payload, "fit": residual, "fit_over_noise": residual / level if level > 0 else np.nan}
 
     @property
     def payload(self) -> dict:
@@ -181,6 +194,7 @@ class Identification:
         found["runs"] = list(self.recording.runs)  # the files merged, one per run (empty: one file)
         found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["support_model"] = None if self.support_fit is None else self.support_fit.payload
+        found["noise"] = self.noise_payload
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
@@ -293,7 +307,7 @@ def identify_recording(
         recording=recording, band=used, fit=fitted.fit, data=fitted.data, sigma=fitted.sigma, planar=planar, best=best,
         std=spread.bare, body=housings.removed_from(tested, planar), method=method, notes=notes + aside,
         warnings=warnings, housings=housings, tested=tested, tested_std=spread.tested, weighed=weighed,
-        exciter_mass=exciter_mass, mains=mains,
+        exciter_mass=exciter_mass, mains=mains, noise=fitted.noise,
     )  # fmt: skip
 
 

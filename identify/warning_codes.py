@@ -41,6 +41,9 @@ CODES = {
     "frf_missing": "response-reference pairs without an FRF (or lines in the band), or geometry nodes without any: "
     "estimated from those present",
     "repeat_disagrees": "a pair measured in several runs differs between them beyond their noise",
+    "fit_below_noise": "a fit's RMS residual is well below the recording's noise (tails that absorb a departure, or "
+    "a mis-stated noise)",
+    "noise_above_coherence": "the FRFs scatter from line to line far more than their coherence says",
 }
 
 

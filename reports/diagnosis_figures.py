@@ -6,20 +6,28 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from massline.identify.diagnose.diagnosis import Diagnosis
+from massline.identify.recording_noise import RecordingNoise
 from massline.identify.tails import BandData, tail_columns
 from massline.reports.figures import png_bytes
 
 
 def diagnosis_figure(
-    result: Diagnosis, recorded: BandData, sensors: list[str], hits: list[str], off_rigid=None, grid: bool = False
+    result: Diagnosis,
+    recorded: BandData,
+    noise: RecordingNoise,
+    sensors: list[str],
+    hits: list[str],
+    off_rigid=None,
+    grid: bool = False,
 ) -> bytes:
-    """PNG bytes: per-FRF relative RMS residual (in noise units) before and after, the worst FRF as recorded
-    (and as corrected for flips and swaps) with both models, and (``off_rigid``, (n_s, n_f)) how far each
-    recorded channel sits from the rigid motions over the band. The panels stand in a row, or with ``grid``
-    the maps above the curves, a page wide."""
+    """PNG bytes: per-FRF relative RMS residual (in units of its ``noise``, the recording's) before and after, the
+    worst FRF as recorded (and as corrected for flips and swaps) with both models, and (``off_rigid``, (n_s, n_f))
+    how far each recorded channel sits from the rigid motions over the band. The panels stand in a row, or with
+    ``grid`` the maps above the curves, a page wide."""
     band = result.band
-    noise = np.sqrt(band.values.shape[2] * band.noise**2 / band.energy)  # each FRF's own noise, relative
-    maps = [np.sqrt(fit.rss / band.energy) / noise for fit in (result.before, result.after)]
+    own = np.sqrt(2 * noise.lines * noise.sigma**2 / band.energy)  # each FRF's own noise, relative
+    own = np.maximum(own, 1e-12)  # a noiseless recording's: the residuals at the numbers' precision
+    maps = [np.sqrt(fit.rss / band.energy) / own for fit in (result.before, result.after)]
     panels = 3 if off_rigid is None else 4
     if grid:
         fig = Figure(figsize=(8.6, 0.2 * len(sensors) + 5.5))

@@ -36,7 +36,7 @@ def _flagged(findings) -> tuple[set, set]:
 
 def channel_table(run: DiagnosisRun) -> str:
     """Per channel: relative RMS residual before and after, also in units of the noise; the ones a finding names."""
-    result, noise = run.result, run.noise
+    result, noise = run.result, run.result.noise
     before, after = result.relative_rms("before", axis=1), result.relative_rms("after", axis=1)
     named, _ = _flagged(run.findings)
     rows = [
@@ -92,7 +92,7 @@ def caveats(run: DiagnosisRun) -> str:
 
 def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -> Report:
     """The diagnosis report of ``run`` (``massline diagnose --report``), against ``mesh`` when given."""
-    result, recording, noise = run.result, run.recording, run.noise
+    result, recording, noise = run.result, run.recording, run.result.noise
     nominal = None if mesh is None else mesh.nominal
     sensors, hits = run.sensors, run.hits
     before, after = result.relative_rms("before"), result.relative_rms("after")
@@ -115,7 +115,7 @@ def diagnose_report(run: DiagnosisRun, uff_path, mesh: BodyMesh | None = None) -
         scene, renderings, views = body_views(mesh, recording, sensors, hits, body, run.planar, flagged)
         views = legend(scene, "corrected") + views + axes_table(body, std, nominal, run.planar)
     off_rigid = run.off_rigid()
-    maps = diagnosis_figure(result, run.data, sensors, hits, off_rigid, grid=True)
+    maps = diagnosis_figure(result, run.data, run.noise, sensors, hits, off_rigid, grid=True)
     maps_caption = (
         "Top: each FRF's RMS residual over the band in units of its own noise, before and after the diagnosis. "
         "Bottom: the worst FRF before, as recorded, with both models (massline and tails as fitted)"

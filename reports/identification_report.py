@@ -200,7 +200,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + "). Every FRF is fitted there with A + B/ω² + Cω² + Dω⁴ so that the suspension and "
         f"residual-flexibility tails do not bias its massline A. Band fits: median RMS residual "
         f"{100 * np.nanmedian(fit.quality):.2f} % of the massline, worst {100 * np.nanmax(fit.quality):.2f} %; a "
-        f"plain average over the band would be off by up to {100 * np.nanmax(fit.bias):.1f} %."
+        f"plain average over the band would be off by up to {100 * np.nanmax(fit.bias):.1f} %." + noise_note(found)
     )
     method = "weighted estimate over all masslines, physically consistent" if found.method == "best" else found.method
     fit_note = (
@@ -233,6 +233,19 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + "</section>",
     ]
     return Report(page(f"Identification: {Path(uff_path).name}", parts), renderings)
+
+
+def noise_note(found: Identification) -> str:
+    """' The recording's noise: 1.00 % of the FRFs (RMS, from the coherence); the band fits leave 1.00× it.'"""
+    noise = found.noise_payload
+    if noise is None:
+        return ""
+    ratio = noise["fit_over_noise"]
+    left = f"; the band fits leave {ratio:.2f}× it" if np.isfinite(ratio) else ""
+    return (
+        f" The recording's noise: {100 * noise['relative']:.2f} % of the FRFs over the band (RMS, from the "
+        f"{escape(noise['method'])}){left}."
+    )
 
 
 def resonances_note(band) -> str:

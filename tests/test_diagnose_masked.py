@@ -35,7 +35,7 @@ def test_a_clean_test_with_frfs_missing_names_no_fault(structure, pairs, every_o
     assert [f.effect for f in found.findings if f.kind == "fault"] == []
     assert to_json(found.document["properties"]["before"]) == to_json(identify_recording(rec).payload)
     assert not beyond_chance(found.chi2["before"], found.chi2["dof"])
-    assert found.result.relative_rms("after") < 1.1 * found.noise
+    assert found.result.relative_rms("after") < 1.1 * found.result.noise
     assert found.mass == pytest.approx(structure.mass, rel=3e-3)
 
 

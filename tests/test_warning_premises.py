@@ -21,6 +21,7 @@ import pytest
 from conftest import bundled
 from scipy.stats import chi2 as chi2_distribution
 from test_cli import massline
+import test_recording_noise as noise_tests
 
 from massline.core.band import Band
 from massline.core.lines import Lines
@@ -416,6 +417,8 @@ PREMISES = {  # each code, and the test above that checks it silent on a false p
     "repeat_disagrees": test_missing_pairs_and_disagreeing_repeats_are_said_only_when_there_are_some,
     "support_modelled": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves,
     "support_model_reliance": test_the_support_model_is_said_where_it_was_taken_off_and_relied_on_where_it_moves,
+    "fit_below_noise": noise_tests.test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned,
+    "noise_above_coherence": noise_tests.test_a_fit_below_the_noise_and_noise_the_coherence_does_not_see_are_warned,
 }
 
 

@@ -145,8 +145,9 @@ def run(
     masslines = synthesise(model.loaded, sensors, exciters).values
     frequencies, frf, coherence = measure(model, inst, setup, (body.mass, masslines), rng)
     windowed = setup.impact is not None  # an impact test's exponential window, as its file's 1858 says
+    averaged = f", H1 of {setup.impact.averages} averages" if windowed else ""  # what the header says of the hits
     recording = Recording(
-        frequencies, frf, sensors, exciters, coherence, "massline virtual test", exponential_window=windowed
+        frequencies, frf, sensors, exciters, coherence, "massline virtual test" + averaged, exponential_window=windowed
     )
     truth = {
         "seed": seed,

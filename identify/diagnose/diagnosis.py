@@ -45,6 +45,7 @@ from massline.identify.diagnose.screens import (
     with_gaps,
 )
 from massline.identify.estimator import TRANSVERSE, estimate
+from massline.identify.recording_noise import recording_noise
 from massline.identify.resonances import support_and_elastic
 from massline.identify.tails import TAIL_LAWS, BandData
 from massline.core.band import Band
@@ -69,7 +70,8 @@ class Diagnosis:
     ``before`` and ``after`` are the nominal and the final model on the diagnosis band (the fit
     shown); ``estimates`` the same two models on the estimation band with identify's per-FRF tails.
     ``fixes`` are the discrete corrections applied to the recording: (effect name, channels), e.g. a
-    flipped polarity or a swap.
+    flipped polarity or a swap. ``noise`` is the recording's relative RMS noise over the band
+    (:mod:`massline.identify.recording_noise`), what both fits are measured against.
     """
 
     findings: list
@@ -87,11 +89,11 @@ class Diagnosis:
         return np.sqrt(np.sum(result.rss, axis=axis) / np.sum(energy, axis=axis))
 
 
-def relative_noise(band: BandData) -> float:
-    """The noise level as a relative RMS over the band: √(Σ 2n_ij σ_ij² / Σ |H|²) over the FRFs with a massline
-    (n_ij: each one's lines)."""
-    lines = np.count_nonzero(band.lines, axis=2)
-    return float(np.sqrt(np.sum(lines * np.where(band.present, band.noise, 0.0) ** 2) / np.sum(band.energy)))
+def band_noise(band: BandData) -> float:
+    """The band's noise as a relative RMS from its FRFs' line differences alone (:mod:`.recording_noise`): the
+    recording's noise where no coherence comes with the band."""
+    f = band.frequencies
+    return recording_noise(f, band.frf, None, f[0], f[-1]).relative()
 
 
 def rigid_tail(laws) -> bool:
@@ -360,14 +362,17 @@ def diagnose(
     transverse: float = TRANSVERSE,
     estimation: BandData | None = None,
     record: BandData | None = None,
+    noise: float | None = None,
 ) -> Diagnosis:
     """The whole procedure on the band's FRFs.
 
     ``estimation``: the band identify uses; when it holds the diagnosis band, the final model is refitted
     there with identify's per-FRF tails (more lines, every small tail modelled). ``record``: every line of the
-    recording, where the test physics' frequencies are read (:func:`test_physics_modes`).
+    recording, where the test physics' frequencies are read (:func:`test_physics_modes`). ``noise``: the
+    recording's relative RMS noise over the band (:mod:`massline.identify.recording_noise`), what every fit is
+    measured against (None: from the band's line differences, :func:`band_noise`).
     """
-    noise = relative_noise(band)
+    noise = band_noise(band) if noise is None else noise
     before = base_fit(band, layout, frozenset(), transverse)
     discrete = discrete_stage(before, band)
     fixed, start, findings = discrete.band, discrete.fit, list(discrete.findings)

@@ -35,8 +35,11 @@ def finding_note(finding: Finding, sensors: list, hits: list) -> str:
 def fit_sentence(chi2: dict, before: float, after: float, noise: float) -> str:
     """The fit before and after as one sentence: identify's reduced χ² of the masslines (``chi2``: the run's
     ``chi2``; the one χ² of identify, diagnose and the reports) and every line's relative RMS residual ``before``
-    and ``after`` in the ``noise``."""
-    lines = f"every line's RMS residual {before / noise:.2f}× → {after / noise:.2f}× the noise of {noise:.2%}"
+    and ``after`` in the ``noise`` (the recording's; a noiseless recording's residuals are given as they are)."""
+    if noise > 0:
+        lines = f"every line's RMS residual {before / noise:.2f}× → {after / noise:.2f}× the noise of {noise:.2%}"
+    else:
+        lines = f"every line's RMS residual {before:.2%} → {after:.2%} of the FRFs, on a noiseless recording"
     if chi2["before"] is None:
         return f"fit: {lines}"
     return (

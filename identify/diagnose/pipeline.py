@@ -19,7 +19,7 @@ import numpy as np
 
 from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
-from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, relative_noise, roomy
+from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import held
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
@@ -49,6 +49,7 @@ from massline.identify.pipeline import (
 )
 from massline.identify.missing_lines import mean_present
 from massline.identify.missing_pairs import unmeasured_notes
+from massline.identify.recording_noise import RecordingNoise, below_noise, recording_noise, stated_averages
 from massline.identify.tails import BandData
 from massline.identify.warning_codes import CodedWarning
 from massline.core.band import Band
@@ -80,8 +81,9 @@ class DiagnosisRun:
     planar : bool
     sensors, hits : list of Channel (or Numbered)
         The channels as the file labels them ('12:+Y'; 'sensor 3' without labels), as the findings name them.
-    noise : float
-        Relative RMS noise of the FRFs over the band.
+    noise : RecordingNoise
+        Each FRF's noise over the diagnosis band as the recording shows it (its coherence, else its line
+        differences: :mod:`massline.identify.recording_noise`), what every fit is measured against.
     screens : dict
         The model-free screens.
     result : Diagnosis
@@ -93,8 +95,8 @@ class DiagnosisRun:
         identify.
     loading : MassLoading or None
     notes : tuple of CodedWarning
-        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference), and why
-        identify refused the file.
+        What was set aside before the diagnosis (an exporter's 0 Hz line, the lines of mains interference), why
+        identify refused the file, and a diagnosis's fit that leaves less than the noise.
     """
 
     recording: Recording
@@ -105,7 +107,7 @@ class DiagnosisRun:
     planar: bool
     sensors: list
     hits: list
-    noise: float
+    noise: RecordingNoise
     screens: dict
     result: Diagnosis
     before: Identification | None
@@ -140,6 +142,7 @@ class DiagnosisRun:
                 "before": result.relative_rms("before"),
                 "after": result.relative_rms("after"),
                 "noise": result.noise,
+                "noise_method": self.noise.method,
                 "chi2_reduced": self.chi2,
             },
             "fit_per_channel": {
@@ -304,7 +307,10 @@ def diagnose_recording(
     wide = BandData.from_recording(f, searched.frf, estimation.low, estimation.high)
     screens = screen(data, layout)
     record = BandData.from_recording(f, searched.frf, f[0], f[-1])
-    result = diagnose(data, layout, transverse, wide, record)
+    averages = stated_averages(recording.description)  # measured as recorded, relative to the FRFs searched
+    noise = recording_noise(f, cleaned.frf, cleaned.coherence, used.low, used.high, averages)
+    noise = noise.on(f, searched.frf, used.low, used.high)
+    result = diagnose(data, layout, transverse, wide, record, noise.relative())
     found = ([] if gauge is None else [gauge.finding()]) + chains + result.findings
     found, set_aside = where_the_misfit_is(found, None if before is None else unexplained(before))
 
@@ -357,14 +363,14 @@ def diagnose_recording(
         planar=planar,
         sensors=recording.sensor_channels,
         hits=recording.exciter_channels,
-        noise=relative_noise(data),
+        noise=noise,
         screens=screens,
         result=result,
         before=before,
         after=after,
         findings=findings,
         loading=loading,
-        notes=notes + refused,
+        notes=notes + refused + tuple(below_noise(noise, result.relative_rms("after"), "the diagnosis's fit")),
     )
 
 

@@ -178,7 +178,7 @@ def summary(console, args, paths, nominal, truth, planned, identified, diagnosis
     )
     before, after = result.relative_rms("before"), result.relative_rms("after")
     console.print(
-        f"the concealed fault is {named}; {fit_sentence(diagnosis.chi2, before, after, diagnosis.noise)}"
+        f"the concealed fault is {named}; {fit_sentence(diagnosis.chi2, before, after, diagnosis.result.noise)}"
         + (f"; after: {_errors(diagnosis.after_body, nominal)}" if diagnosis.after_body is not None else "")
     )
     columns = [("identify", identified.body, identified.std)]

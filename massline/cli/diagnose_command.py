@@ -101,7 +101,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     with console.status("diagnosing: discrete faults, then the effect library one at a time"):
         known = {"sensor_mass": HousingMasses.parse(args.sensor_mass), "exciter_mass": args.exciter_mass}
         found = diagnose_recording(recording, args.band, nominal, args.transverse, **known, support=support)
-    zones, band, noise, result, sensors = found.band, found.data, found.noise, found.result, found.sensors
+    zones, band, noise, result, sensors = found.band, found.data, found.result.noise, found.result, found.sensors
     for note in found.notes:
         console.print(f"note: {note}")
     if recording.runs:
@@ -110,7 +110,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         console.print(f"runs: {', '.join(recording.runs)}{gaps}")
     console.print(
         f"band {zones.low:.1f}–{zones.high:.1f} Hz ({zones.rule}), {len(band.frequencies)} lines × "
-        f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS)"
+        f"{band.frf.shape[0]}×{band.frf.shape[1]} FRFs; noise {noise:.2%} of the FRFs (RMS, from the "
+        f"{found.noise.method})"
     )
     if not roomy(found.layout):
         console.print(
@@ -131,7 +132,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if args.plot:
         from massline.reports.diagnosis_figures import diagnosis_figure  # matplotlib: loaded when used
 
-        write_atomic(args.plot, diagnosis_figure(result, band, sensors, found.hits, found.off_rigid()), args.force)
+        figure = diagnosis_figure(result, band, found.noise, sensors, found.hits, found.off_rigid())
+        write_atomic(args.plot, figure, args.force)
         console.print(f"wrote {args.plot}")
     if args.json:
         write_json(console, args.json, found.document, args.force)

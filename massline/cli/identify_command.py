@@ -121,6 +121,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         f"{np.nanmedian(fit.quality):.2%} of the massline, worst {np.nanmax(fit.quality):.2%}; suspension and "
         f"residual-flexibility tails removed (a plain average would be off by up to {np.nanmax(fit.bias):.1%})"
     )
+    noise = found.noise_payload
+    ratio = noise["fit_over_noise"]
+    left = f"; the band fits leave {ratio:.2f}× it" if np.isfinite(ratio) else ""
+    console.print(f"noise {noise['relative']:.2%} of the FRFs over the band (RMS, from the {noise['method']}){left}")
     for line in mass_lines(found):
         console.print(line)
     body = "bare body, accelerometers off" if found.housings.count else "frame of the file"
