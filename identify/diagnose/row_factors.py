@@ -49,9 +49,11 @@ ALIKE = 0.9  # |cos| between two channels' residual directions beyond which a fa
 
 def line_noise(frf: np.ndarray) -> np.ndarray:
     """σ_ij (n_s, n_e): the noise of one real component of one line, from second differences along the lines,
-    E|Δ²n|² = 6 E|n|² for white noise, where a smooth trend (a tail, a delay, a mount) cancels."""
+    E|Δ²n|² = 6 E|n|² for white noise, where a smooth trend (a tail, a delay, a mount) cancels. Read from their
+    median (|Δ²n|² of complex normal noise is exponential: median = ln 2 × mean), so that the few lines a hum
+    leaves beside those set aside, or a resonance's, do not lift it."""
     second = frf[..., :-2] - 2 * frf[..., 1:-1] + frf[..., 2:]
-    return np.sqrt(np.mean(np.abs(second) ** 2, axis=-1) / 12)
+    return np.sqrt(np.median(np.abs(second) ** 2, axis=-1) / np.log(2) / 12)
 
 
 @dataclass(frozen=True, eq=False)
