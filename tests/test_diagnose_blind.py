@@ -122,7 +122,6 @@ def outcomes(tmp_path_factory):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="41 of 44 since the diagnosis measures against the recording's noise and reads rows in frequency: an excitation_direction (twice, once beside a suspension) and a sensor_mass_loading named as test physics only; issue on the diagnosis", strict=False)
 def test_the_right_faults_are_named_first_at_their_places(outcomes):
     faulty = [r["right"] for r in outcomes if r["injected"] != "none"]
     assert np.mean(faulty) >= 0.95, report(outcomes)

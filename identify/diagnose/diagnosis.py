@@ -96,6 +96,14 @@ def band_noise(band: BandData) -> float:
     return recording_noise(f, band.frf, None, f[0], f[-1]).relative()
 
 
+def weighted_noise(band: BandData) -> float:
+    """The noise in the units the fits' weights measure an effect in, as a relative RMS over the band: √(Σ 2n_ij
+    σ_ij² / Σ |H|²) of the lines' σ (``band.noise``, n_ij each FRF's lines). What an effect explains is counted in
+    those weights, so its materiality is judged on this scale; the noise stated is the recording's."""
+    lines = np.count_nonzero(band.lines, axis=2)
+    return float(np.sqrt(np.sum(lines * np.where(band.present, band.noise, 0.0) ** 2) / np.sum(band.energy)))
+
+
 def rigid_tail(laws) -> bool:
     """Whether one of the tail ``laws`` can be the rigid body's own, s_iᵀ X e_j (the support's)."""
     return any(named(law).rigid_tail for law in laws)
@@ -379,9 +387,10 @@ def diagnose(
     resonances = None
     if record is not None:
         resonances = test_physics_modes(corrected_band(record, discrete.fixes), estimation or band, layout)
-    result, laws, accepted = search(fixed, start, noise, shared=False)
+    weighted = weighted_noise(fixed)
+    result, laws, accepted = search(fixed, start, weighted, shared=False)
     if rigid_tail(laws):
-        rigid = search(fixed, start, noise, shared=True)
+        rigid = search(fixed, start, weighted, shared=True)
         result, laws, accepted = min((result, laws, accepted), rigid, key=lambda r: r[0].bic)
     findings += [accepted_finding(result, fixed, what, evidence, resonances) for what, evidence in accepted]
     estimates = (before, with_model_form(result, refit(result, fixed, "free", result.blocks)) if laws else result)
