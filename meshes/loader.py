@@ -12,12 +12,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from massline.core.errors import MasslineError, param
 from massline.core.rigid_body import RigidBody
+
+if TYPE_CHECKING:
+    import trimesh
 
 UNITS = {"m": 1.0, "mm": 1e-3, "in": 0.0254}
 PLAUSIBLE_SIZE_M = (0.01, 20.0)  # largest extent of a body one hangs on soft springs
@@ -88,6 +91,8 @@ def read_mesh(path: str | Path) -> trimesh.Trimesh:
         raise MasslineError(f"mesh file {path} does not exist: check the path")
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise MasslineError(f"{path.name}: unsupported mesh format {path.suffix!r}; use one of {sorted(MESH_SUFFIXES)}")
+    import trimesh  # here, not at the top: a command that reads no mesh does not pay its ~0.5 s of imports
+
     try:
         with np.errstate(all="ignore"):  # NaN vertices are refused below
             mesh = trimesh.load(path, force="mesh")
@@ -130,7 +135,9 @@ def encloses_a_solid(mesh: trimesh.Trimesh) -> bool:
     are positive definite. A surface that passes through itself counts some regions negatively and
     can break either.
     """
-    props = trimesh.triangles.mass_properties(mesh.triangles, density=1.0)
+    from trimesh.triangles import mass_properties
+
+    props = mass_properties(mesh.triangles, density=1.0)
     lo, hi = mesh.bounds
     slack = 1e-9 * float(np.max(mesh.extents))
     inside = bool(np.all(props["center_mass"] >= lo - slack) and np.all(props["center_mass"] <= hi + slack))
@@ -175,7 +182,9 @@ class BodyMesh:
     @cached_property
     def nominal(self) -> RigidBody:
         """Mass (kg), CoG (m) and inertia about the CoG (kg·m², tensor sign)."""
-        props = trimesh.triangles.mass_properties(self.mesh.triangles, density=self.density)
+        from trimesh.triangles import mass_properties
+
+        props = mass_properties(self.mesh.triangles, density=self.density)
         return RigidBody(props["mass"], props["center_mass"], props["inertia"])
 
     @property

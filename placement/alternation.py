@@ -106,6 +106,7 @@ class Planner:
         self.fixed_s = empty if fixed_sensors is None else model.coordinates(fixed_sensors)
         self.fixed_e = empty if fixed_exciters is None else model.coordinates(fixed_exciters)
         self._built = {}
+        self._excess = {}  # (sensors, exciters) → its excess: a search meets a third of its trials again
         self.footprints = footprints
         if footprints is not None:
             self.s_sites = footprints.candidates.take(self.sensor_node)
@@ -257,10 +258,14 @@ class Planner:
         when it is, or when that is not asked); evaluated together, each one unit of the planner's work."""
         if not self.diagnosable or not selections:
             return np.zeros(len(selections))
-        self.work.spend(len(selections))
-        S = _stacked(self.s, self.s_coords, self.fixed_s, [s for s, _ in selections])
-        W = _stacked(self.e, self.e_coords, self.fixed_e, [e for _, e in selections])
-        return excesses(self.model, S, W, self.noise)
+        self.work.spend(len(selections))  # a selection met before still counts: the search's reach is in trials
+        keys = [(tuple(map(int, s)), tuple(map(int, e))) for s, e in selections]
+        new = list(dict.fromkeys(k for k in keys if k not in self._excess))
+        if new:  # each layout's excess is its own (stacked gufuncs): a stack of the new ones gives the same values
+            S = _stacked(self.s, self.s_coords, self.fixed_s, [s for s, _ in new])
+            W = _stacked(self.e, self.e_coords, self.fixed_e, [e for _, e in new])
+            self._excess.update(zip(new, excesses(self.model, S, W, self.noise)))
+        return np.array([self._excess[k] for k in keys])
 
     def violation(self, sensors: list, exciters: list) -> float:
         """How far the selection is from diagnosable (0 when it is, or when that is not asked)."""

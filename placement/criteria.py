@@ -110,8 +110,17 @@ class Criterion:
     scores: Callable[[np.ndarray, np.ndarray], np.ndarray]
     efficiency: Callable[[float, float, int], float]
 
+    def __reduce__(self):
+        """Pickled by name: a plan read back holds the one criterion of that name (``criterion is D`` holds)."""
+        return named_criterion, (self.name,)
+
 
 D = Criterion("D", "log det F", log_det, d_scores, lambda v, U, p: float(np.exp((v - U) / p)))
 A = Criterion("A", "−tr F⁻¹", a_value, a_scores, lambda v, U, p: float(U / v) if v < 0 else 0.0)
 E = Criterion("E", "λ_min(F)", e_value, e_scores, lambda v, U, p: float(v / U) if U > 0 else 0.0)
 CRITERIA = {c.name: c for c in (D, A, E)}
+
+
+def named_criterion(name: str) -> Criterion:
+    """The criterion called ``name`` ("D", "A" or "E")."""
+    return CRITERIA[name]

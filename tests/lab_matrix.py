@@ -24,14 +24,13 @@ The stiff cord has its top support mode at a tenth of the first elastic mode.
 from __future__ import annotations
 
 import argparse
-import subprocess
-import sys
 import tempfile
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+import session_cache
 from scipy.optimize import brentq
 
 from massline.identify.pipeline import identify_recording
@@ -44,7 +43,7 @@ from massline.uff.runs import read_runs
 from massline.uff.writer import write_runs, write_uff
 from massline.virtual.attachment import point_above
 from massline.identify.diagnose.effects import parse_effect
-from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.elastic import Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Cord, Suspension
@@ -80,11 +79,8 @@ def effects(style: str) -> tuple:
 def body_and_plan(name: str):
     """The bundled body (its mesh), its plan's sensors and exciters, and its first 12 elastic modes."""
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
-    folder = Path(tempfile.mkdtemp(prefix=f"lab-{name}-"))
-    command = [sys.executable, "-m", "massline", "plan", name, *PLANS[name], "--out", str(folder)]
-    subprocess.run(command, check=True, capture_output=True)
-    sensors, exciters, _ = read_plan(folder / "plan.json")
-    modes = ElasticBody.from_mesh(mesh.mesh, Material.parse(Material.closest(mesh.density), mesh.density)).modes(12)
+    sensors, exciters, _ = read_plan(session_cache.plan(name, *PLANS[name]))  # test_identify's and others' too
+    modes = session_cache.fe_modes(mesh.mesh, Material.parse(Material.closest(mesh.density), mesh.density), 12)
     return mesh, sensors, exciters, modes
 
 

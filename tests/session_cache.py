@@ -14,6 +14,7 @@ from __future__ import annotations
 import fcntl
 import hashlib
 import os
+import pickle
 import shutil
 import subprocess
 import sys
@@ -54,7 +55,7 @@ def built(key: str, build: Callable[[Path], None]) -> Path:
 
 def command(*args) -> Path:
     """The folder in which ``massline ARGS --out FOLDER/out`` ran once this session (its ``out`` beside
-    ``stdout.txt`` and ``seconds.txt``, its wall time); a command that fails raises with its stderr."""
+    ``stdout.txt``, ``stderr.txt`` and ``seconds.txt``, its wall time); a command that fails raises with its stderr."""
 
     def run(folder: Path) -> None:
         line = [sys.executable, "-m", "massline", *map(str, args), "--out", str(folder / "out")]
@@ -64,6 +65,7 @@ def command(*args) -> Path:
             raise RuntimeError(f"{' '.join(line)} failed: {done.stderr}")
         (folder / "seconds.txt").write_text(f"{time.perf_counter() - start:.3f}")
         (folder / "stdout.txt").write_text(done.stdout)
+        (folder / "stderr.txt").write_text(done.stderr)
 
     return built(key_of("command", *args), run)
 
@@ -71,3 +73,26 @@ def command(*args) -> Path:
 def plan(*args) -> Path:
     """plan.json of ``massline plan ARGS`` (e.g. ``plan("bracket")``, ``plan("structure", "--minimal")``)."""
     return command("plan", *args) / "out" / "plan.json"
+
+
+def value(name: str, compute: Callable[[], object], *args) -> object:
+    """``compute()`` once this session for the key (``name``, ``args``), pickled for every worker: a plan or
+    FE modes computed in process, where a module's own cache would compute them once per worker."""
+    def build(folder: Path) -> None:
+        with open(folder / "value.pickle", "wb") as file:
+            pickle.dump(compute(), file, protocol=pickle.HIGHEST_PROTOCOL)
+
+    folder = built(key_of("value", name, *args), build)
+    with open(folder / "value.pickle", "rb") as file:
+        return pickle.load(file)
+
+
+def fe_modes(mesh, material, n: int, size: float | None = None):
+    """``ElasticBody.from_mesh(mesh, material, size).modes(n)``, solved once this session (a bundled body's
+    12 modes take seconds; many modules simulate the same bodies), kept as :mod:`massline.virtual.fe_cache`
+    keeps them and rebuilt on their basis."""
+    from massline.virtual.elastic import ElasticBody
+    from massline.virtual.fe_cache import as_arrays, from_arrays, model_key
+
+    solve = lambda: as_arrays(ElasticBody.from_mesh(mesh, material, size).modes(n))  # noqa: E731
+    return from_arrays(value("FE modes", solve, model_key(mesh, material, size, n)), material)

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import session_cache
 from blind_measures import placed
 from test_diagnose_blind import BENCHES
 
@@ -35,7 +36,7 @@ from massline.core.model import RigidModel
 from massline.core.rigid_body import RigidBody
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
-from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.elastic import Material
 from massline.virtual.scenarios import Bench, Conditions, scenario, write_case
 
 CHANNEL_FAULTS = ("sensor_polarity", "sensor_gain", "sensor_direction")
@@ -133,8 +134,9 @@ def test_a_diagnosable_layout_less_accurate_than_the_minimal_one_is_passed_over(
 
 @lru_cache(maxsize=None)
 def default_plan(name: str):
+    """The bundled body ``name`` and its diagnosable default plan (uncertified), searched once this session."""
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
-    return mesh, cheapest_diagnosable(mesh, certify_steps=0)
+    return mesh, session_cache.value("diagnosable default plan", lambda: cheapest_diagnosable(mesh, certify_steps=0), name)
 
 
 @pytest.mark.slow
@@ -153,7 +155,7 @@ def bench(name: str, plan) -> Bench:
     """The blind suite's bench of ``name`` on ``plan``'s layout."""
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
     youngs, poisson = BENCHES[name][1]
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(youngs, poisson, mesh.density)).modes(12)
+    modes = session_cache.fe_modes(mesh.mesh, Material(youngs, poisson, mesh.density), 12)
     fmax = modes.frequencies_hz[0] / 2.5
     return Bench(mesh.nominal, plan.sensors, plan.exciters, modes, fmax, 2000, mesh.mesh, name == "plate")
 

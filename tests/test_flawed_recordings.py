@@ -10,6 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+import session_cache
 from scipy.spatial.transform import Rotation
 from conftest import bundled
 from test_identify import bracket_plan  # noqa: F401  (the plan fixture)
@@ -26,7 +27,7 @@ from massline.uff.reader import read_uff
 from massline.uff.units import G
 from massline.uff.writer import write_uff
 from massline.identify.diagnose.effects import parse_effect
-from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.elastic import Material
 from massline.virtual.measurement import ImpactTest
 from massline.virtual.suspension import Cord, Suspension
 from massline.virtual.acquisition import Acquisition, run
@@ -135,7 +136,7 @@ def bracket(bracket_plan):  # noqa: F811
     mesh = bundled("bracket")
     body = mesh.nominal
     sensors, exciters, _ = read_plan(bracket_plan)
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(6)
+    modes = session_cache.fe_modes(mesh.mesh, Material(70e9, 0.33, mesh.density), 6)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
     return body, sensors, exciters, modes, cord
 

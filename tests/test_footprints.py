@@ -3,6 +3,7 @@ its side of the wall), no two accelerometers closer than a base, on the plans of
 
 import numpy as np
 import pytest
+import session_cache
 from conftest import FIXTURE_MESHES, bundled
 from test_cli import massline
 from test_diagnosability import default_plan as diagnosable_default
@@ -119,7 +120,8 @@ BODIES = ("plate", "structure", "bracket")
 @pytest.fixture(scope="module", params=BODIES)
 def minimal_plan(request):
     body = bundled(request.param)
-    return plan(body, minimal_budget(is_plate(body)), certify_steps=5000)
+    search = lambda: plan(body, minimal_budget(is_plate(body)), certify_steps=5000)  # noqa: E731
+    return session_cache.value("minimal plan", search, request.param)
 
 
 @pytest.mark.slow
@@ -130,7 +132,7 @@ def test_minimal_plans_of_the_bundled_bodies_are_mountable_together(minimal_plan
 @pytest.fixture(scope="module", params=BODIES)
 def default_plan(request):
     """The default plan as test_diagnosability searches it (uncertified: the footprints do not depend on the
-    certificate), computed once per worker."""
+    certificate), computed once this session."""
     return diagnosable_default(request.param)[1]
 
 

@@ -175,7 +175,7 @@ def bracket_test(bracket_plan):
     mesh = bundled("bracket")
     body = mesh.nominal
     sensors, exciters, _ = read_plan(bracket_plan)
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(70e9, 0.33, mesh.density)).modes(12)
+    modes = session_cache.fe_modes(mesh.mesh, Material(70e9, 0.33, mesh.density), 12)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
     transverse = (parse_effect("transverse_sensitivity=0.03@all"),)
     return (

@@ -28,7 +28,7 @@ from massline.placement.plan_file import read_plan
 from massline.core.rigid_body import RigidBody
 from massline.uff.writer import write_uff
 from massline.identify.diagnose.effects import parse_effect
-from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.elastic import Material
 from massline.virtual.measurement import Noise
 from massline.virtual.suspension import Cord, Suspension, hung_over
 from massline.virtual.acquisition import Acquisition, accelerometer_masses, run
@@ -137,7 +137,7 @@ def loaded_test(structure_plan):
     mesh = bundled("structure")
     body = mesh.nominal
     sensors, exciters, _ = read_plan(structure_plan)
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(210e9, 0.3, mesh.density), 0.02).modes(12)
+    modes = session_cache.fe_modes(mesh.mesh, Material(210e9, 0.3, mesh.density), 12, 0.02)
     cord = Suspension(cords=(Cord(body.cog + [0, 0, 0.02], body.mass * 9.81 / 0.25, 1.0),))
     transverse = (parse_effect("transverse_sensitivity=0.02@all"),)
     return body, sensors, exciters, modes, cord, transverse, modes.frequencies_hz[0] / 2.5

@@ -10,6 +10,7 @@ error.
 from __future__ import annotations
 
 import argparse
+import importlib
 import logging
 import os
 import sys
@@ -19,8 +20,6 @@ from massline.core import __version__
 from massline.cli.options import FLAGS, Parser
 from massline.cli.output import console_for, console_stream
 from massline.core.errors import MasslineError
-
-from . import demo, diagnose_command, identify_command, plan, props_command, report_command, simulate
 
 DESCRIPTION = """\
 Find a body's mass, centre of gravity and inertia tensor from a modal test on the softly
@@ -39,28 +38,34 @@ a test, step by step:
 'massline COMMAND --help' tells more. Exit codes: 0 done, 2 bad input (one line on stderr),
 1 internal error, 130 interrupted."""
 
-COMMANDS = (
-    ("props", props_command, "the nominal mass, CoG and inertia of a surface mesh (CAD export)"),
-    ("plan", plan, "the best accelerometer and hammer-hit layout on a mesh, with its certified quality"),
-    ("simulate", simulate, "the virtual test of a plan, written as a UFF recording like a lab's export"),
-    ("report", report_command, "the placement report of a plan: one HTML page that prints on A4"),
-    ("identify", identify_command, "mass, CoG and inertia with their 1-σ from a UFF recording"),
-    ("diagnose", diagnose_command, "which physics a recording shows that the rigid body does not"),
-    ("demo", demo, "the whole story on a bundled body: plan, test, identify, diagnose"),
+COMMANDS = (  # name, its module in massline.cli (imported only when that command runs), its help line
+    ("props", "props_command", "the nominal mass, CoG and inertia of a surface mesh (CAD export)"),
+    ("plan", "plan", "the best accelerometer and hammer-hit layout on a mesh, with its certified quality"),
+    ("simulate", "simulate", "the virtual test of a plan, written as a UFF recording like a lab's export"),
+    ("report", "report_command", "the placement report of a plan: one HTML page that prints on A4"),
+    ("identify", "identify_command", "mass, CoG and inertia with their 1-σ from a UFF recording"),
+    ("diagnose", "diagnose_command", "which physics a recording shows that the rigid body does not"),
+    ("demo", "demo", "the whole story on a bundled body: plan, test, identify, diagnose"),
 )
 BROKEN_PIPE = 141
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, each command's own options only for the one ``argv`` names (all when
+    ``argv`` is None): a command's module loads what its work needs (identify does not load the planner, the FE
+    model or the reports' renderer), about a second of imports that a run of another command does not pay."""
+    chosen = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     parser = Parser(
         prog="massline", description=DESCRIPTION, epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--version", action="version", version=f"massline {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", title="commands")
-    for name, module, text in COMMANDS:
+    for name, module_name, text in COMMANDS:
         command = sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + ".")
-        module.add_arguments(command)
-        command.set_defaults(run=module.run)
+        if chosen is None or chosen == name:
+            module = importlib.import_module(f"{__package__}.{module_name}")
+            module.add_arguments(command)
+            command.set_defaults(run=module.run)
     return parser
 
 
@@ -86,8 +91,9 @@ def run(argv: list[str] | None = None, show_warnings: bool | None = None) -> int
 
 def _command(argv: list[str] | None, debug: bool) -> int:
     try:
-        parser = build_parser()
-        if not (sys.argv[1:] if argv is None else argv):  # bare 'massline': what it does and its commands
+        argv = sys.argv[1:] if argv is None else argv
+        parser = build_parser(argv)
+        if not argv:  # bare 'massline': what it does and its commands
             parser.print_help()
             return 0
         args = parser.parse_args(argv)

@@ -12,12 +12,14 @@ from rich.status import Status
 
 import sys
 import time
+from typing import TYPE_CHECKING
 
 from massline.core.files import STDOUT, to_json, write_atomic
 from massline.export import PLATE_UNOBSERVED, check_observed, format_of
-from massline.reports.html import Report
-from massline.reports.placement_assembly import build_placement_report
-from massline.virtual.planned_test import FEModel
+
+if TYPE_CHECKING:  # the placement report's renderer and the FE model load only where a report is built
+    from massline.reports.html import Report
+    from massline.virtual.planned_test import FEModel
 
 STATUS = "writing the report: building the page and rendering its pictures"
 UNWRAPPED = 100_000  # columns of a console that is not a terminal: lines are never broken
@@ -168,6 +170,8 @@ def say_fe_model(console: Console, fe: FEModel) -> None:
 def build_report(plan_path: str | Path, console: Console) -> Report:
     """The placement report of a plan file (:func:`massline.reports.placement_assembly.build_placement_report`),
     its progress shown on ``console``, and the FE model of an older plan's band prediction said."""
+    from massline.reports.placement_assembly import build_placement_report
+
     with progress_bar(console) as progress:
         built = build_placement_report(plan_path, progress)
         if built.fe is not None:
