@@ -44,6 +44,7 @@ FRF, COHERENCE = 4, 6  # UFF 58 function types
 IMPACT_AND_EXPONENTIAL = 6  # dataset 1858's window type of an impact test's force and exponential windows
 ABSCISSA = Characteristic(18, (0, 0, 0), "Frequency", "Hz")
 SILENT = Characteristic(0, (0, 0, 0), "NONE", "NONE")
+SETUP = "massline test setup"  # the model and part name of a setup's geometry
 
 
 def _text(text: str) -> str:
@@ -57,10 +58,10 @@ def _stamp() -> str:
     return time.strftime("%d-%b-%y %H:%M:%S")
 
 
-def _header_151(description: str, stamp: str) -> dict:
+def _header_151(description: str, stamp: str, model: str = "massline virtual test") -> dict:
     date, clock = stamp.split()
     dataset = pyuff.prepare_151(
-        model_name="massline virtual test",
+        model_name=model,
         description=_text(description),
         db_app="massline",
         date_db_created=date,
@@ -84,7 +85,9 @@ def _units_164(units: UnitSystem) -> dict:
     )
 
 
-def _systems(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> list[dict]:
+def _systems(
+    layout: UffLayout, nodes_dataset: int, units: UnitSystem, part: str = "massline virtual test"
+) -> list[dict]:
     """Dataset 18 (origin, point on +x, point on the +xz plane, 1 m apart) or 2420 (rows: local axes, origin)."""
     local = layout.node_systems > 0
     if not local.any():
@@ -96,7 +99,7 @@ def _systems(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> list[d
         return [
             pyuff.prepare_2420(
                 Part_UID=1,
-                Part_Name="massline virtual test",
+                Part_Name=part,
                 CS_sys_labels=[int(n) for n in labels],
                 CS_types=[0] * len(labels),
                 CS_colors=[COLOR] * len(labels),
@@ -330,6 +333,41 @@ def write_uff(
     frf_units = accelerance_units(system, acceleration)
     _write(path, datasets, _functions(recording, layout, frf_units, binary, stamp, columns))
     return layout
+
+
+def write_geometry(
+    path, layout: UffLayout, *, description: str, nodes_dataset: int = 2411, units: str = "SI", force: bool = False
+) -> None:
+    """Write a test's geometry as test software imports it: 151, 164, 2420 (or 18) and 2411 (or 15), no functions.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write; written whole or not at all.
+    layout : UffLayout
+        The nodes (m, test frame) and their coordinate systems (:func:`.node_layout.setup_layout`).
+    description : str
+        Dataset 151's description (one line).
+    nodes_dataset : {2411, 15}
+        Nodes in 2411 with coordinate systems in 2420 (D25.16: exact), or in 15 with 18 (E13.5: 6 digits).
+    units : {"SI", "MM", "IN"}
+        Dataset 164's unit system; coordinates in its length unit.
+    force : bool
+        Overwrite an existing file.
+    """
+    path = Path(path)
+    if path.exists() and not force:
+        raise FileExistsError(f"{path} already exists: pass force=True to overwrite it")
+    if nodes_dataset not in (15, 2411):
+        raise MasslineError(f"nodes_dataset must be 15 or 2411, got {nodes_dataset!r}")
+    system, stamp = UNITS[units], _stamp()
+    datasets = [
+        _header_151(description, stamp, SETUP),
+        _units_164(system),
+        *_systems(layout, nodes_dataset, system, SETUP),
+        _nodes(layout, nodes_dataset, system),
+    ]
+    _write(path, datasets, ())
 
 
 def run_files(path, count: int) -> list[Path]:

@@ -22,17 +22,9 @@ from massline.virtual.acquisition import sensor_mass_payload
 from massline.virtual.simulation import loaded_body
 
 
-def housing_masses(payload) -> HousingMasses:
-    """plan.json's (or a truth file's) ``sensor_mass`` back as :class:`HousingMasses`: kg for every housing, or
-    {"default": kg, "by_point": {label: kg}}; 0 where the plan has none."""
-    if isinstance(payload, dict):
-        return HousingMasses(float(payload["default"]), {int(k): float(v) for k, v in payload["by_point"].items()})
-    return HousingMasses(float(payload or 0.0))
-
-
 def planned_masses(doc: dict) -> HousingMasses:
     """The housings plan.json's ``loading`` was predicted with (none: 0 kg each)."""
-    return housing_masses(doc.get("loading", {}).get("sensor_mass", 0.0))
+    return HousingMasses.from_payload(doc.get("loading", {}).get("sensor_mass", 0.0))
 
 
 def tokens(masses: HousingMasses) -> str:

@@ -20,7 +20,7 @@ from massline.cli.options import FLAGS, Parser
 from massline.cli.output import console_for, console_stream
 from massline.core.errors import MasslineError
 
-from . import demo, diagnose_command, identify_command, plan, props_command, report_command, simulate
+from . import demo, diagnose_command, identify_command, plan, props_command, report_command, setup_command, simulate
 
 DESCRIPTION = """\
 Find a body's mass, centre of gravity and inertia tensor from a modal test on the softly
@@ -32,6 +32,7 @@ EPILOG = """\
 a test, step by step:
   massline props part.stl --units mm --density 2700     what the CAD says
   massline plan part.stl --units mm --density 2700      where to put sensors and hits
+  massline setup plan/plan.json                         the points and channels for the test software
   massline identify test.uff --json result.json         the properties, with their ±
   massline diagnose test.uff --mesh part.stl --units mm --density 2700
   massline demo                                         the whole story on a bundled body
@@ -42,6 +43,7 @@ a test, step by step:
 COMMANDS = (
     ("props", props_command, "the nominal mass, CoG and inertia of a surface mesh (CAD export)"),
     ("plan", plan, "the best accelerometer and hammer-hit layout on a mesh, with its certified quality"),
+    ("setup", setup_command, "the plan for the test software: nodes in their own coordinate systems (UFF), channels (CSV)"),
     ("simulate", simulate, "the virtual test of a plan, written as a UFF recording like a lab's export"),
     ("report", report_command, "the placement report of a plan: one HTML page that prints on A4"),
     ("identify", identify_command, "mass, CoG and inertia with their 1-σ from a UFF recording"),

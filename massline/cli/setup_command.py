@@ -1,0 +1,41 @@
+"""``massline setup PLAN.json``: what a technician loads into test software — the points as a Universal File's
+nodes, each in a coordinate system whose +Z is its direction, and a channel table (CSV)
+(:func:`massline.placement.setup_export.export_setup`)."""
+
+from __future__ import annotations
+
+import argparse
+
+from rich.console import Console
+
+from massline.meshes.loader import UNITS
+from massline.placement.setup_export import FILES, export_setup
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("plan", metavar="PLAN.json", help="a plan written by 'massline plan'")
+    parser.add_argument(
+        "--out", metavar="DIR", help=f"folder for {' and '.join(FILES)} (default: the plan's folder)"
+    )
+    parser.add_argument(
+        "--units", choices=sorted(UNITS), help="length unit of the files (dataset 164, the table; default: the plan's)"
+    )
+    parser.add_argument(
+        "--nodes",
+        type=int,
+        choices=(2411, 15),
+        default=2411,
+        help="nodes in dataset 2411 with systems in 2420 (default; exact) or in 15 with 18 (six digits)",
+    )
+    parser.add_argument("--force", action="store_true", help=f"overwrite {' and '.join(FILES)}")
+
+
+def run(args: argparse.Namespace, console: Console) -> None:
+    setup = export_setup(args.plan, args.out, units=args.units, nodes_dataset=args.nodes, force=args.force)
+    console.print(
+        f"{setup.nodes} nodes, each in its own coordinate system (its +Z the accelerometer's axis or the hit's "
+        f"direction; a triaxial's channels +X, +Y, +Z), {setup.units}: {setup.accelerometer_channels} accelerometer "
+        f"channels and the hammer's channel {setup.accelerometer_channels + 1} over {setup.hits} runs"
+    )
+    console.print(f"wrote {setup.uff}")
+    console.print(f"wrote {setup.channels}")

@@ -1,0 +1,146 @@
+"""The plan as a technician loads it into test software: the geometry as a Universal File and a channel table.
+
+``setup.uff`` holds 151 (what it is), 164 (the plan's units: m, mm or in), 2420 (one Cartesian coordinate
+system per node, numbered like it, at its point) and 2411 (the nodes, coordinates in the global system,
+displacements in their own) — or 18 and 15, as Test.Lab exports geometry (six digits). A lone accelerometer or
+hit is its node's +Z, whatever its direction in the part's frame: an oblique (0.569, 0.577, 0.585) is typed
+nowhere; a triaxial's channels are its node's +X, +Y, +Z (:func:`massline.uff.node_layout.setup_layout`).
+A direction code c at a node of frame R is the global sign(c)·R[:, |c|−1], as every reader places it.
+
+``channels.csv`` has one row per accelerometer channel (channels 1…n in the plan's order) and one per hit (the
+hammer's channel n + 1, one run per hit): the channel, ``role`` (accelerometer or hammer), the plan's ``node``,
+``direction`` in the node's system (+Z, or +X/+Y/+Z of a triaxial), its coordinate system ``cs``, the ``run``
+(all for accelerometers), the ``mount`` the plan chose, the housing's mass the plan assumed (g, per
+accelerometer, repeated on each of a triaxial's rows), an empty ``sensitivity`` with its unit (mV/g, mV/N) for
+the calibration sheet, the point (plan units) and the direction in the part's frame.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from massline.core.errors import MasslineError, param
+from massline.core.files import atomic_file, claim_folder
+from massline.core.housing_masses import HousingMasses
+from massline.core.lines import Lines
+from massline.meshes.loader import UNITS
+from massline.placement.plan_file import read_plan
+from massline.uff.node_layout import UffLayout, setup_layout
+from massline.uff.recording import code_name
+from massline.uff.writer import write_geometry
+
+FILES = ("setup.uff", "channels.csv")
+UFF_UNITS = {"m": "SI", "mm": "MM", "in": "IN"}  # a plan's units → dataset 164's system
+SENSITIVITY = {"accelerometer": "mV/g", "hammer": "mV/N"}
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What :func:`export_setup` wrote: the two files, the nodes (with their systems) and the channels."""
+
+    uff: Path
+    channels: Path
+    nodes: int
+    accelerometer_channels: int
+    hits: int
+    units: str
+
+
+def _mount_kinds(entries: list) -> list[str]:
+    return [str((e.get("mount") or {}).get("kind", "")) for e in entries]
+
+
+def channel_rows(
+    layout: UffLayout, sensors: Lines, exciters: Lines, mounts: tuple[list, list], grams: np.ndarray, units: str
+) -> list[dict]:
+    """The channel table's rows (see the module's docstring); ``grams``: each sensor line's housing (g),
+    ``units``: m, mm or in for the points."""
+    scale = UNITS[units]
+    first_force = len(sensors) + 1
+    rows = []
+    for role, lines, nodes, codes, mounted in (
+        ("accelerometer", sensors, layout.sensor_nodes, layout.sensor_codes, mounts[0]),
+        ("hammer", exciters, layout.exciter_nodes, layout.exciter_codes, mounts[1]),
+    ):
+        for k, (point, direction, node, code, mount) in enumerate(
+            zip(lines.points, lines.directions, nodes, codes, mounted)
+        ):
+            accelerometer = role == "accelerometer"
+            rows.append(
+                {
+                    "channel": k + 1 if accelerometer else first_force,
+                    "role": role,
+                    "node": int(node),
+                    "direction": code_name(int(code)),
+                    "cs": int(node),
+                    "run": "all" if accelerometer else k + 1,
+                    "mount": mount,
+                    "mass (g)": f"{grams[k]:g}" if accelerometer else "",
+                    "sensitivity": "",
+                    "sensitivity unit": SENSITIVITY[role],
+                    **{f"{a} ({units})": f"{v / scale:.12g}" for a, v in zip("xyz", point)},
+                    **{f"d{a}": f"{v:.12g}" for a, v in zip("xyz", direction)},
+                }
+            )
+    return rows
+
+
+def channel_csv(rows: list[dict]) -> str:
+    """The rows as CSV text, a header line first."""
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return out.getvalue()
+
+
+def export_setup(
+    plan_path, folder=None, *, units: str | None = None, nodes_dataset: int = 2411, force: bool = False
+) -> Setup:
+    """Write ``setup.uff`` and ``channels.csv`` for a plan.json into ``folder`` (default: the plan's).
+
+    Parameters
+    ----------
+    plan_path : str or Path
+        A plan.json written by ``massline plan``.
+    folder : str or Path or None
+        Where the two files go; both are refused before either is written when one exists and ``force`` is False,
+        and each is written whole or not at all.
+    units : {"m", "mm", "in"} or None
+        The files' length unit (dataset 164, the table's points); None: the plan's.
+    nodes_dataset : {2411, 15}
+        Nodes and systems in 2411/2420 (exact) or in 15/18 (six digits, as older software reads).
+
+    Raises
+    ------
+    MasslineError (a ValueError)
+        A missing or malformed plan, an unknown unit or dataset, an output that exists without ``force``.
+    """
+    plan_path = Path(plan_path)
+    sensors, exciters, doc = read_plan(plan_path)
+    units = units or str(doc.get("units", "m"))
+    if units not in UFF_UNITS:
+        raise MasslineError(f"{param('units', repr(units))}: the setup's units are one of m, mm, in")
+    if nodes_dataset not in (15, 2411):
+        raise MasslineError(f"{param('nodes_dataset', repr(nodes_dataset))}: the nodes' dataset is 2411 or 15")
+    uff_path, csv_path = claim_folder(plan_path.parent if folder is None else Path(folder), FILES, force)
+    layout = setup_layout(sensors, exciters)
+    housings = HousingMasses.from_payload(doc.get("loading", {}).get("sensor_mass", 0.0))
+    grams = 1e3 * housings.of(layout.sensor_nodes)
+    mounts = (_mount_kinds(doc["sensors"]), _mount_kinds(doc["exciters"]))
+    rows = channel_rows(layout, sensors, exciters, mounts, grams, units)
+    description = (
+        f"setup of {doc.get('mesh', 'the plan')}: {len(sensors)} accelerometer channels, {len(exciters)} hits"
+    )
+    uff_path.parent.mkdir(parents=True, exist_ok=True)
+    write_geometry(
+        uff_path, layout, description=description, nodes_dataset=nodes_dataset, units=UFF_UNITS[units], force=True
+    )
+    with atomic_file(csv_path) as temporary:
+        temporary.write_text(channel_csv(rows))
+    return Setup(uff_path, csv_path, len(layout.node_ids), len(sensors), len(exciters), units)
