@@ -37,7 +37,7 @@ from massline.cli.plan_console import (
 from massline.placement.planner import Budget
 from massline.virtual.acquisition import accelerometer_masses
 from massline.virtual.fe_process import FEInProcess
-from massline.virtual.housing_loading import loading, loading_sentence
+from massline.virtual.housing_loading import assumed_loading, assumed_sentence, loading, loading_sentence
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -305,6 +305,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if housings.any:
         doc["loading"] = loading(body.nominal, carried, housings, doc["predicted_std"])
         console.print(loading_sentence(doc["loading"]))
+    else:
+        doc["sensor_mass_assumed"] = assumed_loading(body.nominal, result.sensors, doc["predicted_std"])
+        console.print(assumed_sentence(doc["sensor_mass_assumed"]))
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)
     write_atomic(target, to_json(doc), args.force)
