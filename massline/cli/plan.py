@@ -23,7 +23,7 @@ from massline.core.lines import Lines
 from massline.core.numbering import point_groups
 from massline.meshes import BUNDLED
 from massline.meshes.loader import UNITS
-from massline.placement.on_surface import is_plate, plan
+from massline.placement.on_surface import is_plate, monotone, plan
 from massline.placement.mounts import mounts
 from massline.placement.plan_file import plan_to_dict
 from massline.cli.plan_console import (
@@ -320,6 +320,7 @@ def searched(args, body, options, noise, budget, fixed: dict, console, check=lam
     ``check()`` at every step shown (it raises what ends the plan early: the FE model's refusal)."""
     with progress_bar(console) as bar:
 
+        @monotone
         def progress(stage: str, f: float) -> None:
             check()
             bar(stage, f, 1.0)
@@ -334,4 +335,5 @@ def searched(args, body, options, noise, budget, fixed: dict, console, check=lam
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
                 progress=progress,
             )  # fmt: skip
+        bar("layout chosen", 1.0, 1.0)  # once, at the end: the stages before never reach it
     return result
