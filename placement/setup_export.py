@@ -2,7 +2,9 @@
 
 ``setup.uff`` holds 151 (what it is), 164 (the plan's units: m, mm or in), 2420 (one Cartesian coordinate
 system per node, numbered like it, at its point) and 2411 (the nodes, coordinates in the global system,
-displacements in their own) — or 18 and 15, as Test.Lab exports geometry (six digits). A lone accelerometer or
+displacements in their own) — or 18 and 15, as Test.Lab exports geometry (six digits) — and, given the mesh, 82:
+the part's wireframe, its sharp edges (creases over 30°, those the planner keeps points off) as one traceline
+through nodes of their own in the global system, numbered from the thousand after the test's points (1001, …). A lone accelerometer or
 hit is its node's +Z, whatever its direction in the part's frame: an oblique (0.569, 0.577, 0.585) is typed
 nowhere; a triaxial's channels are its node's +X, +Y, +Z (:func:`massline.uff.node_layout.setup_layout`).
 A direction code c at a node of frame R is the global sign(c)·R[:, |c|−1], as every reader places it.
@@ -23,12 +25,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import trimesh
 
 from massline.core.errors import MasslineError, param
 from massline.core.files import atomic_file, claim_folder
 from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
 from massline.meshes.loader import UNITS
+from massline.placement.mountable import SHARP_EDGE_DEG
 from massline.placement.plan_file import read_plan
 from massline.uff.node_layout import UffLayout, setup_layout
 from massline.uff.recording import code_name
@@ -41,7 +45,8 @@ SENSITIVITY = {"accelerometer": "mV/g", "hammer": "mV/N"}
 
 @dataclass(frozen=True)
 class Setup:
-    """What :func:`export_setup` wrote: the two files, the nodes (with their systems) and the channels."""
+    """What :func:`export_setup` wrote: the two files, the nodes (with their systems), the channels and the
+    wireframe's edges (0: none)."""
 
     uff: Path
     channels: Path
@@ -49,6 +54,36 @@ class Setup:
     accelerometer_channels: int
     hits: int
     units: str
+    edges: int = 0
+
+
+def _chains(edges: np.ndarray, count: int) -> list[int]:
+    """The edges (k, 2) between ``count`` vertices walked as few polylines as a greedy walk finds (from the
+    vertices of odd degree first), -1 between two; each edge once."""
+    neighbours: list[list[tuple[int, int]]] = [[] for _ in range(count)]
+    for k, (a, b) in enumerate(edges):
+        neighbours[a].append((int(b), k))
+        neighbours[b].append((int(a), k))
+    left, trace = np.ones(len(edges), dtype=bool), []
+    for start in sorted(range(count), key=lambda v: len(neighbours[v]) % 2 == 0):
+        while any(left[k] for _, k in neighbours[start]):
+            vertex, chain = start, [start]
+            while (step := next(((w, k) for w, k in neighbours[vertex] if left[k]), None)) is not None:
+                left[step[1]], vertex = False, step[0]
+                chain.append(vertex)
+            trace += [*chain, -1]
+    return trace[:-1]
+
+
+def wireframe(mesh: trimesh.Trimesh, first: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The mesh's sharp edges (creases over :data:`~.mountable.SHARP_EDGE_DEG`) as test software draws a part:
+    node labels from ``first`` (k,), their points (k, 3) in the mesh's metres, and one traceline of those labels
+    with 0 where the pen lifts."""
+    sharp = mesh.face_adjacency_angles > np.radians(SHARP_EDGE_DEG)
+    used, inverse = np.unique(mesh.face_adjacency_edges[sharp], return_inverse=True)
+    ids = first + np.arange(len(used))
+    trace = np.array(_chains(inverse.reshape(-1, 2), len(used)), dtype=int)
+    return ids, np.asarray(mesh.vertices)[used], np.where(trace < 0, 0, ids[np.maximum(trace, 0)])
 
 
 def _mount_kinds(entries: list) -> list[str]:
@@ -100,7 +135,13 @@ def channel_csv(rows: list[dict]) -> str:
 
 
 def export_setup(
-    plan_path, folder=None, *, units: str | None = None, nodes_dataset: int = 2411, force: bool = False
+    plan_path,
+    folder=None,
+    *,
+    units: str | None = None,
+    nodes_dataset: int = 2411,
+    mesh: trimesh.Trimesh | None = None,
+    force: bool = False,
 ) -> Setup:
     """Write ``setup.uff`` and ``channels.csv`` for a plan.json into ``folder`` (default: the plan's).
 
@@ -115,6 +156,8 @@ def export_setup(
         The files' length unit (dataset 164, the table's points); None: the plan's.
     nodes_dataset : {2411, 15}
         Nodes and systems in 2411/2420 (exact) or in 15/18 (six digits, as older software reads).
+    mesh : trimesh.Trimesh or None
+        The part's surface, m, the plan's frame: its sharp edges are written as the wireframe (none: no 82).
 
     Raises
     ------
@@ -138,9 +181,14 @@ def export_setup(
         f"setup of {doc.get('mesh', 'the plan')}: {len(sensors)} accelerometer channels, {len(exciters)} hits"
     )
     uff_path.parent.mkdir(parents=True, exist_ok=True)
+    first = 1000 * (int(layout.node_ids.max()) // 1000 + 1) + 1
+    outline = None if mesh is None else wireframe(mesh, first)
     write_geometry(
-        uff_path, layout, description=description, nodes_dataset=nodes_dataset, units=UFF_UNITS[units], force=True
-    )
+        uff_path, layout, description=description, nodes_dataset=nodes_dataset, units=UFF_UNITS[units],
+        wireframe=outline, force=True,
+    )  # fmt: skip
     with atomic_file(csv_path) as temporary:
         temporary.write_text(channel_csv(rows))
-    return Setup(uff_path, csv_path, len(layout.node_ids), len(sensors), len(exciters), units)
+    trace = np.zeros(0) if outline is None else outline[2]
+    edges = int(np.count_nonzero(trace) - np.count_nonzero(trace == 0) - 1) if len(trace) else 0
+    return Setup(uff_path, csv_path, len(layout.node_ids), len(sensors), len(exciters), units, edges)

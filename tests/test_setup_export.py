@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 import pyuff
+import trimesh
 from test_cli import massline
 
 from massline.core.errors import MasslineError
@@ -14,6 +15,7 @@ from massline.placement.setup_export import export_setup
 from massline.uff import read_uff
 from massline.uff.recording import code_direction
 
+BOX = (120.0, 80.0, 40.0)  # mm: the part's 12 sharp edges
 OBLIQUE = np.array([0.569, 0.577, 0.585])  # the bracket's sensor 5, as the issue saw it labelled '5:-Z'
 
 
@@ -39,10 +41,11 @@ def hand_plan(tmp_path):
         *[_entry([-0.03, 0.01, 0.02], left[:, k], 1) for k in range(3)],
     ]
     exciters = [_entry([0.0, 0.07, 0.0], -OBLIQUE / np.linalg.norm(OBLIQUE)), _entry([0.02, -0.01, 0.0], [0, -1, 0])]
-    doc = {"mesh": "part.stl", "units": "mm", "sensors": sensors, "exciters": exciters}
+    doc = {"mesh": "../part.stl", "units": "mm", "density": 2700.0, "sensors": sensors, "exciters": exciters}
     doc["loading"] = {"sensor_mass": {"default": 0.005, "by_point": {"4": 0.012}}}
     path = tmp_path / "plan" / "plan.json"
     path.parent.mkdir()
+    trimesh.creation.box(extents=BOX).export(tmp_path / "part.stl")  # mm, as plan.json names it
     path.write_text(json.dumps(doc))
     return path, doc
 
@@ -139,20 +142,18 @@ def test_the_bracket_plan_exported_reads_back(bracket_default_plan, tmp_path):
     np.testing.assert_allclose(np.array([placed[int(r["node"])] for r in rows]), points, rtol=0, atol=1e-9)
 
 
-def test_the_command_refuses_to_overwrite_and_refuses_bad_input(hand_plan):
+def test_the_command_writes_the_wireframe_and_refuses_to_overwrite(hand_plan):
     path, _ = hand_plan
     first = massline("setup", path)
     assert first.returncode == 0, first.stderr
-    assert "wrote" in first.stdout and (path.parent / "channels.csv").exists()
+    assert "the part's 12 sharp edges as its wireframe" in first.stdout and (path.parent / "channels.csv").exists()
     before = (path.parent / "setup.uff").read_bytes()
     again = massline("setup", path)
     assert again.returncode == 2 and len(again.stderr.strip().splitlines()) == 1 and "--force" in again.stderr
     assert (path.parent / "setup.uff").read_bytes() == before
-    assert massline("setup", path, "--force", "--nodes", "15").returncode == 0
-    assert (path.parent / "setup.uff").read_bytes() != before
+    assert massline("setup", path, "--force", "--nodes", "15", "--no-wireframe").returncode == 0
+    assert read_uff(path.parent / "setup.uff").datasets == (151, 164, 18, 15)
     assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
-    bad = massline("setup", path.parent / "missing.json")
-    assert bad.returncode == 2 and "does not exist" in bad.stderr and "Traceback" not in bad.stderr
 
 
 def test_units_and_dataset_are_checked_where_they_enter(hand_plan):
@@ -161,3 +162,23 @@ def test_units_and_dataset_are_checked_where_they_enter(hand_plan):
         export_setup(path, units="ft")
     with pytest.raises(MasslineError, match="nodes_dataset"):
         export_setup(path, nodes_dataset=55)
+
+
+def test_the_wireframe_is_the_parts_sharp_edges_in_the_global_system(hand_plan):
+    path, _ = hand_plan
+    box = trimesh.creation.box(extents=np.array(BOX) * 1e-3)
+    setup = export_setup(path, mesh=box)
+    assert setup.edges == 12
+    sets = pyuff.UFF(str(setup.uff)).read_sets()
+    [nodes] = [s for s in sets if s["type"] == 2411]
+    [line] = [s for s in sets if s["type"] == 82]
+    placed = {int(n): np.array(xyz) / 1e3 for n, *xyz in zip(nodes["node_nums"], nodes["x"], nodes["y"], nodes["z"])}
+    corners = sorted(n for n in placed if n > 1000)
+    assert corners == list(range(1001, 1009))
+    assert all(nodes["disp_cs"][list(nodes["node_nums"]).index(n)] == 0 for n in corners)
+    trace = [int(n) for n in line["nodes"]]
+    segments = [(a, b) for a, b in zip(trace, trace[1:]) if a and b]
+    assert len(segments) == 12 and len({frozenset(s) for s in segments}) == 12 and set(trace) - {0} == set(corners)
+    lengths = sorted(np.linalg.norm(placed[a] - placed[b]) for a, b in segments)
+    np.testing.assert_allclose(lengths, np.repeat(np.sort(BOX), 4) * 1e-3, rtol=1e-12)
+    assert read_uff(setup.uff).datasets == (151, 164, 2420, 2411, 82)

@@ -28,6 +28,7 @@ and increment are E13.5 in both.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -335,10 +336,34 @@ def write_uff(
     return layout
 
 
+def _with_wireframe(layout: UffLayout, wireframe) -> tuple[UffLayout, list[dict]]:
+    """The layout with the wireframe's nodes added (global system), and its dataset 82 (none without one)."""
+    if wireframe is None:
+        return layout, []
+    ids, points, trace = (np.asarray(a) for a in wireframe)
+    added = replace(
+        layout,
+        node_ids=np.concatenate([layout.node_ids, ids]).astype(int),
+        node_points=np.vstack([layout.node_points, points]),
+        node_frames=np.concatenate([layout.node_frames, np.broadcast_to(np.eye(3), (len(ids), 3, 3))]),
+        node_systems=np.concatenate([layout.node_systems, np.zeros(len(ids), dtype=int)]),
+    )
+    line = pyuff.prepare_82(trace_num=1, n_nodes=len(trace), color=COLOR, id="the part's edges", nodes=trace)
+    return added, [line]
+
+
 def write_geometry(
-    path, layout: UffLayout, *, description: str, nodes_dataset: int = 2411, units: str = "SI", force: bool = False
+    path,
+    layout: UffLayout,
+    *,
+    description: str,
+    nodes_dataset: int = 2411,
+    units: str = "SI",
+    wireframe=None,
+    force: bool = False,
 ) -> None:
-    """Write a test's geometry as test software imports it: 151, 164, 2420 (or 18) and 2411 (or 15), no functions.
+    """Write a test's geometry as test software imports it: 151, 164, 2420 (or 18), 2411 (or 15) and 82, no
+    functions.
 
     Parameters
     ----------
@@ -352,6 +377,8 @@ def write_geometry(
         Nodes in 2411 with coordinate systems in 2420 (D25.16: exact), or in 15 with 18 (E13.5: 6 digits).
     units : {"SI", "MM", "IN"}
         Dataset 164's unit system; coordinates in its length unit.
+    wireframe : (ids (k,), points (k, 3) m, trace (n,)) or None
+        The part's outline: nodes (global system) and one traceline (dataset 82) through them, 0 lifting the pen.
     force : bool
         Overwrite an existing file.
     """
@@ -361,11 +388,13 @@ def write_geometry(
     if nodes_dataset not in (15, 2411):
         raise MasslineError(f"nodes_dataset must be 15 or 2411, got {nodes_dataset!r}")
     system, stamp = UNITS[units], _stamp()
+    nodes, lines = _with_wireframe(layout, wireframe)
     datasets = [
         _header_151(description, stamp, SETUP),
         _units_164(system),
         *_systems(layout, nodes_dataset, system, SETUP),
-        _nodes(layout, nodes_dataset, system),
+        _nodes(nodes, nodes_dataset, system),
+        *lines,
     ]
     _write(path, datasets, ())
 

@@ -9,7 +9,9 @@ import argparse
 from rich.console import Console
 
 from massline.meshes.loader import UNITS
+from massline.placement.plan_file import read_plan
 from massline.placement.setup_export import FILES, export_setup
+from massline.virtual.planned_test import plan_mesh
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,15 +29,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=2411,
         help="nodes in dataset 2411 with systems in 2420 (default; exact) or in 15 with 18 (six digits)",
     )
+    parser.add_argument(
+        "--no-wireframe", action="store_true", help="leave the part's edges (dataset 82, from the plan's mesh) out"
+    )
     parser.add_argument("--force", action="store_true", help=f"overwrite {' and '.join(FILES)}")
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
-    setup = export_setup(args.plan, args.out, units=args.units, nodes_dataset=args.nodes, force=args.force)
+    mesh = None
+    if not args.no_wireframe:
+        _, _, doc = read_plan(args.plan)
+        mesh = plan_mesh(doc, args.plan).mesh
+    setup = export_setup(
+        args.plan, args.out, units=args.units, nodes_dataset=args.nodes, mesh=mesh, force=args.force
+    )
     console.print(
         f"{setup.nodes} nodes, each in its own coordinate system (its +Z the accelerometer's axis or the hit's "
         f"direction; a triaxial's channels +X, +Y, +Z), {setup.units}: {setup.accelerometer_channels} accelerometer "
         f"channels and the hammer's channel {setup.accelerometer_channels + 1} over {setup.hits} runs"
     )
-    console.print(f"wrote {setup.uff}")
+    outline = f", the part's {setup.edges} sharp edges as its wireframe" if setup.edges else ""
+    console.print(f"wrote {setup.uff}{outline}")
     console.print(f"wrote {setup.channels}")
