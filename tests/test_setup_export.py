@@ -1,5 +1,6 @@
 """The setup for the test software (``massline setup``): the plan's points read back from setup.uff by pyuff and by
-the project's reader, each direction its node's +Z (a triaxial's +X, +Y, +Z), and a channel table that parses."""
+the project's reader, each direction its node's +Z (a triaxial's +X, +Y, +Z), the part's wireframe, a channel table
+that parses, and a recording in those systems that identifies as in the plan's frame."""
 
 import csv
 import json
@@ -8,12 +9,18 @@ import numpy as np
 import pytest
 import pyuff
 import trimesh
+from conftest import bundled
 from test_cli import massline
 
+from massline import identify_recording
 from massline.core.errors import MasslineError
+from massline.core.lines import Lines
 from massline.placement.setup_export import export_setup
-from massline.uff import read_uff
+from massline.uff import read_uff, to_recording
 from massline.uff.recording import code_direction
+from massline.uff.writer import write_uff
+from massline.virtual.acquisition import Acquisition, run
+from massline.virtual.measurement import Noise
 
 BOX = (120.0, 80.0, 40.0)  # mm: the part's 12 sharp edges
 OBLIQUE = np.array([0.569, 0.577, 0.585])  # the bracket's sensor 5, as the issue saw it labelled '5:-Z'
@@ -182,3 +189,26 @@ def test_the_wireframe_is_the_parts_sharp_edges_in_the_global_system(hand_plan):
     lengths = sorted(np.linalg.norm(placed[a] - placed[b]) for a, b in segments)
     np.testing.assert_allclose(lengths, np.repeat(np.sort(BOX), 4) * 1e-3, rtol=1e-12)
     assert read_uff(setup.uff).datasets == (151, 164, 2420, 2411, 82)
+
+
+def test_a_recording_in_the_setups_systems_identifies_as_in_the_plans_frame(tmp_path):
+    """A free rigid test of oblique lines written with every node in its own system (each lone line its +Z, as
+    ``massline setup`` gives them) reads back into the plan's frame and identifies the body as the file in the
+    global systems does."""
+    body = bundled("bracket").nominal
+    rng = np.random.default_rng(3)
+    directions = rng.normal(size=(11, 3))
+    points = body.cog + 0.05 * rng.normal(size=(11, 3))
+    sensors, exciters = Lines(points[:8], directions[:8]), Lines(points[8:], directions[8:])
+    quiet = Acquisition(fmax=200.0, lines=400, noise=Noise(0.0, 0.0), dc_line=False)
+    recorded, _ = run(body, sensors, exciters, None, None, (), quiet, 0)
+    own, plain = tmp_path / "own.uff", tmp_path / "plain.uff"
+    layout = write_uff(own, recorded, units="MM", nodes_dataset=2411, setup_systems=True)
+    write_uff(plain, recorded, units="MM", nodes_dataset=2411)
+    assert set(layout.sensor_codes) == set(layout.exciter_codes) == {3}
+    back = to_recording(read_uff(own))
+    np.testing.assert_allclose(back.sensors.directions, sensors.directions, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(back.exciters.points, exciters.points, rtol=0, atol=1e-12)
+    found, reference = identify_recording(own, draws=0), identify_recording(plain, draws=0)
+    assert found.mass == pytest.approx(reference.mass, rel=1e-9) and found.mass == pytest.approx(body.mass, rel=1e-6)
+    np.testing.assert_allclose(found.inertia, reference.inertia, rtol=1e-8, atol=1e-15)

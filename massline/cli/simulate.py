@@ -183,6 +183,11 @@ def add_file_arguments(parser: argparse.ArgumentParser) -> None:
         help="nodes in dataset 15 (+18) or 2411 (+2420) (default 15)",
     )
     parser.add_argument("--no-dc", action="store_true", help="start the axis at Δf, without the exporter's 0 Hz line")
+    parser.add_argument(
+        "--setup-systems",
+        action="store_true",
+        help="every node in a coordinate system of its own, each lone line its +Z, as 'massline setup' writes them",
+    )
 
 
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
@@ -257,6 +262,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for warning in truth["warnings"]:
         console.print(f"warning: {warning}", markup=False, soft_wrap=True)
     options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
+    options |= {"setup_systems": args.setup_systems}
     options |= {"acceleration": args.acceleration, "force": args.force}
     if args.split_runs:
         written = write_runs(args.out, recording, **options)
