@@ -17,6 +17,7 @@ import numpy as np
 from massline.core import __version__
 from massline.core.numbers import counted
 from massline.placement.mountable import SHARP_EDGE_DEG
+from massline.placement.mounts import Mount
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
@@ -57,26 +58,17 @@ def fixed_labels(doc: dict, scene: Scene) -> set:
     return {m.label for m in scene.markers if fixed.get(m.kind, set()) & set(m.lines)}
 
 
-MOUNT_WORDS = {
-    "flat": "glued",
-    "film": "curved: adhesive film {gap} mm",
-    "pad": "curved: cemented pad {gap} mm",
-    "curved": "curved, along its normal",
-    "block": "on a mounting block",
-    "fixed": "given",
-}
-
-
 def mount_texts(doc: dict, scene: Scene) -> dict:
-    """How each marker is mounted (plan.json ``mount``, :mod:`massline.placement.mounts`), by label; plans
-    written before it was kept give none."""
+    """How each marker is mounted (plan.json ``mount``, :mod:`massline.placement.mounts`), by label, in the
+    console's words (``Mount.text``: flat, film 0.05 mm, pad 0.47 mm, curved, block, fixed); plans written before
+    it was kept give none."""
     out = {}
     for m in scene.markers:
         entries = doc["sensors" if m.kind == SENSOR else "exciters"]
         mount = entries[m.lines[0]].get("mount") if m.lines and m.lines[0] < len(entries) else None
         if mount:
-            gap = num(1e3 * _float(mount.get("gap_m")), ".2g")
-            out[m.label] = MOUNT_WORDS.get(mount.get("kind"), str(mount.get("kind"))).format(gap=gap)
+            gap = _float(mount.get("gap_m"))
+            out[m.label] = Mount(str(mount.get("kind")), 0.0 if np.isnan(gap) else gap).text
     return out
 
 
