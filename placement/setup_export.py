@@ -183,12 +183,12 @@ def export_setup(
     uff_path.parent.mkdir(parents=True, exist_ok=True)
     first = 1000 * (int(layout.node_ids.max()) // 1000 + 1) + 1
     outline = None if mesh is None else wireframe(mesh, first)
+    edges = 0 if outline is None else int(np.count_nonzero(outline[2][1:] * outline[2][:-1]))
+    outline = outline if edges else None  # a part with no sharp edge (a sphere) has no wireframe
     write_geometry(
         uff_path, layout, description=description, nodes_dataset=nodes_dataset, units=UFF_UNITS[units],
         wireframe=outline, force=True,
     )  # fmt: skip
     with atomic_file(csv_path) as temporary:
         temporary.write_text(channel_csv(rows))
-    trace = np.zeros(0) if outline is None else outline[2]
-    edges = int(np.count_nonzero(trace) - np.count_nonzero(trace == 0) - 1) if len(trace) else 0
     return Setup(uff_path, csv_path, len(layout.node_ids), len(sensors), len(exciters), units, edges)

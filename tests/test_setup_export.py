@@ -189,6 +189,8 @@ def test_the_wireframe_is_the_parts_sharp_edges_in_the_global_system(hand_plan):
     lengths = sorted(np.linalg.norm(placed[a] - placed[b]) for a, b in segments)
     np.testing.assert_allclose(lengths, np.repeat(np.sort(BOX), 4) * 1e-3, rtol=1e-12)
     assert read_uff(setup.uff).datasets == (151, 164, 2420, 2411, 82)
+    round_part = export_setup(path, path.parent / "sphere", mesh=trimesh.creation.icosphere(radius=0.05))
+    assert round_part.edges == 0 and read_uff(round_part.uff).datasets == (151, 164, 2420, 2411)
 
 
 def test_a_recording_in_the_setups_systems_identifies_as_in_the_plans_frame(tmp_path):
