@@ -22,6 +22,7 @@ from massline.reports.html import STYLE, escape, html_table, num, rendering_figu
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
+from massline.virtual.housing_loading import assumed_sentence, loading_sentence
 
 ONE_SIDE = (
     "the best layout of candidate points changing the sensors alone or the exciters alone"  # what the bounds cover
@@ -107,6 +108,17 @@ def _moments(doc: dict) -> np.ndarray:
 def _float(value) -> float:
     """A plan.json number; null (unobservable) is nan."""
     return np.nan if value is None else float(value)
+
+
+def housings_html(doc: dict) -> str:
+    """What the accelerometers' housings do to the body, as the console said it: the masses given
+    (plan.json ``loading``), or the weightless assumption and what typical housings would add
+    (``sensor_mass_assumed``); nothing for plans written before either was kept."""
+    if doc.get("loading"):
+        return f'<p class="note">{escape(loading_sentence(doc["loading"]))}.</p>'
+    if doc.get("sensor_mass_assumed"):
+        return f'<p class="note">{escape(assumed_sentence(doc["sensor_mass_assumed"]))}.</p>'
+    return ""
 
 
 def accuracy_table(doc: dict) -> str:
@@ -285,7 +297,8 @@ def report_html(
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",
-        "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + "</section>",
+        "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + housings_html(doc)
+        + "</section>",
         "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>",
         "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"
         if doc.get("diagnosability")

@@ -1,5 +1,6 @@
 """A plan given no ``--sensor-mass`` says it planned weightless accelerometers, and what typical housings
-(5 g each, a triaxial once) would do to the body: a warning when that is more than the test resolves."""
+(5 g each, a triaxial once) would do to the body — in the console, plan.json and the placement report — with a
+warning when that is more than the test resolves."""
 
 import json
 
@@ -55,5 +56,7 @@ def test_the_bracket_plan_states_its_weightless_accelerometers(bracket_default_p
     assert "loading" not in doc and housings == len({s["triaxial"] if s["triaxial"] is not None else -k - 1
                                                       for k, s in enumerate(doc["sensors"])})
     assert np.isclose(assumed["typical"]["mass_percent"], 100 * housings * 0.005 / doc["nominal"]["mass"])
-    stdout = (session_cache.command("plan", "bracket") / "stdout.txt").read_text()
-    assert "accelerometers planned weightless (no --sensor-mass)" in " ".join(stdout.split())
+    folder = session_cache.command("plan", "bracket")
+    said = "accelerometers planned weightless (no --sensor-mass)"
+    assert said in " ".join((folder / "stdout.txt").read_text().split())
+    assert said in (folder / "out" / "report.html").read_text()  # the placement report says it too
