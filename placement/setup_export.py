@@ -4,17 +4,19 @@
 system per node, numbered like it, at its point) and 2411 (the nodes, coordinates in the global system,
 displacements in their own) — or 18 and 15, as Test.Lab exports geometry (six digits) — and, given the mesh, 82:
 the part's wireframe, its sharp edges (creases over 30°, those the planner keeps points off) as one traceline
-through nodes of their own in the global system, numbered from the thousand after the test's points (1001, …). A lone accelerometer or
-hit is its node's +Z, whatever its direction in the part's frame: an oblique (0.569, 0.577, 0.585) is typed
-nowhere; a triaxial's channels are its node's +X, +Y, +Z (:func:`massline.uff.node_layout.setup_layout`).
-A direction code c at a node of frame R is the global sign(c)·R[:, |c|−1], as every reader places it.
+through nodes of their own in the global system, numbered from the thousand after the test's points (1001, …).
+A lone accelerometer or hit is its node's +Z, whatever its direction in the part's frame: an oblique
+(0.569, 0.577, 0.585) is typed nowhere; a triaxial's channels are its node's +X, +Y, +Z
+(:func:`massline.uff.node_layout.setup_layout`). A direction code c at a node of frame R is the global sign(c)·R[:, |c|−1], as every reader places it.
 
 ``channels.csv`` has one row per accelerometer channel (channels 1…n in the plan's order) and one per hit (the
 hammer's channel n + 1, one run per hit): the channel, ``role`` (accelerometer or hammer), the plan's ``node``,
 ``direction`` in the node's system (+Z, or +X/+Y/+Z of a triaxial), its coordinate system ``cs``, the ``run``
 (all for accelerometers), the ``mount`` the plan chose, the housing's mass the plan assumed (g, per
 accelerometer, repeated on each of a triaxial's rows), an empty ``sensitivity`` with its unit (mV/g, mV/N) for
-the calibration sheet, the point (plan units) and the direction in the part's frame.
+the calibration sheet, the point (plan units) and the direction in the part's frame; with the wireframe, two
+edges to mark the point from with a rule (the nearest, and the nearest at least 30° from it: a corner's two sides),
+each by its wireframe nodes ('1003-1007') and the point's distance from it.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ from massline.uff.writer import write_geometry
 FILES = ("setup.uff", "channels.csv")
 UFF_UNITS = {"m": "SI", "mm": "MM", "in": "IN"}  # a plan's units → dataset 164's system
 SENSITIVITY = {"accelerometer": "mV/g", "hammer": "mV/N"}
+
 
 
 @dataclass(frozen=True)
@@ -86,15 +89,51 @@ def wireframe(mesh: trimesh.Trimesh, first: int) -> tuple[np.ndarray, np.ndarray
     return ids, np.asarray(mesh.vertices)[used], np.where(trace < 0, 0, ids[np.maximum(trace, 0)])
 
 
+def nearest_edges(points: np.ndarray, outline) -> list[list[tuple[str, float]]]:
+    """For each point (n, 3) m, two edges of the wireframe ``outline`` (:func:`wireframe`) to measure it from
+    with a rule: the nearest, and the nearest of those at least 30° from it (a corner's other side), each as
+    ('1003-1007', its distance in m); fewer where the part has fewer."""
+    ids, vertices, trace = outline
+    where = dict(zip(ids.tolist(), vertices))
+    pairs = [(int(a), int(b)) for a, b in zip(trace[:-1], trace[1:]) if a and b]
+    a, b = np.array([where[i] for i, _ in pairs]), np.array([where[j] for _, j in pairs])
+    along = (b - a) / np.linalg.norm(b - a, axis=1)[:, None]
+    found = []
+    for point in points:
+        t = np.clip(np.einsum("kj,kj->k", point - a, b - a) / np.einsum("kj,kj->k", b - a, b - a), 0.0, 1.0)
+        distance = np.linalg.norm(point - (a + t[:, None] * (b - a)), axis=1)
+        order = np.argsort(distance, kind="stable")
+        first = order[0]
+        other = next((k for k in order if abs(along[k] @ along[first]) < np.cos(np.radians(SHARP_EDGE_DEG))), None)
+        found.append([(f"{pairs[k][0]}-{pairs[k][1]}", float(distance[k])) for k in (first, other) if k is not None])
+    return found
+
+
 def _mount_kinds(entries: list) -> list[str]:
     return [str((e.get("mount") or {}).get("kind", "")) for e in entries]
 
 
+def _edge_columns(edges: list[tuple[str, float]], scale: float, units: str) -> dict:
+    """The table's 'edge 1', 'from edge 1 (mm)', 'edge 2', … cells of one point (empty without a wireframe)."""
+    cells = {}
+    for k in (1, 2):
+        name, distance = edges[k - 1] if len(edges) >= k else ("", None)
+        cells |= {f"edge {k}": name, f"from edge {k} ({units})": "" if distance is None else f"{distance / scale:.4g}"}
+    return cells
+
+
 def channel_rows(
-    layout: UffLayout, sensors: Lines, exciters: Lines, mounts: tuple[list, list], grams: np.ndarray, units: str
+    layout: UffLayout,
+    sensors: Lines,
+    exciters: Lines,
+    mounts: tuple[list, list],
+    grams: np.ndarray,
+    units: str,
+    outline=None,
 ) -> list[dict]:
     """The channel table's rows (see the module's docstring); ``grams``: each sensor line's housing (g),
-    ``units``: m, mm or in for the points."""
+    ``units``: m, mm or in for the points; ``outline``: the wireframe the points are measured from (None: no
+    edge columns)."""
     scale = UNITS[units]
     first_force = len(sensors) + 1
     rows = []
@@ -102,6 +141,7 @@ def channel_rows(
         ("accelerometer", sensors, layout.sensor_nodes, layout.sensor_codes, mounts[0]),
         ("hammer", exciters, layout.exciter_nodes, layout.exciter_codes, mounts[1]),
     ):
+        near = None if outline is None else nearest_edges(lines.points, outline)
         for k, (point, direction, node, code, mount) in enumerate(
             zip(lines.points, lines.directions, nodes, codes, mounted)
         ):
@@ -120,6 +160,7 @@ def channel_rows(
                     "sensitivity unit": SENSITIVITY[role],
                     **{f"{a} ({units})": f"{v / scale:.12g}" for a, v in zip("xyz", point)},
                     **{f"d{a}": f"{v:.12g}" for a, v in zip("xyz", direction)},
+                    **({} if near is None else _edge_columns(near[k], scale, units)),
                 }
             )
     return rows
@@ -175,16 +216,16 @@ def export_setup(
     layout = setup_layout(sensors, exciters)
     housings = HousingMasses.from_payload(doc.get("loading", {}).get("sensor_mass", 0.0))
     grams = 1e3 * housings.of(layout.sensor_nodes)
-    mounts = (_mount_kinds(doc["sensors"]), _mount_kinds(doc["exciters"]))
-    rows = channel_rows(layout, sensors, exciters, mounts, grams, units)
-    description = (
-        f"setup of {doc.get('mesh', 'the plan')}: {len(sensors)} accelerometer channels, {len(exciters)} hits"
-    )
-    uff_path.parent.mkdir(parents=True, exist_ok=True)
     first = 1000 * (int(layout.node_ids.max()) // 1000 + 1) + 1
     outline = None if mesh is None else wireframe(mesh, first)
     edges = 0 if outline is None else int(np.count_nonzero(outline[2][1:] * outline[2][:-1]))
     outline = outline if edges else None  # a part with no sharp edge (a sphere) has no wireframe
+    mounts = (_mount_kinds(doc["sensors"]), _mount_kinds(doc["exciters"]))
+    rows = channel_rows(layout, sensors, exciters, mounts, grams, units, outline)
+    description = (
+        f"setup of {doc.get('mesh', 'the plan')}: {len(sensors)} accelerometer channels, {len(exciters)} hits"
+    )
+    uff_path.parent.mkdir(parents=True, exist_ok=True)
     write_geometry(
         uff_path, layout, description=description, nodes_dataset=nodes_dataset, units=UFF_UNITS[units],
         wireframe=outline, force=True,

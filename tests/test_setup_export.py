@@ -214,3 +214,17 @@ def test_a_recording_in_the_setups_systems_identifies_as_in_the_plans_frame(tmp_
     found, reference = identify_recording(own, draws=0), identify_recording(plain, draws=0)
     assert found.mass == pytest.approx(reference.mass, rel=1e-9) and found.mass == pytest.approx(body.mass, rel=1e-6)
     np.testing.assert_allclose(found.inertia, reference.inertia, rtol=1e-8, atol=1e-15)
+
+
+def test_each_point_is_measured_from_a_corners_two_edges(tmp_path):
+    """On a 120 × 80 × 40 mm box, a sensor on the top face 15 mm from the +x side and 25 mm from the +y side is
+    read off those two edges; a hit on the +x face, 10 mm below the top and 30 mm from the −y side, likewise."""
+    box = trimesh.creation.box(extents=np.array(BOX) * 1e-3)
+    sensors = [_entry([0.045, 0.015, 0.02], [0, 0, 1])]
+    exciters = [_entry([0.06, -0.01, 0.01], [-1, 0, 0])]
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps({"units": "mm", "sensors": sensors, "exciters": exciters}))
+    rows = _rows(export_setup(path, mesh=box))
+    for row, expected in zip(rows, ({15.0, 25.0}, {10.0, 30.0})):
+        assert {float(row["from edge 1 (mm)"]), float(row["from edge 2 (mm)"])} == expected
+        assert row["edge 1"] != row["edge 2"] and all("-" in row[f"edge {k}"] for k in (1, 2))
