@@ -7,7 +7,8 @@ the part's wireframe, its sharp edges (creases over 30°, those the planner keep
 through nodes of their own in the global system, numbered from the thousand after the test's points (1001, …).
 A lone accelerometer or hit is its node's +Z, whatever its direction in the part's frame: an oblique
 (0.569, 0.577, 0.585) is typed nowhere; a triaxial's channels are its node's +X, +Y, +Z
-(:func:`massline.uff.node_layout.setup_layout`). A direction code c at a node of frame R is the global sign(c)·R[:, |c|−1], as every reader places it.
+(:func:`massline.uff.node_layout.setup_layout`). A direction code c at a node of frame R is the global
+sign(c)·R[:, |c|−1], as every reader places it.
 
 ``channels.csv`` has one row per accelerometer channel (channels 1…n in the plan's order) and one per hit (the
 hammer's channel n + 1, one run per hit): the channel, ``role`` (accelerometer or hammer), the plan's ``node``,
