@@ -5,8 +5,10 @@ nodes, each in a coordinate system whose +Z is its direction, and a channel tabl
 from __future__ import annotations
 
 import argparse
+import csv
 
 from rich.console import Console
+from rich.table import Table
 
 from massline.meshes.loader import UNITS
 from massline.placement.plan_file import read_plan
@@ -35,6 +37,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help=f"overwrite {' and '.join(FILES)}")
 
 
+def channel_table(path) -> Table:
+    """channels.csv as the console shows it: each channel's node, its direction in the node's system, its mount
+    and the edges to mark it from."""
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    shown = ["channel", "role", "node", "direction", "mount"] + [c for c in rows[0] if c.startswith(("edge", "from"))]
+    table = Table(title="Channels (channels.csv)")
+    for column in shown:
+        table.add_column(column, justify="right")
+    for row in rows:
+        table.add_row(*(row[c] for c in shown))
+    return table
+
+
 def run(args: argparse.Namespace, console: Console) -> None:
     mesh = None
     if not args.no_wireframe:
@@ -43,6 +59,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     setup = export_setup(
         args.plan, args.out, units=args.units, nodes_dataset=args.nodes, mesh=mesh, force=args.force
     )
+    console.print(channel_table(setup.channels))
     console.print(
         f"{setup.nodes} nodes, each in its own coordinate system (its +Z the accelerometer's axis or the hit's "
         f"direction; a triaxial's channels +X, +Y, +Z), {setup.units}: {setup.accelerometer_channels} accelerometer "
