@@ -137,7 +137,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "KG [POINT=KG ...]",
         "mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for a --fixed-sensor "
         "point whose housing differs (numbered 1, 2, … in the order given): the plan states how they load the "
-        "body and simulate puts them on (default 0)",
+        "body and simulate puts them on (default 0, and the plan says what typical 5 g housings would add)",
     )
     _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
     add_criterion_arguments(parser)
