@@ -58,6 +58,14 @@ class HousingMasses:
                 by_label[key] = mass
         return cls(default, by_label)
 
+    @classmethod
+    def from_payload(cls, payload) -> HousingMasses:
+        """plan.json's (or a truth file's) ``sensor_mass`` back: kg for every housing, or
+        {"default": kg, "by_point": {label: kg}}; 0 where there is none."""
+        if isinstance(payload, dict):
+            return cls(float(payload["default"]), {int(k): float(v) for k, v in payload["by_point"].items()})
+        return cls(float(payload or 0.0))
+
     @property
     def any(self) -> bool:
         """Is any housing given a mass?"""

@@ -28,7 +28,7 @@ def dataset(body, units: Units) -> str:
     x, y, z = units.lengths(body.cog)
     J = units.inertias(body.inertia)
     rows = [
-        "massline measured body",
+        "massline given body" if body.std is None else "massline measured body",
         *commented(header_lines(body, units, CONVENTION), "! ").splitlines(),
         f"UNITS/FORCE = NEWTON, MASS = {MASS[units.mass]}, LENGTH = {LENGTH[units.length]}, TIME = SECOND",
         f"PART/{GROUND}, GROUND",

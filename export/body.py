@@ -25,7 +25,7 @@ PLATE_UNOBSERVED = ("z_G", "J_xz", "J_yz", "J_zz")  # what a plate's test leaves
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class Body:
-    """A measured body.
+    """A body, measured (with its 1-σ) or given (a CAD's values: ``std`` None, and the exports say so).
 
     Attributes
     ----------
@@ -37,7 +37,8 @@ class Body:
         Inertia tensor about the CoG, kg·m², tensor sign (J_xy = −∫xy dm), along the frame's axes; NaN where
         unobserved.
     std : dict or None
-        The 1-σ as identify's ``std`` keys (``mass``, ``cog``, ``inertia_cog``, …, SI); None when not known.
+        The 1-σ as identify's ``std`` keys (``mass``, ``cog``, ``inertia_cog``, …, SI); None for values given, not
+        measured (the exports' headers say "given, not measured").
     note : str
         What was measured: the recording, the method and band, the bare body or as tested.
     warnings : tuple of str

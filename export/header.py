@@ -1,5 +1,6 @@
-"""What every exported file says about itself, in comment lines: what was measured, with what ±, in which
-frame and units, by which version of massline, and how the format's inertia entries are signed.
+"""What every exported file says about itself, in comment lines: what was measured, with what ±, or that the
+values were given (a CAD body's, no 1-σ), in which frame and units, by which version of massline, and how the
+format's inertia entries are signed.
 
 Plain ASCII (solver decks are read by Fortran-era parsers): '+/-', '1-sigma', 'int(xy dm)'.
 """
@@ -16,6 +17,8 @@ from massline.export.units import Units
 
 WIDTH = 72  # comment text per line: a card deck's 80 columns less the comment marker
 AXES = "xyz"
+MEASURED_FRAME = "the recording's frame O xyz (the file's)"
+GIVEN_FRAME = "the frame O xyz the values were given in"
 TENSOR_SIGN = "inertia tensor about the CoG, J = int((r.r) I - r r^T) dm: J_xy = -int(xy dm)"
 
 
@@ -26,27 +29,31 @@ def ascii_text(text: str) -> str:
     return text.encode("ascii", "replace").decode()
 
 
-def measured(value: float, sigma: float | None, unit: str) -> str:
-    """'0.34560 +/- 0.00012 kg', the value to its 1-sigma's last digit; 'unobserved' for NaN."""
+def measured(value: float, sigma: float | None, unit: str, given: bool = False) -> str:
+    """'0.34560 +/- 0.00012 kg', the value to its 1-sigma's last digit; 'unobserved' for NaN; a ``given`` value
+    (no 1-sigma at all) in full."""
     if np.isnan(value):
         return "unobserved"
+    if given:
+        return ascii_text(f"{real(value)} {unit}")
     shown, spread = value_with_sigma(value, None if sigma is None or np.isnan(sigma) else sigma)
     return ascii_text(f"{shown} +/- {spread} {unit}" if spread else f"{shown} {unit} (1-sigma not given)")
 
 
 def measured_lines(body, units: Units) -> list[str]:
     """Mass, CoG and the six inertia entries (tensor sign), each with its 1-sigma, in ``units``."""
-    std = body.std or {}
+    std, given = body.std or {}, body.std is None
     mass_sd = std.get("mass")
     cog_sd = np.asarray(std.get("cog", np.full(3, np.nan)), dtype=float)
     J_sd = np.asarray(std.get("inertia_cog", np.full((3, 3), np.nan)), dtype=float)
     cog, J = units.lengths(body.cog), units.inertias(body.inertia)
-    lines = [
-        f"mass = {measured(units.masses(body.mass), None if mass_sd is None else units.masses(mass_sd), units.mass)}"
-    ]
-    lines += [f"CoG {a} = {measured(cog[k], units.lengths(cog_sd[k]), units.length)}" for k, a in enumerate(AXES)]
+    mass = measured(units.masses(body.mass), None if mass_sd is None else units.masses(mass_sd), units.mass, given)
+    lines = [f"mass = {mass}"]
     lines += [
-        f"J_{AXES[i]}{AXES[j]} = {measured(J[i, j], units.inertias(J_sd[i, j]), units.inertia)}"
+        f"CoG {a} = {measured(cog[k], units.lengths(cog_sd[k]), units.length, given)}" for k, a in enumerate(AXES)
+    ]
+    lines += [
+        f"J_{AXES[i]}{AXES[j]} = {measured(J[i, j], units.inertias(J_sd[i, j]), units.inertia, given)}"
         for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     ]
     return lines
@@ -56,10 +63,12 @@ def header_lines(body, units: Units, convention: str) -> list[str]:
     """The comment block, one entry a line (wrapped to ``WIDTH``), for a format whose inertia entries follow
     ``convention`` (a sentence citing the format's manual)."""
     parts = [
-        f"massline {__version__} export: {body.note or 'a body given to massline'}",
-        "frame: the recording's frame O xyz (the file's); the CoG in it, the inertia about the CoG along its axes",
+        f"massline {__version__} export: {body.note or 'a body given to massline (not measured)'}",
+        f"frame: {GIVEN_FRAME if body.std is None else MEASURED_FRAME}; the CoG in it, the inertia about the CoG "
+        "along its axes",
         f"units: length {units.length}, mass {units.mass}, inertia {units.inertia} (time s, force N)",
-        f"measured (value +/- 1-sigma; {TENSOR_SIGN}):",
+        (f"given, not measured (no 1-sigma; {TENSOR_SIGN}):" if body.std is None
+         else f"measured (value +/- 1-sigma; {TENSOR_SIGN}):"),  # fmt: skip
         *(f"  {line}" for line in measured_lines(body, units)),
         f"this format: {convention}",
         *(f"warning: {w}" for w in body.warnings),

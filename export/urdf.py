@@ -4,6 +4,11 @@ URDF specification (wiki.ros.org/urdf/XML/link): ``<inertial>`` has ``<origin xy
 inertial frame relative to the link frame, whose origin "must be at the center of gravity"; ``<mass value>``
 in kilograms; ``<inertia ixx ixy ixz iyy iyz izz>``, "the 3x3 rotational inertia matrix, represented in the
 inertia frame" — the matrix's own entries, so ixy = J_xy (tensor sign). Lengths in metres (REP 103).
+
+The robot carries MuJoCo's URDF extension ``<mujoco><compiler fusestatic="false"/></mujoco>`` (MuJoCo XML
+Reference, URDF extensions; other URDF readers skip an element they do not know): without it MuJoCo's importer
+fuses the jointless link into the world and the body weighs nothing. MuJoCo then holds the link fixed to the world
+(URDF gives it no joint); the MuJoCo export (``.xml``) is the free body.
 """
 
 from __future__ import annotations
@@ -11,6 +16,7 @@ from __future__ import annotations
 from massline.export.header import header_lines, real, xml_comment
 from massline.export.units import Units
 
+KEEP_LINK = '<mujoco><compiler fusestatic="false"/></mujoco>'  # MuJoCo's importer keeps the jointless link
 CONVENTION = (
     "<inertia> ixx ixy ixz iyy iyz izz are the rotational inertia matrix's entries, ixy = J_xy "
     "(URDF specification, link/inertial); <origin> at the CoG, rpy 0: axes of the link frame"
@@ -32,6 +38,7 @@ def robot(body, units: Units) -> str:
         '<?xml version="1.0"?>\n'
         + xml_comment(header_lines(body, units, CONVENTION))
         + '<robot name="massline_body">\n'
+        + f"  {KEEP_LINK}\n"
         + '  <link name="body">\n'
         + "    <inertial>\n"
         + f'      <origin xyz="{real(x)} {real(y)} {real(z)}" rpy="0 0 0"/>\n'

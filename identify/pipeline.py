@@ -236,6 +236,12 @@ class Identification:
         return self.measured(as_tested, source).export(path, units, force)
 
 
+NONE_TAKEN_OFF = (
+    "the body with its accelerometers on, none taken off (no sensor mass given): the bare body only if they weigh "
+    "nothing"
+)
+
+
 def fit_note(found: Identification) -> str:
     """'method best, band 5-40 Hz, 72 masslines, reduced chi2 1.02': how ``found`` was identified."""
     fit = f"reduced chi2 {found.best.chi2:.3g}" if np.isfinite(found.best.chi2) else "no redundancy to check the fit"
@@ -248,7 +254,7 @@ def identification_note(found: Identification, as_tested: bool, source: str) -> 
     housings = found.housings
     grams = housings.describe().replace("×", "x")  # exports are ASCII
     if not housings.count:
-        which = "the body as tested (no sensor mass given)"
+        which = NONE_TAKEN_OFF
     else:
         which = f"the body as tested, {grams} on" if as_tested else f"the bare body, {grams} taken off"
     return f"{source or 'a recording'}, massline identify ({fit_note(found)}); {which}"

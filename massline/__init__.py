@@ -44,6 +44,7 @@ PUBLIC = {  # name: the module defining it
     "cheapest_diagnosable": "massline.placement.diagnosable_plan",
     "plan_to_dict": "massline.placement.plan_file",
     "read_plan": "massline.placement.plan_file",
+    "export_setup": "massline.placement.setup_export",
     "plan_test": "massline.virtual.planned_test",
     "plan_mesh": "massline.virtual.planned_test",
     "fe_model": "massline.virtual.planned_test",

@@ -122,6 +122,18 @@ def is_plate(body: BodyMesh) -> bool:
     )
 
 
+def monotone(progress: Callable[[str, float], None]) -> Callable[[str, float], None]:
+    """``progress(stage, fraction)`` never told less than it was before: a search that starts over (another
+    criterion, more mounting blocks) says its stage at the fraction already reached."""
+    reached = [0.0]
+
+    def told(stage: str, fraction: float) -> None:
+        reached[0] = max(reached[0], fraction)
+        progress(stage, reached[0])
+
+    return told
+
+
 def plan(
     body: BodyMesh,
     budget: Budget = Budget(),
@@ -145,6 +157,7 @@ def plan(
     snapped onto the surface."""
     planar = is_plate(body) if planar is None else planar
     budget.check(planar)
+    progress = monotone(progress)
     progress("candidates", 0.0)
     surface = Surface.of(body.mesh)
     fixed_sensors, fixed_exciters, anchors = anchored(body, fixed_sensors, fixed_exciters, options, surface)

@@ -224,7 +224,6 @@ def plan_on_candidates(
     sensors, exciters, bounds, d_bounds, certificate = certified(settings, planner, layout, relaxation, certify_steps)
     S_all, E_all = planner.layout(sensors, exciters)
     assessment = assessed(model, S_all, E_all, noise)
-    progress("done", 1.0)
     return Plan(
         model=model,
         sensors=S_all,

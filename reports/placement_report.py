@@ -17,10 +17,12 @@ import numpy as np
 from massline.core import __version__
 from massline.core.numbers import counted
 from massline.placement.mountable import SHARP_EDGE_DEG
+from massline.placement.mounts import Mount
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
+from massline.virtual.housing_loading import assumed_sentence, loading_sentence
 
 ONE_SIDE = (
     "the best layout of candidate points changing the sensors alone or the exciters alone"  # what the bounds cover
@@ -57,26 +59,17 @@ def fixed_labels(doc: dict, scene: Scene) -> set:
     return {m.label for m in scene.markers if fixed.get(m.kind, set()) & set(m.lines)}
 
 
-MOUNT_WORDS = {
-    "flat": "glued",
-    "film": "curved: adhesive film {gap} mm",
-    "pad": "curved: cemented pad {gap} mm",
-    "curved": "curved, along its normal",
-    "block": "on a mounting block",
-    "fixed": "given",
-}
-
-
 def mount_texts(doc: dict, scene: Scene) -> dict:
-    """How each marker is mounted (plan.json ``mount``, :mod:`massline.placement.mounts`), by label; plans
-    written before it was kept give none."""
+    """How each marker is mounted (plan.json ``mount``, :mod:`massline.placement.mounts`), by label, in the
+    console's words (``Mount.text``: flat, film 0.05 mm, pad 0.47 mm, curved, block, fixed); plans written before
+    it was kept give none."""
     out = {}
     for m in scene.markers:
         entries = doc["sensors" if m.kind == SENSOR else "exciters"]
         mount = entries[m.lines[0]].get("mount") if m.lines and m.lines[0] < len(entries) else None
         if mount:
-            gap = num(1e3 * _float(mount.get("gap_m")), ".2g")
-            out[m.label] = MOUNT_WORDS.get(mount.get("kind"), str(mount.get("kind"))).format(gap=gap)
+            gap = _float(mount.get("gap_m"))
+            out[m.label] = Mount(str(mount.get("kind")), 0.0 if np.isnan(gap) else gap).text
     return out
 
 
@@ -115,6 +108,17 @@ def _moments(doc: dict) -> np.ndarray:
 def _float(value) -> float:
     """A plan.json number; null (unobservable) is nan."""
     return np.nan if value is None else float(value)
+
+
+def housings_html(doc: dict) -> str:
+    """What the accelerometers' housings do to the body, as the console said it: the masses given
+    (plan.json ``loading``), or the weightless assumption and what typical housings would add
+    (``sensor_mass_assumed``); nothing for plans written before either was kept."""
+    if doc.get("loading"):
+        return f'<p class="note">{escape(loading_sentence(doc["loading"]))}.</p>'
+    if doc.get("sensor_mass_assumed"):
+        return f'<p class="note">{escape(assumed_sentence(doc["sensor_mass_assumed"]))}.</p>'
+    return ""
 
 
 def accuracy_table(doc: dict) -> str:
@@ -293,7 +297,8 @@ def report_html(
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",
-        "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + "</section>",
+        "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + housings_html(doc)
+        + "</section>",
         "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>",
         "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"
         if doc.get("diagnosability")

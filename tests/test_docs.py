@@ -26,7 +26,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
-COMMANDS = ("props", "plan", "simulate", "report", "identify", "diagnose", "demo")
+COMMANDS = ("props", "plan", "setup", "simulate", "report", "identify", "diagnose", "demo")
 OPTION = re.compile(r"(?<![\w-])--[a-z][a-z0-9-]*")
 SCRIPT = re.compile(r"\b((?:benchmarks|tests)/[\w/]+\.py)\b")
 FENCE = re.compile(r"^ *```(\w*)\n(.*?)^ *```", re.S | re.M)

@@ -1,6 +1,7 @@
 """URDF export, read back by a URDF reader (yourdfpy) and by MuJoCo's URDF importer: the link's inertial is the
 body massline measured."""
 
+import mujoco
 import numpy as np
 import pytest
 import yourdfpy
@@ -10,6 +11,7 @@ from test_export_mjcf import loaded
 from massline.core.errors import MasslineError
 from massline.export import Body, export_text, write_export
 from massline.export.units import UNITS
+from massline.export.urdf import KEEP_LINK
 
 
 @pytest.mark.parametrize("name", ["bracket", "far"])
@@ -22,17 +24,16 @@ def test_yourdfpy_reads_the_link_inertial(tmp_path, name):
     assert_same_body(inertial.mass, origin[:3, 3], inertial.inertia, body, rtol=1e-9)
 
 
-KEEP_STATIC = '<mujoco><compiler fusestatic="false"/></mujoco>'  # MuJoCo's URDF extension: keep a jointless link
-
-
-def test_mujoco_imports_the_urdf_as_the_same_body():
-    """MuJoCo's own URDF parser: the link becomes a body whose mass, CoG and inertia are massline's (without
-    the extension MuJoCo fuses the jointless link into the world)."""
+def test_mujoco_loads_the_urdf_file_as_written_as_the_same_body(tmp_path):
+    """MuJoCo's own URDF parser, given the file as a user would: the link becomes a body whose mass, CoG and inertia
+    are massline's (the file's MuJoCo extension keeps the jointless link from being fused into the world)."""
     body = rigid_bodies()["far"]
-    text = export_text(measured(body), "far.urdf").replace(
-        '<robot name="massline_body">', f'<robot name="massline_body">{KEEP_STATIC}'
-    )
-    assert_same_body(*loaded(text), body, rtol=1e-9)
+    path = write_export(measured(body), tmp_path / "far.urdf")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    assert model.nbody == 2 and model.body_mass[1] == pytest.approx(body.mass, rel=1e-9)
+    assert_same_body(*loaded(path.read_text()), body, rtol=1e-9)
+    without = path.read_text().replace(KEEP_LINK, "")
+    assert mujoco.MjModel.from_xml_string(without).nbody == 1  # fused into the world: what the extension prevents
 
 
 def test_a_plate_is_refused_with_its_unobserved_entries():

@@ -14,6 +14,7 @@ COMMANDS = {
     "plan",
     "simulate",
     "report_command",
+    "setup_command",
     "identify_command",
     "diagnose_command",
     "demo",

@@ -262,7 +262,7 @@ def test_failure_leaves_no_file(tmp_path, monkeypatch, existing):
     path = tmp_path / "test.uff"
     if existing:
         path.write_text("earlier test\n")
-    write_record = uff_export._dataset_58
+    write_record = uff_export.dataset_58
     calls = []
 
     def failing(*args):
@@ -271,7 +271,7 @@ def test_failure_leaves_no_file(tmp_path, monkeypatch, existing):
             raise OSError("disk full")
         return write_record(*args)
 
-    monkeypatch.setattr(uff_export, "_dataset_58", failing)
+    monkeypatch.setattr(uff_export, "dataset_58", failing)
     with pytest.raises(MasslineError, match=r"cannot write .*test\.uff \(disk full\)"):  # exit 2, one line
         write_uff(path, recording(), force=True)
     assert len(calls) == 3

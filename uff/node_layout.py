@@ -6,6 +6,10 @@ with codes 1, 2, 3 along its channels (a left-handed triad has its third axis fl
 line gets the frame nearest to the identity whose axis k (the global axis closest to the line) lies along ±d, so
 that a slightly tilted "+z" sensor is still code +3. Lines along ± global axes keep the global frame. A code c at a node of frame R is the
 global direction sign(c) R[:, |c| - 1] (`line_from_code`).
+
+The setup a technician loads into test software (:func:`setup_layout`) is laid out as Test.Lab exports geometry:
+every node has a coordinate system of its own, numbered like it, at its point; a lone line is that system's +Z
+(the accelerometer's axis, the hammer's swing), an accelerometer of two or three channels has them along its x, y, z.
 """
 
 from __future__ import annotations
@@ -109,7 +113,26 @@ def _group_frame(directions: np.ndarray, node_systems: bool, name: str) -> tuple
     return _tilted_frame(directions[0]) if len(directions) == 1 else _triad_frame(directions)
 
 
-def _line_frames(lines: Lines, node_systems: bool, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _z_frame(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A frame whose +z is the unit direction ``d`` exactly, its x the global x turned the shortest way with it
+    (Rodrigues; global x itself when ``d`` points nearly along −z), and ``d``'s code in it (+3)."""
+    seed = AXES[0] - d[0] / (1.0 + d[2]) * np.array([d[0], d[1], 1.0 + d[2]]) if d[2] > -0.9 else AXES[0]
+    x = seed - (seed @ d) * d
+    x = x / np.linalg.norm(x)
+    return np.column_stack([x, np.cross(d, x), d]), np.array([3])
+
+
+def _setup_frame(directions: np.ndarray, node_systems: bool, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Frame and codes of one point of a setup: a lone line along its own +z, two or three channels along x, y, z."""
+    if len(directions) == 1:
+        return _z_frame(directions[0])
+    _group_frame(directions, node_systems, name)  # refuses what no accelerometer is
+    return _triad_frame(directions)
+
+
+def _line_frames(
+    lines: Lines, node_systems: bool, kind: str, group_frame=_group_frame
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Point label group (n,), node point (n, 3), node frame (n, 3, 3) and direction code (n,) of every line."""
     group = point_groups(lines)
     points, frames, codes = lines.points.copy(), np.empty((len(lines), 3, 3)), np.empty(len(lines), dtype=int)
@@ -118,7 +141,7 @@ def _line_frames(lines: Lines, node_systems: bool, kind: str) -> tuple[np.ndarra
         name = f"{kind} {', '.join(str(i + 1) for i in index)} ({lines.describe(index[0])})"
         if np.ptp(lines.points[index], axis=0).max() > POINT_TOL:
             raise MasslineError(f"{name}: the channels of one accelerometer must share one point")
-        frame, group_codes = _group_frame(lines.directions[index], node_systems, name)
+        frame, group_codes = group_frame(lines.directions[index], node_systems, name)
         points[index], frames[index], codes[index] = lines.points[index[0]], frame, group_codes
     _refuse_repeats(lines, kind)
     return group, points, frames, codes
@@ -151,13 +174,19 @@ def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> Uf
     MasslineError (a ValueError)
         Non-orthogonal triaxial channels, an oblique line without node systems, or two identical lines.
     """
-    s_group, s_points, s_frames, s_codes = _line_frames(sensors, node_systems, "sensor")
-    e_group, e_points, e_frames, e_codes = _line_frames(exciters, node_systems, "exciter")
+    return _layout(sensors, exciters, node_systems, _group_frame, own_systems=False)
+
+
+def _layout(sensors: Lines, exciters: Lines, node_systems: bool, group_frame, own_systems: bool) -> UffLayout:
+    """The layout with each point's frame from ``group_frame``; every node in a system of its own
+    (``own_systems``) or only those whose frame is not the global one."""
+    s_group, s_points, s_frames, s_codes = _line_frames(sensors, node_systems, "sensor", group_frame)
+    e_group, e_points, e_frames, e_codes = _line_frames(exciters, node_systems, "exciter", group_frame)
     s_labels, e_labels = point_labels(sensors, exciters)
     s_first, e_first = np.unique(s_group, return_index=True)[1], np.unique(e_group, return_index=True)[1]
     ids = np.concatenate([s_labels[s_first], e_labels[e_first]]).astype(int)
     frames = np.concatenate([s_frames[s_first], e_frames[e_first]])
-    in_global = np.all(frames == np.eye(3), axis=(1, 2))
+    in_global = np.all(frames == np.eye(3), axis=(1, 2)) & (not own_systems)
     return UffLayout(
         node_ids=ids,
         node_points=np.concatenate([s_points[s_first], e_points[e_first]]),
@@ -168,3 +197,21 @@ def uff_layout(sensors: Lines, exciters: Lines, node_systems: bool = True) -> Uf
         exciter_nodes=e_labels.astype(int),
         exciter_codes=e_codes,
     )
+
+
+def setup_layout(sensors: Lines, exciters: Lines) -> UffLayout:
+    """Nodes, frames and codes of a test's setup as a technician loads it (test software's geometry): every node
+    in a coordinate system of its own, numbered like it; a lone accelerometer or hit is its system's +Z (code 3),
+    an accelerometer of two or three channels has them along its x, y and z (a left-handed third: code -3).
+
+    Parameters
+    ----------
+    sensors, exciters : Lines
+        Sensor and exciter lines (m, test frame), as :func:`uff_layout` takes them.
+
+    Raises
+    ------
+    MasslineError (a ValueError)
+        Non-orthogonal channels at one point, or two identical lines.
+    """
+    return _layout(sensors, exciters, True, _setup_frame, own_systems=True)

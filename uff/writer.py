@@ -13,12 +13,11 @@ The file holds, in this order (DESIGN.md, "Recordings"):
   one record of function type 6 (coherence, UFF's code for it) per pair. A recording windowed exponentially
   (an impact test's) has a 1858 qualifier before each FRF record, window type 6 (impact and exponential).
 
-Nodes and direction codes: :mod:`.layout`.
+Nodes and direction codes: :mod:`.node_layout`. :func:`write_geometry` writes the geometry alone (151, 164,
+2420/18, 2411/15 and a wireframe's 82): the setup test software loads before a test.
 
-pyuff 2.5 writes 151, 164, 15, 18, 2411 and 2420 as the format says, so those go through `pyuff.UFF.write_sets`.
-Dataset 58 is formatted here: pyuff's 58b header states 8 bytes per point for complex data (16 are written), it
-stores an uneven abscissa of 58b in double precision where the format and real exporters use single, and it
-rereads the whole file after every record.
+pyuff 2.5 writes 151, 164, 15, 18, 2411, 2420 and 82 as the format says, so those go through
+`pyuff.UFF.write_sets`; dataset 58 and its 1858 qualifiers are formatted by :mod:`.function_records`.
 
 Precision: 15 and 18 are E13.5 (6 significant digits: node coordinates and frames to ~5e-6), 2411 and 2420 are
 D25.16 (exact), ascii 58 values are E20.12 (13 digits), 58b values are IEEE doubles (exact); the abscissa minimum
@@ -28,6 +27,7 @@ and increment are E13.5 in both.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -35,21 +35,15 @@ import pyuff
 
 from massline.core.errors import MasslineError
 from massline.core.files import atomic_file
-from massline.uff.node_layout import UffLayout, uff_layout
+from massline.uff.function_records import SILENT, ascii_line, dataset_58, qualifiers_1858
+from massline.uff.node_layout import UffLayout, setup_layout, uff_layout
 from massline.uff.recording import Recording, code_name
 from massline.uff.units import ACCELERATIONS, UNITS, AccelerationUnits, Characteristic, UnitSystem, accelerance_units
 
 COLOR = 8
 FRF, COHERENCE = 4, 6  # UFF 58 function types
 IMPACT_AND_EXPONENTIAL = 6  # dataset 1858's window type of an impact test's force and exponential windows
-ABSCISSA = Characteristic(18, (0, 0, 0), "Frequency", "Hz")
-SILENT = Characteristic(0, (0, 0, 0), "NONE", "NONE")
-
-
-def _text(text: str) -> str:
-    """One ascii line of at most 80 characters ('NONE' when empty), as UFF id lines need."""
-    line = " ".join(text.split()).encode("ascii", "replace").decode()[:80]
-    return line or "NONE"
+SETUP = "massline test setup"  # the model and part name of a setup's geometry
 
 
 def _stamp() -> str:
@@ -57,11 +51,11 @@ def _stamp() -> str:
     return time.strftime("%d-%b-%y %H:%M:%S")
 
 
-def _header_151(description: str, stamp: str) -> dict:
+def _header_151(description: str, stamp: str, model: str = "massline virtual test") -> dict:
     date, clock = stamp.split()
     dataset = pyuff.prepare_151(
-        model_name="massline virtual test",
-        description=_text(description),
+        model_name=model,
+        description=ascii_line(description),
         db_app="massline",
         date_db_created=date,
         time_db_created=clock,
@@ -84,7 +78,9 @@ def _units_164(units: UnitSystem) -> dict:
     )
 
 
-def _systems(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> list[dict]:
+def _systems(
+    layout: UffLayout, nodes_dataset: int, units: UnitSystem, part: str = "massline virtual test"
+) -> list[dict]:
     """Dataset 18 (origin, point on +x, point on the +xz plane, 1 m apart) or 2420 (rows: local axes, origin)."""
     local = layout.node_systems > 0
     if not local.any():
@@ -96,7 +92,7 @@ def _systems(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> list[d
         return [
             pyuff.prepare_2420(
                 Part_UID=1,
-                Part_Name="massline virtual test",
+                Part_Name=part,
                 CS_sys_labels=[int(n) for n in labels],
                 CS_types=[0] * len(labels),
                 CS_colors=[COLOR] * len(labels),
@@ -136,85 +132,6 @@ def _nodes(layout: UffLayout, nodes_dataset: int, units: UnitSystem) -> dict:
     )
 
 
-def _even_step(frequencies: np.ndarray) -> float | None:
-    """Increment (Hz) of an evenly spaced axis, None for an uneven one (or a single line)."""
-    steps = np.diff(frequencies)
-    if len(steps) == 0 or not np.allclose(steps, steps[0], rtol=1e-9, atol=0.0):
-        return None
-    return float((frequencies[-1] - frequencies[0]) / len(steps))
-
-
-def _characteristics(c: Characteristic) -> str:
-    """Records 8-11: specific data type, length/force/temperature exponents, axis label and unit label."""
-    (a, b, t), label, unit = c.exponents, c.axis_label, c.unit_label
-    return f"{c.data_type:10d}{a:5d}{b:5d}{t:5d} {label:<20.20s} {unit:<20.20s}\n"
-
-
-def _ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
-    """Record 12 in ascii: 4E20.12 (even), E13.5,2E20.12 (uneven complex), 2(E13.5,E20.12) (uneven real)."""
-    columns = parts if even else [x, *parts]
-    formats = ["%20.12E"] * len(parts) if even else ["%13.5E"] + ["%20.12E"] * len(parts)
-    fields = [form % value for row in zip(*columns) for form, value in zip(formats, row)]
-    per_line = 3 if len(columns) == 3 else 4
-    return "".join("".join(fields[i : i + per_line]) + "\n" for i in range(0, len(fields), per_line)).encode()
-
-
-def _binary_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
-    """Record 12 in binary, little-endian: ordinates as doubles, an uneven abscissa as singles before each point."""
-    fields = ([] if even else [("x", "<f4")]) + [(f"y{i}", "<f8") for i in range(len(parts))]
-    packed = np.empty(len(parts[0]), dtype=fields)
-    for (name, _), column in zip(fields, ([] if even else [x]) + parts):
-        packed[name] = column
-    return packed.tobytes()
-
-
-def _dataset_58(
-    number: int,
-    kind: int,
-    ids: list[str],
-    response: tuple[int, int],
-    reference: tuple[int, int],
-    frequencies: np.ndarray,
-    values: np.ndarray,
-    ordinate: tuple[Characteristic, Characteristic],
-    binary: bool,
-) -> bytes:
-    """One function at nodal DOF, with the record layout of Addendum B (complex or real, double precision).
-
-    ``ordinate`` holds records 9 and 10 (numerator and denominator characteristics).
-    """
-    step = _even_step(frequencies)
-    even = step is not None
-    minimum, increment = (frequencies[0], step) if even else (0.0, 0.0)
-    parts = [values.real, values.imag] if np.iscomplexobj(values) else [values]
-    body = (_binary_values if binary else _ascii_values)(frequencies, parts, even)
-    opening = f"{58:6d}b{1:6d}{2:6d}{11:12d}{len(body):12d}{0:6d}{0:6d}{0:12d}{0:12d}\n" if binary else f"{58:6d}\n"
-    header = "".join(
-        [
-            f"{-1:6d}\n",
-            opening,
-            *(f"{_text(line):<80s}\n" for line in ids),
-            f"{kind:5d}{number:10d}{1:5d}{0:10d} {'NONE':<10s}{response[0]:10d}{response[1]:4d}"
-            f" {'NONE':<10s}{reference[0]:10d}{reference[1]:4d}\n",
-            f"{6 if len(parts) == 2 else 4:10d}{len(frequencies):10d}{int(even):10d}"
-            f"{minimum:13.5E}{increment:13.5E}{0.0:13.5E}\n",
-            _characteristics(ABSCISSA),
-            *map(_characteristics, ordinate),
-            _characteristics(SILENT),
-        ]
-    )
-    return header.encode("ascii") + body + f"{-1:6d}\n".encode()
-
-
-def _qualifiers_1858(number: int, window: int) -> bytes:
-    """Dataset 1858, the qualifiers of the 58 record that follows: its set record ``number`` and ``window``
-    type; everything else unknown (0)."""
-    zeros = f"{0.0:15.7E}" * 5 + "\n"
-    records = [f"{number:12d}" + f"{0:12d}" * 5 + "\n", f"{0:6d}{window:6d}" + f"{0:6d}" * 10 + "\n"]
-    records += [zeros] * 3 + [f"{'NONE':<4s}  {'NONE':<4s}\n", f"{'NONE':<80s}\n"]
-    return f"{-1:6d}\n{1858:6d}\n".encode() + "".join(records).encode() + f"{-1:6d}\n".encode()
-
-
 def _functions(
     recording: Recording, layout: UffLayout, units: AccelerationUnits, binary: bool, stamp: str, columns=None
 ):
@@ -236,9 +153,9 @@ def _functions(
             ids = [title, "massline virtual test", stamp, channel, "NONE"]
             number = k * len(pairs) + n + 1
             if kind == FRF and recording.exponential_window:
-                yield _qualifiers_1858(number, IMPACT_AND_EXPONENTIAL)
+                yield qualifiers_1858(number, IMPACT_AND_EXPONENTIAL)
             lines = np.isfinite(recording.frf[i, j])
-            yield _dataset_58(
+            yield dataset_58(
                 number, kind, ids, response, reference, recording.frequencies[lines], data[i, j, lines], ordinate,
                 binary,
             )  # fmt: skip
@@ -264,6 +181,7 @@ def write_uff(
     acceleration: str = "length",
     force: bool = False,
     columns=None,
+    setup_systems: bool = False,
 ) -> UffLayout:
     """Write a recording as a Universal File: 151, 164, 18/2420, 15/2411, then 58 or 58b records.
 
@@ -292,6 +210,9 @@ def write_uff(
     columns : sequence of int or None
         The exciters whose FRFs the file holds (one run of a test that moved the shaker, :func:`write_runs`);
         every node is written all the same, so that each run's file numbers them alike. None: every exciter.
+    setup_systems : bool
+        Every node in a system of its own, each lone line its +Z (:func:`.node_layout.setup_layout`: the systems
+        ``massline setup`` gives the test software), instead of the global system where it serves.
 
     A recording's NaN lines are left out: each FRF is written on its own lines, a pair NaN at every line not at
     all (the files a test with missing FRFs or runs at other resolutions leaves).
@@ -319,7 +240,8 @@ def write_uff(
         raise MasslineError(f"acceleration must be one of {', '.join(ACCELERATIONS)}, got {acceleration!r}")
     if np.any(np.diff(recording.frequencies) <= 0):
         raise MasslineError("the frequencies of a recording must increase")
-    layout = uff_layout(recording.sensors, recording.exciters, node_systems)
+    lines = (recording.sensors, recording.exciters)
+    layout = setup_layout(*lines) if setup_systems else uff_layout(*lines, node_systems)
     system, stamp = UNITS[units], _stamp()
     datasets = [
         _header_151(recording.description, stamp),
@@ -330,6 +252,69 @@ def write_uff(
     frf_units = accelerance_units(system, acceleration)
     _write(path, datasets, _functions(recording, layout, frf_units, binary, stamp, columns))
     return layout
+
+
+def _with_wireframe(layout: UffLayout, wireframe) -> tuple[UffLayout, list[dict]]:
+    """The layout with the wireframe's nodes added (global system), and its dataset 82 (none without one)."""
+    if wireframe is None:
+        return layout, []
+    ids, points, trace = (np.asarray(a) for a in wireframe)
+    added = replace(
+        layout,
+        node_ids=np.concatenate([layout.node_ids, ids]).astype(int),
+        node_points=np.vstack([layout.node_points, points]),
+        node_frames=np.concatenate([layout.node_frames, np.broadcast_to(np.eye(3), (len(ids), 3, 3))]),
+        node_systems=np.concatenate([layout.node_systems, np.zeros(len(ids), dtype=int)]),
+    )
+    line = pyuff.prepare_82(trace_num=1, n_nodes=len(trace), color=COLOR, id="the part's edges", nodes=trace)
+    return added, [line]
+
+
+def write_geometry(
+    path,
+    layout: UffLayout,
+    *,
+    description: str,
+    nodes_dataset: int = 2411,
+    units: str = "SI",
+    wireframe=None,
+    force: bool = False,
+) -> None:
+    """Write a test's geometry as test software imports it: 151, 164, 2420 (or 18), 2411 (or 15) and 82, no
+    functions.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write; written whole or not at all.
+    layout : UffLayout
+        The nodes (m, test frame) and their coordinate systems (:func:`.node_layout.setup_layout`).
+    description : str
+        Dataset 151's description (one line).
+    nodes_dataset : {2411, 15}
+        Nodes in 2411 with coordinate systems in 2420 (D25.16: exact), or in 15 with 18 (E13.5: 6 digits).
+    units : {"SI", "MM", "IN"}
+        Dataset 164's unit system; coordinates in its length unit.
+    wireframe : (ids (k,), points (k, 3) m, trace (n,)) or None
+        The part's outline: nodes (global system) and one traceline (dataset 82) through them, 0 lifting the pen.
+    force : bool
+        Overwrite an existing file.
+    """
+    path = Path(path)
+    if path.exists() and not force:
+        raise FileExistsError(f"{path} already exists: pass force=True to overwrite it")
+    if nodes_dataset not in (15, 2411):
+        raise MasslineError(f"nodes_dataset must be 15 or 2411, got {nodes_dataset!r}")
+    system, stamp = UNITS[units], _stamp()
+    nodes, lines = _with_wireframe(layout, wireframe)
+    datasets = [
+        _header_151(description, stamp, SETUP),
+        _units_164(system),
+        *_systems(layout, nodes_dataset, system, SETUP),
+        _nodes(nodes, nodes_dataset, system),
+        *lines,
+    ]
+    _write(path, datasets, ())
 
 
 def run_files(path, count: int) -> list[Path]:

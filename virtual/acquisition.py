@@ -138,7 +138,7 @@ def run(
     if setup.impact is not None:
         impact = setup.impact
         given = (setup.fmax, setup.lines, impact.pulse)
-        analyser = impact_setup(band, model.suspension_frequencies, impact.window_end, *given)
+        analyser = impact_setup(band, model.suspension_frequencies, impact.window_end, *given, record=impact.record)
         setup = replace(setup, fmax=analyser.fmax, lines=analyser.lines, impact=replace(impact, pulse=analyser.pulse))
     setup = replace(setup, fmax=setup.fmax or auto_fmax(model), lines=setup.lines or LINES)
     check_hum(inst.hums, setup.fmax / setup.lines * np.arange(1, setup.lines + 1))

@@ -9,7 +9,11 @@ An impact test is set up around the band it is for (``notes/lab-realism.md`` §2
   The record is long enough when the window adds at most 5 % of critical damping to the lowest support mode:
   σ_w/ω_low ≤ 0.05, T ≥ ln(1/end)/(0.05·2π f_low) (≈ 15/f_low for a window to 1 %; the note's 6 time
   constants for a 0.5 % truncation error give the same order: 24 s for a 2 Hz mode at ζ = 2 %). The line count
-  is the next of 400·2^k (401, 801, … 51201 values with the DC line), as analysers offer;
+  is the next of 400·2^k (401, 801, … 51201 values with the DC line), as analysers offer. The shortest record
+  the band itself needs (``record="band"``) holds BAND_LINES lines between its edges, and the window adds at most
+  5 % of critical damping at its low edge, where the support's tail is within the band's tolerance of the
+  massline: the window's imaginary part there is 2σ_w/ω · (f_s/f)² of it, ≤ 0.1 % (1 s for the bracket's
+  26–218 Hz, against 32 s for its 0.49 Hz pendulum mode; identify then says the support modes are unresolved);
 * hammer tip: the half-sine pulse's spectrum 10 dB down at fmax (τ = 1.02/fmax: it excites the analysis band
   and little above it), and never more than 1 dB down at the band top (fτ ≤ 0.348); its first zero is at 1.5/τ.
 
@@ -34,6 +38,8 @@ PULSE_AT_BAND_TOP = 0.348  # fτ where it is 1 dB down
 PULSE_3DB = 0.594  # fτ where it is 3 dB down
 FREE = 0.01  # Hz: support modes below this are free rigid motion (a yaw about a single cord)
 RIGID_TOP = 100.0  # Hz: the least band top assumed for a rigid model
+BAND_LINES = 100  # spectral lines between the band's edges in a record sized to the band
+RECORDS = ("support", "band")  # what the record is long enough for: the lowest support mode, or the band
 
 
 @dataclass(frozen=True)
@@ -90,6 +96,14 @@ def needed_record(f_low: float, window_end: float) -> float:
     return float(np.log(1 / window_end) / (ADDED_DAMPING * 2 * np.pi * f_low))
 
 
+def band_record(band: Band, top: float, window_end: float) -> float:
+    """T (s) the band needs: BAND_LINES lines between its edges, the window adding at most ADDED_DAMPING of
+    critical damping at its low edge; nan when the band has no low edge (a rigid model's, a stiff support's)."""
+    if not np.isfinite(band.low) or band.low <= 0 or top <= band.low:
+        return np.nan
+    return max(needed_record(float(band.low), window_end), BAND_LINES / (top - float(band.low)))
+
+
 def r10_steps(near: float) -> list[float]:
     """The R10 bandwidths (Hz) of the decades around ``near``, ascending."""
     decade = float(10.0 ** np.floor(np.log10(near)))
@@ -125,6 +139,7 @@ def impact_setup(
     fmax: float | None = None,
     lines: int | None = None,
     pulse: float | None = None,
+    record: str = "support",
 ) -> AnalyserSetup:
     """The setup for ``band`` (predicted), with what was given by hand kept and its truncations said.
 
@@ -138,16 +153,23 @@ def impact_setup(
         The exponential window's value at the end of the record.
     fmax, lines, pulse : float, int, float or None
         Bandwidth (Hz), spectral lines and pulse duration (s) given by hand; None: chosen.
+    record : {"support", "band"}
+        The record long enough for the lowest support mode, or the shortest the band needs (:func:`band_record`;
+        the support's rule where the band has no low edge).
     """
-    top, f_low = band_top(band), lowest_support_mode(support_hz)
+    top, f_low, what = band_top(band), lowest_support_mode(support_hz), "the lowest support mode"
     fmax = float(fmax or analyser_bandwidth(top))
-    needed = needed_record(f_low, window_end)
+    needed = band_record(band, top, window_end) if record == "band" else np.nan
+    if np.isnan(needed):
+        needed = needed_record(f_low, window_end)
+    else:
+        f_low, what = float(band.low), "the band's low edge"
     chosen_lines = line_count(fmax, needed)
     chosen_pulse = hammer_pulse(fmax, top)
     warnings = []
-    record = (lines or chosen_lines) / fmax
-    if record < needed:
-        added = np.log(1 / window_end) / record / (2 * np.pi * f_low)
+    length = (lines or chosen_lines) / fmax
+    if length < needed:
+        added = np.log(1 / window_end) / length / (2 * np.pi * f_low)
         fits = chosen_lines / fmax >= needed
         instead = (
             f"--lines {chosen_lines}"
@@ -155,8 +177,8 @@ def impact_setup(
             else f"--fmax {max_bandwidth(needed):g} --lines {LINE_COUNTS[-1]}, or leave both out"
         )
         warnings.append(
-            f"a record of {record:.3g} s ({lines or chosen_lines} lines to {fmax:g} Hz) is too short for the lowest "
-            f"support mode at {f_low:.2g} Hz: the exponential window adds {added:.0%} of critical damping to it "
+            f"a record of {length:.3g} s ({lines or chosen_lines} lines to {fmax:g} Hz) is too short for {what} "
+            f"at {f_low:.2g} Hz: the exponential window adds {added:.0%} of critical damping to it "
             f"(T ≥ {needed:.3g} s keeps it to {ADDED_DAMPING:.0%}); choose {instead}"
         )
     if pulse and top * pulse > PULSE_3DB:

@@ -10,6 +10,11 @@ exactly (the mass matrix is linear in θ, the paper's eq. 9 about O). The plan s
 from the bare one — the mass, the CoG and the principal moments — against the plan's own predicted 1-σ, so that
 the engineer sees before the test whether the housings must be given to identify (``--sensor-mass``, the same
 tokens) or are within what the test resolves anyway.
+
+Without ``--sensor-mass`` the plan assumes weightless accelerometers, and says so: plan.json's
+``sensor_mass_assumed`` holds what housings of a typical :data:`TYPICAL_HOUSING_KG` each would do to the body, and
+the console warns when that is more than the test resolves (beyond the plan's predicted 1-σ in the mass, the CoG or
+a principal moment).
 """
 
 from __future__ import annotations
@@ -18,21 +23,16 @@ import numpy as np
 
 from massline.core.housing_masses import HousingMasses
 from massline.core.rigid_body import RigidBody
-from massline.virtual.acquisition import sensor_mass_payload
+from massline.core.lines import Lines
+from massline.virtual.acquisition import accelerometer_masses, sensor_mass_payload
 from massline.virtual.simulation import loaded_body
 
-
-def housing_masses(payload) -> HousingMasses:
-    """plan.json's (or a truth file's) ``sensor_mass`` back as :class:`HousingMasses`: kg for every housing, or
-    {"default": kg, "by_point": {label: kg}}; 0 where the plan has none."""
-    if isinstance(payload, dict):
-        return HousingMasses(float(payload["default"]), {int(k): float(v) for k, v in payload["by_point"].items()})
-    return HousingMasses(float(payload or 0.0))
+TYPICAL_HOUSING_KG = 0.005  # a general-purpose ICP accelerometer, uniaxial or triaxial (miniatures weigh 0.5-2 g)
 
 
 def planned_masses(doc: dict) -> HousingMasses:
     """The housings plan.json's ``loading`` was predicted with (none: 0 kg each)."""
-    return housing_masses(doc.get("loading", {}).get("sensor_mass", 0.0))
+    return HousingMasses.from_payload(doc.get("loading", {}).get("sensor_mass", 0.0))
 
 
 def tokens(masses: HousingMasses) -> str:
@@ -79,4 +79,30 @@ def loading_sentence(found: dict) -> str:
         f"housings: {found['housings']} weighing {1e3 * found['total_kg']:.4g} g make the body as tested "
         f"{found['mass_percent']:+.3g} % in mass{beyond}, move its CoG {found['cog_shift_mm']:.3g} mm and its "
         f"principal moments {moments} %; identify {found['identify_option']} takes them off"
+    )
+
+
+def assumed_loading(nominal: RigidBody, sensors: Lines, predicted_std: dict) -> dict:
+    """plan.json's ``sensor_mass_assumed`` for a plan given no housing masses: 0 kg planned, and the
+    :func:`loading` of typical housings (:data:`TYPICAL_HOUSING_KG` each, a triaxial once) on ``sensors`` with
+    ``beyond_predicted_std``: whether any change exceeds the plan's predicted 1-σ."""
+    typical = HousingMasses(TYPICAL_HOUSING_KG)
+    found = loading(nominal, accelerometer_masses(sensors, typical), typical, predicted_std)
+    sigmas = found["in_predicted_std"]
+    changes = np.abs([sigmas["mass"], sigmas["cog"], *sigmas["principal_moments"]])  # NaN: unobservable (a plate)
+    return {"sensor_mass_kg": 0.0, "typical": found, "beyond_predicted_std": bool(np.any(changes > 1.0))}
+
+
+def assumed_sentence(assumed: dict) -> str:
+    """The console's line: the weightless assumption, what typical housings would add, and the option."""
+    found = assumed["typical"]
+    each = 1e3 * found["total_kg"] / max(found["housings"], 1)
+    moments = " / ".join(f"{m:+.2g}" for m in found["principal_moments_percent"])
+    sigma = abs(found["in_predicted_std"]["mass"])
+    head = "warning: " if assumed["beyond_predicted_std"] else ""
+    return (
+        f"{head}accelerometers planned weightless (no --sensor-mass): {found['housings']} typical {each:.3g} g "
+        f"housings would weigh {1e3 * found['total_kg']:.3g} g, {found['mass_percent']:.3g} % of the body "
+        f"({sigma:.3g}× the predicted 1-σ of the mass), move its CoG {found['cog_shift_mm']:.3g} mm and its "
+        f"principal moments {moments} %; give --sensor-mass KG to plan with yours"
     )

@@ -117,6 +117,9 @@ class ImpactTest:
     force_window : float
         Fraction of the record after the hit kept by the force window (the rest is set to zero);
         it must hold the ringing of the band-limited pulse.
+    record : {"support", "band"}
+        The record the analyser setup chooses: long enough for the lowest support mode, or the shortest the
+        band needs (:func:`massline.virtual.analyser.impact_setup`).
     """
 
     pulse: float | None = None
@@ -128,6 +131,7 @@ class ImpactTest:
     pretrigger: float = 0.01
     force_window: float = 0.05
     offset: float = 1.5
+    record: str = "support"
 
 
 def half_sine_spectrum(f: np.ndarray, start: float, duration: float, peak: float) -> np.ndarray:

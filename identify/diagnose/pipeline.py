@@ -37,6 +37,7 @@ from massline.identify.suspicions import beyond_chance
 from massline.identify.diagnose.unexplained import excess_over_mesh, refused_misfit, unexplained
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import (
+    NONE_TAKEN_OFF,
     Identification,
     against_nominal,
     as_recording,
@@ -212,7 +213,7 @@ class DiagnosisRun:
         body = self.after.body if as_tested or self.loading is None else self.after_body
         values = reported_values(body, self.planar)
         undone = [f.effect for f in self.findings if f.kind == "fault" and f.effect != "sensor_mass_loading"]
-        which = "the body as tested"
+        which = NONE_TAKEN_OFF
         if self.loading is not None:
             grams = f"{self.loading.housings.describe()} of loading".replace("×", "x")  # exports are ASCII
             which = f"the body as tested, {grams} on" if as_tested else f"the bare body, {grams} taken off"

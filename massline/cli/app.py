@@ -31,6 +31,7 @@ EPILOG = """\
 a test, step by step:
   massline props part.stl --units mm --density 2700     what the CAD says
   massline plan part.stl --units mm --density 2700      where to put sensors and hits
+  massline setup plan/plan.json                         the points and channels for the test software
   massline identify test.uff --json result.json         the properties, with their ±
   massline diagnose test.uff --mesh part.stl --units mm --density 2700
   massline demo                                         the whole story on a bundled body
@@ -41,6 +42,7 @@ a test, step by step:
 COMMANDS = (  # name, its module in massline.cli (imported only when that command runs), its help line
     ("props", "props_command", "the nominal mass, CoG and inertia of a surface mesh (CAD export)"),
     ("plan", "plan", "the best accelerometer and hammer-hit layout on a mesh, with its certified quality"),
+    ("setup", "setup_command", "the plan for the test software: nodes in their own coordinate systems (UFF), channels (CSV)"),
     ("simulate", "simulate", "the virtual test of a plan, written as a UFF recording like a lab's export"),
     ("report", "report_command", "the placement report of a plan: one HTML page that prints on A4"),
     ("identify", "identify_command", "mass, CoG and inertia with their 1-σ from a UFF recording"),

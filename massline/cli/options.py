@@ -36,6 +36,7 @@ FLAGS = {
     "material": "--material",
     "method": "--method",
     "minimal_budget": "--minimal",
+    "nodes_dataset": "--nodes",
     "options.axes": "--axes",
     "options.edge_keepout": "--edge-keepout",
     "options.hammer_tip": "--tip",

@@ -23,7 +23,7 @@ from massline.core.lines import Lines
 from massline.core.numbering import point_groups
 from massline.meshes import BUNDLED
 from massline.meshes.loader import UNITS
-from massline.placement.on_surface import is_plate, plan
+from massline.placement.on_surface import is_plate, monotone, plan
 from massline.placement.mounts import mounts
 from massline.placement.plan_file import plan_to_dict
 from massline.cli.plan_console import (
@@ -37,7 +37,7 @@ from massline.cli.plan_console import (
 from massline.placement.planner import Budget
 from massline.virtual.acquisition import accelerometer_masses
 from massline.virtual.fe_process import FEInProcess
-from massline.virtual.housing_loading import loading, loading_sentence
+from massline.virtual.housing_loading import assumed_loading, assumed_sentence, loading, loading_sentence
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
@@ -137,7 +137,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "KG [POINT=KG ...]",
         "mass of each accelerometer housing, kg (a triaxial counts once), then POINT=KG for a --fixed-sensor "
         "point whose housing differs (numbered 1, 2, … in the order given): the plan states how they load the "
-        "body and simulate puts them on (default 0)",
+        "body and simulate puts them on (default 0, and the plan says what typical 5 g housings would add)",
     )
     _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
     add_criterion_arguments(parser)
@@ -305,6 +305,9 @@ def run(args: argparse.Namespace, console: Console) -> None:
     if housings.any:
         doc["loading"] = loading(body.nominal, carried, housings, doc["predicted_std"])
         console.print(loading_sentence(doc["loading"]))
+    else:
+        doc["sensor_mass_assumed"] = assumed_loading(body.nominal, result.sensors, doc["predicted_std"])
+        console.print(assumed_sentence(doc["sensor_mass_assumed"]))
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
     out.mkdir(parents=True, exist_ok=True)
     write_atomic(target, to_json(doc), args.force)
@@ -317,6 +320,7 @@ def searched(args, body, options, noise, budget, fixed: dict, console, check=lam
     ``check()`` at every step shown (it raises what ends the plan early: the FE model's refusal)."""
     with progress_bar(console) as bar:
 
+        @monotone
         def progress(stage: str, f: float) -> None:
             check()
             bar(stage, f, 1.0)
@@ -331,4 +335,5 @@ def searched(args, body, options, noise, budget, fixed: dict, console, check=lam
                 body, budget, options, noise, **fixed, relaxation=args.relaxation, criterion=args.criterion,
                 progress=progress,
             )  # fmt: skip
+        bar("layout chosen", 1.0, 1.0)  # once, at the end: the stages before never reach it
     return result

@@ -39,6 +39,7 @@ from massline.virtual.planned_test import MODES, band_phrase, plan_mesh
 from massline.virtual.simulation import record_test, set_up_test
 from massline.virtual.suspension import Suspension
 from massline.virtual.acquisition import Acquisition
+from massline.virtual.analyser import RECORDS
 
 AUTO = -1.0  # --impact without a pulse length: the analyser setup chooses it
 MAX_PULSE_MS = 100.0  # a hammer pulse lasts 0.1-10 ms; a soft tip on a heavy body a few tens
@@ -108,6 +109,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="simulate hammer hits (half-sine pulse of MS ms; without MS the tip an engineer fits to the bandwidth)",
     )
     parser.add_argument(
+        "--record",
+        choices=RECORDS,
+        default="support",
+        help="with --impact, what the record is long enough for: the lowest support mode (default; the window adds "
+        "≤ 5 %% critical damping to it: 32 s, 25,600 lines for the bracket on its cord) or the band (≥ 100 lines in "
+        "it, ≤ 5 %% at its low edge: 1 s, 800 lines, a file 30× smaller; identify then says the support modes are "
+        "unresolved)",
+    )
+    parser.add_argument(
         "--averages",
         type=count(1, 1000),
         default=5,
@@ -173,6 +183,11 @@ def add_file_arguments(parser: argparse.ArgumentParser) -> None:
         help="nodes in dataset 15 (+18) or 2411 (+2420) (default 15)",
     )
     parser.add_argument("--no-dc", action="store_true", help="start the axis at Δf, without the exporter's 0 Hz line")
+    parser.add_argument(
+        "--setup-systems",
+        action="store_true",
+        help="every node in a coordinate system of its own, each lone line its +Z, as 'massline setup' writes them",
+    )
 
 
 def band_table(rows: list[tuple[str, Band, Suspension]]) -> Table:
@@ -211,6 +226,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
     sensors, exciters, doc = read_plan(plan_path)
     if not args.check and not args.out:
         raise MasslineError("give --out FILE.uff for the recording, or --check for the band prediction only")
+    if args.record != "support" and args.impact is None:
+        raise MasslineError("--record sets an impact test's record: give --impact, or drop --record")
     named = {} if args.check else recording_outputs(Path(args.out), len(exciters) if args.split_runs else 0)
     outputs = claim_outputs(named | {"--plot": args.plot}, args.force)
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
@@ -245,13 +262,15 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for warning in truth["warnings"]:
         console.print(f"warning: {warning}", markup=False, soft_wrap=True)
     options = {"binary": args.binary, "nodes_dataset": args.nodes, "units": args.units}
+    options |= {"setup_systems": args.setup_systems}
     options |= {"acceleration": args.acceleration, "force": args.force}
     if args.split_runs:
         written = write_runs(args.out, recording, **options)
-        files = f"{written[0]} … {written[-1].name} (one file per exciter: {len(sensors)} FRFs each"
+        each = f"one file per exciter: {len(sensors)} FRFs each"
+        files = f"{written[0]} … {written[-1].name} ({megabytes(written)}, {each}"
     else:
         write_uff(outputs[0], recording, **options)
-        files = f"{outputs[0]} ({len(sensors)} × {len(exciters)} FRFs"
+        files = f"{outputs[0]} ({megabytes([outputs[0]])}, {len(sensors)} × {len(exciters)} FRFs"
     truth_file = named["the truth file"]
     write_atomic(truth_file, to_json(truth), args.force)
     console.print(
@@ -281,7 +300,8 @@ def acquisition(args: argparse.Namespace, housings: HousingMasses) -> Acquisitio
     (virtual.analyser)."""
     impact = None
     if args.impact is not None:
-        impact = ImpactTest(pulse=None if args.impact == AUTO else args.impact * 1e-3, averages=args.averages)
+        pulse = None if args.impact == AUTO else args.impact * 1e-3
+        impact = ImpactTest(pulse=pulse, averages=args.averages, record=args.record)
     return Acquisition(
         fmax=args.fmax,
         lines=args.lines,
@@ -290,6 +310,11 @@ def acquisition(args: argparse.Namespace, housings: HousingMasses) -> Acquisitio
         sensor_mass=housings,
         dc_line=not args.no_dc,
     )
+
+
+def megabytes(paths) -> str:
+    """'28.0 MB': what the files written take on disk."""
+    return f"{sum(Path(p).stat().st_size for p in paths) / 1e6:.3g} MB"
 
 
 def recording_axis(truth: dict) -> str:
