@@ -82,9 +82,10 @@ def amendment(run, source, faults: list, notes: list) -> Amendment:
     return Amendment(recording.frequencies, factor * sign[:, None], sources, placement, tuple(notes))
 
 
-def changes(run, finding, labels: dict) -> str:
+def changes(run, finding, placement) -> str:
     """What undoing ``finding`` changes in the file: the rows it scales, exchanges or turns, and the channels
-    whose labels change (``labels``: the corrected file's, keyed as :func:`amendment` keys them)."""
+    whose labels or nodes change (``placement``: the corrected file's, keyed as :func:`amendment` keys them)."""
+    labels = placement.labels
     recording = run.recording
     factor, sources = row_operation(recording, [finding])
     fixed = corrected(recording, [finding])
@@ -102,10 +103,21 @@ def changes(run, finding, labels: dict) -> str:
         else:
             said.append(f"the FRFs of {names[t]} divided by the factor of frequency found")
     for key, old, new in moved_lines(recording, fixed):
-        said.append(f"{old} written as {labels[key]}" + (f" ({new})" if new else ""))
+        said.append(f"{old} {new}: written as {labels[key]}{node_change(placement, labels[key].node)}")
     for t in np.flatnonzero(flipped(factor)):
         said.append(f"{names[t]} written as {labels[('response', int(t))]} (its sign)")
     return "; ".join(dict.fromkeys(said)) or "nothing in the file"
+
+
+def node_change(placement, node: int) -> str:
+    """How the corrected file holds ``node``: moved, given a coordinate system, or added."""
+    place = placement.moved.get(node) or next((p for p in placement.added if p.node == node), None)
+    if place is None:
+        return ""
+    how = "a node added" if node not in placement.moved else "its node written again"
+    system = f" in coordinate system {place.system}" if place.system in placement.systems else ""
+    x, y, z = 1e3 * np.asarray(place.point)
+    return f" ({how} at ({x:.3f}, {y:.3f}, {z:.3f}) mm{system})"
 
 
 def moved_lines(recording, fixed) -> list:
@@ -136,12 +148,12 @@ def not_corrected(finding) -> str:
     return "not in the file: undone on the body (the properties after take it off)"
 
 
-def header(run, faults: list, labels: dict) -> list[tuple[str, str]]:
+def header(run, faults: list, placement) -> list[tuple[str, str]]:
     """The header's entries: each correction (its sentence with ±, what changed in the file), then each finding
     not corrected and why."""
     sensors, hits = run.sensors, run.hits
     entries = [(f"massline correction {k} of {len(faults)}: {f.effect}",
-                f"{finding_note(f, sensors, hits)}. In this file: {changes(run, f, labels)}.")
+                f"{finding_note(f, sensors, hits)}. In this file: {changes(run, f, placement)}.")
                for k, f in enumerate(faults, 1)]  # fmt: skip
     rest = [f for f in run.findings if f not in faults]
     entries += [(f"massline not corrected {k} of {len(rest)}: {f.effect}",
@@ -158,6 +170,6 @@ def write_corrected(run, source, path, *, force: bool = False) -> Path:
                             "written from one file; diagnose each run's file on its own")  # fmt: skip
     faults = written_faults(run.findings)
     first = amendment(run, source, faults, [])
-    entries = header(run, faults, first.placement.labels)
+    entries = header(run, faults, first.placement)
     return write_amended(source, path, replace(first, header=tuple(entries)), force=force)
 
