@@ -129,7 +129,7 @@ def test_the_command_lists_an_unexplained_finding_uncorrected_and_refuses_to_ove
     findings = json.loads((tmp_path / "d.json").read_text())["findings"]
     assert [f["kind"] for f in findings] == ["unexplained"]
     listed = " ".join(header_texts(out))
-    assert "not corrected 1 of 1: unexplained" in listed and "no effect of the library explains it" in listed
+    assert "not corrected 1 of 1, unexplained" in listed and "no effect of the library explains it" in listed
     came, now = to_recording(read_uff(path)), to_recording(read_uff(out))
     np.testing.assert_array_equal(now.frf, came.frf)
     np.testing.assert_array_equal(now.sensors.points, came.sensors.points)

@@ -152,14 +152,14 @@ def header(run, faults: list, placement) -> list[tuple[str, str]]:
     """The header's entries: each correction (its sentence with ±, what changed in the file), then each finding
     not corrected and why."""
     sensors, hits = run.sensors, run.hits
-    entries = [(f"massline correction {k} of {len(faults)}: {f.effect}",
+    entries = [(f"massline: correction {k} of {len(faults)}, {f.effect}",
                 f"{finding_note(f, sensors, hits)}. In this file: {changes(run, f, placement)}.")
                for k, f in enumerate(faults, 1)]  # fmt: skip
     rest = [f for f in run.findings if f not in faults]
-    entries += [(f"massline not corrected {k} of {len(rest)}: {f.effect}",
+    entries += [(f"massline: not corrected {k} of {len(rest)}, {f.effect}",
                  f"{finding_note(f, sensors, hits)}. {not_corrected(f)}.")
                 for k, f in enumerate(rest, 1)]  # fmt: skip
-    return entries or [("massline diagnose: no finding", "the recording as it came: nothing to correct")]
+    return entries or [("massline: no finding", "the recording as it came: nothing to correct")]
 
 
 def write_corrected(run, source, path, *, force: bool = False) -> Path:
