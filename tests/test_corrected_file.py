@@ -12,6 +12,7 @@ turned line lives in the geometry's E13.5 fields of datasets 15 and 18 (6 signif
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,8 @@ from test_cli import massline
 from test_diagnose import twelve_lines
 
 from massline.identify.diagnose.corrected_file import written_faults
-from massline.identify.diagnose.effects import parse_effect
+from massline.identify.diagnose.effects import BY_NAME, parse_effect
+from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import identify_recording
 from massline.placement.hand_layouts import structure_exciters
@@ -185,3 +187,37 @@ def test_dataset_spans_are_the_files_bytes():
     for block in blocks:
         (alone,) = split(data[slice(*block.span)] + b"\n", "")
         assert (alone.number, alone.text, alone.binary) == (block.number, block.text, block.binary)
+
+
+def test_hits_moved_and_turned_and_a_mount_are_written_as_the_diagnosis_undoes_them(cases, tmp_path):
+    """Findings a diagnosis could make, given to the swap case's run in place of its own: hit 1 landed 10 mm off,
+    hit 2 went in 6° off, channel 5 read through a 300 Hz mount. The corrected file's hits are the corrected
+    recording's lines (to the E13.5 geometry), channel 5's FRFs are divided by the mount's factor (to E20.12), the
+    others as they came; the header names each."""
+    path, found, _ = cases("swap")
+    came = to_recording(read_uff(path))
+    d, e = came.exciters.directions[1], came.exciters.directions[0]
+    turned = np.cos(0.1) * d + np.sin(0.1) * across(d)
+    shift = 0.01 * across(e)
+    findings = [
+        Finding("excitation_location", (), 0, {"offset_m": shift.tolist(), "distance_mm": 10.0, "distance_std_mm": 0.4}),
+        Finding("excitation_direction", (), 1, {"direction": turned.tolist(), "angle_deg": 5.73, "angle_std_deg": 0.2}),
+        Finding("mount_resonance", (4,), None, {"mount_hz": 300.0, "mount_hz_std": 6.0, "damping": 0.05}),
+    ]
+    fixed = replace(found, findings=findings).write_corrected(path, tmp_path / "hits.uff")
+    now = to_recording(read_uff(fixed))
+    np.testing.assert_allclose(now.exciters.points[0], came.exciters.points[0] + shift, atol=1e-6)
+    np.testing.assert_allclose(now.exciters.directions[1], turned, atol=1e-5)
+    factor = BY_NAME["mount_resonance"].factor(came.frequencies, 300.0)
+    np.testing.assert_allclose(now.frf[4], came.frf[4] / factor, rtol=1e-11)
+    others = [i for i in range(len(came.sensors)) if i != 4]
+    np.testing.assert_array_equal(now.frf[others], came.frf[others])
+    listed = " ".join(header_texts(fixed))
+    assert all(f"correction {k} of 3, {f.effect}" in listed for k, f in enumerate(findings, 1))
+    assert "its node written again" in listed  # each hit's node is its own (the writer's 101, 201, ...)
+
+
+def across(d: np.ndarray) -> np.ndarray:
+    """A unit vector ⊥ unit ``d``."""
+    side = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
+    return side / np.linalg.norm(side)
