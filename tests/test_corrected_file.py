@@ -26,6 +26,7 @@ from massline.identify.diagnose.corrected_file import written_faults
 from massline.identify.diagnose.effects import BY_NAME, parse_effect
 from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.pipeline import diagnose_recording
+from massline.core.lines import Lines
 from massline.identify.pipeline import identify_recording
 from massline.placement.hand_layouts import structure_exciters
 from massline.uff.channel_geometry import placed
@@ -221,3 +222,25 @@ def across(d: np.ndarray) -> np.ndarray:
     """A unit vector ⊥ unit ``d``."""
     side = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
     return side / np.linalg.norm(side)
+
+
+@pytest.mark.long  # a first run diagnosed, then the corrected file and a second run diagnosed together (40 s)
+def test_a_second_run_merges_with_the_corrected_first(tmp_path):
+    """A first run of twelve accelerometers with channel 5 reading 10 % high, a second run of two more
+    accelerometers at nodes of their own (13, 14), both on the structure's three hits: the first run's corrected
+    file and the second run's are read together by identify and diagnose (the runs' reading, merged by node
+    label): no fault named, the mass within its 1-σ, which the second run's two lines shrink."""
+    structure = bundled("structure").nominal
+    extra = Lines(np.random.default_rng(9).normal(size=(2, 3)) * 0.1, np.random.default_rng(9).normal(size=(2, 3)))
+    rec, _ = run(structure, twelve_lines() + extra, structure_exciters(),
+                 effects=(parse_effect("sensor_gain=0.1@5"),), setup=Acquisition(100.0, 400))  # fmt: skip
+    first, second = rec.frf.copy(), rec.frf.copy()
+    first[12:], second[:12] = np.nan, np.nan
+    paths = [tmp_path / "run1.uff", tmp_path / "run2.uff"]
+    write_uff(paths[0], replace(rec, frf=first))
+    write_uff(paths[1], replace(rec, frf=second))
+    fixed = diagnose_recording(paths[0]).write_corrected(paths[0], tmp_path / "run1.fixed.uff")
+    alone, both = identify_recording(fixed), identify_recording([fixed, paths[1]])
+    assert both.std["mass"] < 0.8 * alone.std["mass"]
+    assert abs(both.body.mass - structure.mass) < 3 * both.std["mass"]
+    assert [f for f in diagnose_recording([fixed, paths[1]]).findings if f.kind == "fault"] == []
