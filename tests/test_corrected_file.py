@@ -201,7 +201,7 @@ def test_hits_moved_and_turned_and_a_mount_are_written_as_the_diagnosis_undoes_t
     turned = np.cos(0.1) * d + np.sin(0.1) * across(d)
     shift = 0.01 * across(e)
     findings = [
-        Finding("excitation_location", (), 0, {"offset_m": shift.tolist(), "distance_mm": 10.0, "distance_std_mm": 0.4}),
+        Finding("excitation_location", (), 0, {"offset_m": list(shift), "distance_mm": 10.0, "distance_std_mm": 0.4}),
         Finding("excitation_direction", (), 1, {"direction": turned.tolist(), "angle_deg": 5.73, "angle_std_deg": 0.2}),
         Finding("mount_resonance", (4,), None, {"mount_hz": 300.0, "mount_hz_std": 6.0, "damping": 0.05}),
     ]

@@ -80,8 +80,9 @@ def header_151(title: str, lines: list[str], stamp: str) -> bytes:
     application's name; the program massline; dates ``stamp``."""
     date, clock = stamp.split()
     description, application = (lines + ["NONE", "NONE"])[:2]
-    records = [title, description, application, f"{date:<10s}{clock:<10s}{0:10d}{0:10d}{0:10d}",
-               f"{date:<10s}{clock:<10s}", "massline diagnose --write-corrected", f"{date:<10s}{clock:<10s}"]  # fmt: skip
+    when = f"{date:<10s}{clock:<10s}"
+    records = [title, description, application, f"{when}{0:10d}{0:10d}{0:10d}", when,
+               "massline diagnose --write-corrected", when]  # fmt: skip
     text = "".join(f"{r[:TEXT]:<80s}\n" for r in records)
     return f"{-1:6d}\n{151:6d}\n{text}{-1:6d}\n".encode("ascii")
 
@@ -108,7 +109,8 @@ def raw(data: bytes, block: RawDataset) -> bytes:
 def with_channels(line: str, response, reference) -> str:
     """Record 6 with its response and reference node and direction code (I10, I4 each) set."""
     line = line.ljust(TEXT)
-    return line[:41] + f"{response.node:10d}{response.code:4d}" + line[55:66] + f"{reference.node:10d}{reference.code:4d}"
+    at, to = f"{response.node:10d}{response.code:4d}", f"{reference.node:10d}{reference.code:4d}"
+    return line[:41] + at + line[55:66] + to
 
 
 def record_58(labelled: RawDataset, data: RawDataset, function, response, reference, factor) -> bytes:

@@ -59,11 +59,6 @@ class Placement:
     added: list
     systems: dict
 
-    @property
-    def changes_geometry(self) -> bool:
-        """Whether any node or coordinate system is written anew."""
-        return bool(self.moved or self.added or self.systems)
-
 
 def along(frame: np.ndarray, direction: np.ndarray, code: int) -> int | None:
     """The code ±|code| that reads ``direction`` in ``frame``; None when it is not along that axis."""

@@ -51,8 +51,10 @@ def row_operation(recording, faults: list) -> tuple[np.ndarray, np.ndarray]:
     exact = np.abs(source - rows[:, None, None]).max(initial=0.0) < EXACT
     same = np.abs(factor - factor[:, :1]).max(initial=0.0) <= EXACT * np.abs(factor).max(initial=1.0)
     if not (exact and same and sorted(rows) == list(range(n_s))):
-        raise MasslineError("the faults found undo the FRFs in a way a Universal File's records cannot hold "
-                            "(not a factor per channel and an exchange of channels): no corrected file written")  # fmt: skip
+        raise MasslineError(
+            "the faults found undo the FRFs in a way a Universal File's records cannot hold (not a factor per "
+            "channel and an exchange of channels): no corrected file written"
+        )
     return factor[:, 0], rows
 
 
@@ -123,8 +125,9 @@ def node_change(placement, node: int) -> str:
 def moved_lines(recording, fixed) -> list:
     """(key, old label, what moved) of each line ``fixed`` moves or turns."""
     out = []
-    for role, old, new, names in (("response", recording.sensors, fixed.sensors, recording.sensor_channels),
-                                  ("reference", recording.exciters, fixed.exciters, recording.exciter_channels)):  # fmt: skip
+    roles = (("response", recording.sensors, fixed.sensors, recording.sensor_channels),
+             ("reference", recording.exciters, fixed.exciters, recording.exciter_channels))  # fmt: skip
+    for role, old, new, names in roles:
         for i in range(len(old)):
             shift = 1e3 * np.linalg.norm(new.points[i] - old.points[i])
             turn = np.degrees(2 * np.arcsin(min(1.0, np.linalg.norm(new.directions[i] - old.directions[i]) / 2)))
