@@ -34,7 +34,7 @@ from massline.uff.datasets import split
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.uff.recording import Channel
-from massline.uff.writer import write_uff
+from massline.uff.writer import write_runs, write_uff
 from massline.virtual.acquisition import Acquisition, run
 
 CASES = {  # name: (effects, write_uff's options, the faults named, relative tolerance of the body)
@@ -67,7 +67,7 @@ def cases(tmp_path_factory):
             path = folder / f"{len(made)}.uff"
             write_uff(path, rec, **options)
             found = diagnose_recording(path)
-            made[name] = path, found, found.write_corrected(path, folder / f"{len(made)}.fixed.uff")
+            made[name] = path, found, found.write_corrected(path, folder / f"{len(made)}.fixed.uff")[0]
         return made[name]
 
     return case
@@ -119,7 +119,7 @@ def test_the_header_lists_each_correction_with_its_sigma_and_the_file_keeps_the_
 def test_the_command_lists_an_unexplained_finding_uncorrected_and_refuses_to_overwrite(tmp_path):
     """A 10 mm offset at channel 3 that no effect of the library explains on this layout: diagnose leaves it
     ``unexplained``; ``--write-corrected`` writes the file with it listed, not corrected (its FRFs and lines the
-    file's own), and says so; an existing file (without --force), the recording itself and several runs' files
+    file's own), and says so; an existing file (without --force), the recording itself and a file given twice
     are refused in one line before any work, exit 2."""
     structure = bundled("structure").nominal
     effects = (parse_effect("sensor_location=0.01@3"),)
@@ -205,7 +205,7 @@ def test_hits_moved_and_turned_and_a_mount_are_written_as_the_diagnosis_undoes_t
         Finding("excitation_direction", (), 1, {"direction": turned.tolist(), "angle_deg": 5.73, "angle_std_deg": 0.2}),
         Finding("mount_resonance", (4,), None, {"mount_hz": 300.0, "mount_hz_std": 6.0, "damping": 0.05}),
     ]
-    fixed = replace(found, findings=findings).write_corrected(path, tmp_path / "hits.uff")
+    [fixed] = replace(found, findings=findings).write_corrected(path, tmp_path / "hits.uff")
     now = to_recording(read_uff(fixed))
     np.testing.assert_allclose(now.exciters.points[0], came.exciters.points[0] + shift, atol=1e-6)
     np.testing.assert_allclose(now.exciters.directions[1], turned, atol=1e-5)
@@ -239,8 +239,30 @@ def test_a_second_run_merges_with_the_corrected_first(tmp_path):
     paths = [tmp_path / "run1.uff", tmp_path / "run2.uff"]
     write_uff(paths[0], replace(rec, frf=first))
     write_uff(paths[1], replace(rec, frf=second))
-    fixed = diagnose_recording(paths[0]).write_corrected(paths[0], tmp_path / "run1.fixed.uff")
+    [fixed] = diagnose_recording(paths[0]).write_corrected(paths[0], tmp_path / "run1.fixed.uff")
     alone, both = identify_recording(fixed), identify_recording([fixed, paths[1]])
     assert both.std["mass"] < 0.8 * alone.std["mass"]
     assert abs(both.body.mass - structure.mass) < 3 * both.std["mass"]
     assert [f for f in diagnose_recording([fixed, paths[1]]).findings if f.kind == "fault"] == []
+
+
+@pytest.mark.long  # a test left as three runs' files diagnosed, then the corrected runs diagnosed again (40 s)
+def test_each_runs_file_is_corrected_when_the_diagnosis_read_several(tmp_path):
+    """The shaker moved between runs: one file per hit (``write_runs``), channel 5 reading 10 % high and channels
+    3 and 9 swapped. diagnose reads the three files together; ``--write-corrected fixed.uff`` writes fixed.RUN.uff
+    beside it for each run, each with the corrections; read together, identify gives the body after (1e-9) and
+    diagnose names no fault."""
+    structure = bundled("structure").nominal
+    effects = (parse_effect("sensor_gain=0.1@5"), parse_effect("channel_swap@3,9"))
+    rec, _ = run(structure, twelve_lines(), structure_exciters(), effects=effects, setup=Acquisition(100.0, 400))
+    runs = write_runs(tmp_path / "test.uff", rec)
+    out = tmp_path / "fixed.uff"
+    done = massline("diagnose", *runs, "--write-corrected", out, "--json", tmp_path / "d.json")
+    assert done.returncode == 0, done.stderr
+    fixed = [out.with_name(f"fixed.{r.stem}.uff") for r in runs]
+    assert all(str(f) in done.stdout for f in fixed) and "2 corrections" in done.stdout
+    after = json.loads((tmp_path / "d.json").read_text())["properties"]["after"]
+    again = identify_recording(fixed)
+    assert again.body.mass == pytest.approx(after["mass"], rel=1e-9)
+    np.testing.assert_allclose(again.body.cog, after["cog"], rtol=0, atol=1e-9 * np.abs(after["cog"]).max())
+    assert [f for f in diagnose_recording(fixed).findings if f.kind == "fault"] == []

@@ -30,8 +30,6 @@ from massline.core.errors import MasslineError
 from massline.core.files import atomic_file, claim_output
 from massline.uff.channel_geometry import Placement
 from massline.uff.datasets import RawDataset, parse, split
-from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
 from massline.uff.runs import lines_in
 from massline.uff.writer import COLOR, ascii_values, binary_values
 
@@ -57,6 +55,8 @@ class Amendment:
     placement : Placement
         The labels of every channel, keyed ("response", i) and ("reference", j), and the nodes and coordinate
         systems written anew.
+    sensor_labels, exciter_labels : tuple of Channel
+        The channels of rows i and columns j as the file (or the runs' files together) labels them.
     header : tuple of (title, text)
         One entry per header record: a title (80 columns) and its text.
     """
@@ -65,6 +65,8 @@ class Amendment:
     factors: np.ndarray
     sources: np.ndarray
     placement: Placement
+    sensor_labels: tuple
+    exciter_labels: tuple
     header: tuple = ()
 
 
@@ -186,13 +188,15 @@ def systems_dataset(placement: Placement, points: dict, nodes_dataset: int, leng
 
 
 def amended_bytes(source: Path, amendment: Amendment) -> bytes:
-    """The file at ``source`` with ``amendment`` made (module docstring)."""
+    """The file at ``source`` (one run's of several, or the whole test's) with ``amendment`` made (module
+    docstring). A swap's records restored to their places within the file; a record whose place is in another
+    run's file keeps its own, labelled as the row it belongs to. A file without nodes keeps its records' labels'
+    geometry where the runs' files with nodes hold it."""
     data, name = source.read_bytes(), str(source)
     blocks = split(data, name)
-    contents = read_uff(source)
-    recording = to_recording(contents)
-    rows = {label: i for i, label in enumerate(recording.sensor_labels)}
-    columns = {label: j for j, label in enumerate(recording.exciter_labels)}
+    labels_of = amendment.sensor_labels
+    rows = {label: i for i, label in enumerate(labels_of)}
+    columns = {label: j for j, label in enumerate(amendment.exciter_labels)}
     length = next((parse(b, name) for b in blocks if b.number == 164), (1.0, 1.0))[0]
     functions = {k: parse(b, name)[0] for k, b in enumerate(blocks) if b.number == 58}
     measured = {k: f for k, f in functions.items() if f.type in (FRF, COHERENCE) and f.response in rows
@@ -205,7 +209,7 @@ def amended_bytes(source: Path, amendment: Amendment) -> bytes:
     labels = amendment.placement.labels
     for k, f in measured.items():
         t, j = int(to_row[rows[f.response]]), columns[f.reference]
-        at = where.get((f.type, recording.sensor_labels[t], f.reference), k)
+        at = where.get((f.type, labels_of[t], f.reference), k)
         factor = amendment.factors[t, lines_in(amendment.frequencies, f.frequencies)] if f.type == FRF else None
         if factor is not None and np.all(factor == 1):
             factor = None
@@ -217,8 +221,6 @@ def amended_bytes(source: Path, amendment: Amendment) -> bytes:
     stamp = time.strftime("%d-%b-%y %H:%M:%S")
     first_header = next((k for k, b in enumerate(blocks) if b.number == 151), None)
     first_nodes = next((k for k, b in enumerate(blocks) if b.number in (15, 2411)), None)
-    if first_nodes is None:
-        raise MasslineError(f"file {name} holds no nodes (dataset 15 or 2411): its channels cannot be placed")
     points = {p.system: p.point for p in [*amendment.placement.moved.values(), *amendment.placement.added]}
     written = b"" if first_header is not None else headers(amendment.header, stamp)
     for k, block in enumerate(blocks):
@@ -235,14 +237,17 @@ def amended_bytes(source: Path, amendment: Amendment) -> bytes:
     return written
 
 
-def write_amended(source, path, amendment: Amendment, *, force: bool = False) -> Path:
-    """Write the file at ``source`` with ``amendment`` made (module docstring) to ``path``, whole or not at all;
-    an existing ``path`` only with ``force``, never ``source`` itself. Returns ``path``."""
-    source, path = Path(source), Path(path)
-    if path.exists() and path.resolve() == source.resolve():
-        raise MasslineError(f"{path} is the recording itself: write the corrected recording to another file")
-    claim_output(path, force)
-    written = amended_bytes(source, amendment)
-    with atomic_file(path) as temporary:
-        temporary.write_bytes(written)
-    return path
+def write_amended(sources, paths, amendment: Amendment, *, force: bool = False) -> list[Path]:
+    """Write each file of ``sources`` (one, or each run's) with ``amendment`` made (module docstring) to the path of
+    ``paths`` beside it, each whole or not at all; every path is checked before any is written: an existing one
+    only with ``force``, never one of the sources. Returns ``paths``."""
+    sources, paths = [Path(s) for s in sources], [Path(p) for p in paths]
+    for path in paths:
+        if path.exists() and any(path.resolve() == s.resolve() for s in sources):
+            raise MasslineError(f"{path} is a recording read: write the corrected recording to another file")
+        claim_output(path, force)
+    for source, path in zip(sources, paths):
+        written = amended_bytes(source, amendment)
+        with atomic_file(path) as temporary:
+            temporary.write_bytes(written)
+    return paths

@@ -10,6 +10,9 @@ the lines (a sensor's point or axis, a hit's) is the corrected recording's lines
 turned (the sign in the channel table, not in the data), exchanged rows' records restored to their places, moved
 and turned lines as nodes and coordinate systems (:mod:`massline.uff.channel_geometry`).
 
+A diagnosis of several runs' files (merged by node label, :mod:`massline.uff.runs`) is written back as one
+corrected file per run, each amended alike.
+
 The header lists each correction with its ± (the finding's sentence) and what was changed in the file, then what
 was not corrected: findings no effect explains, test physics (modelled by identify in every band fit), a mass
 loading (undone on the body) and a gauge's mass (an identify option), each with how.
@@ -29,7 +32,7 @@ from massline.identify.diagnose.notes import finding_note
 from massline.uff.amended import Amendment, write_amended
 from massline.uff.channel_geometry import placed
 from massline.uff.grid import to_recording
-from massline.uff.reader import read_uff
+from massline.uff.runs import read_runs, run_paths
 
 EXACT = 1e-9  # a probe's row number read back within this of an integer; a factor the same on every column
 
@@ -63,16 +66,16 @@ def flipped(factor: np.ndarray) -> np.ndarray:
     return np.all((factor.real < 0) & (np.abs(factor.imag) <= EXACT * np.abs(factor)), axis=1)
 
 
-def amendment(run, source, faults: list, notes: list) -> Amendment:
-    """The file's amendment for ``faults`` of ``run``'s diagnosis of the file at ``source``, with ``notes`` as its
-    header."""
-    contents = read_uff(source)
+def amendment(run, sources: list, faults: list, notes: list) -> Amendment:
+    """The files' amendment for ``faults`` of ``run``'s diagnosis of the files ``sources`` (one, or each run's),
+    with ``notes`` as its header."""
+    contents = read_runs(sources)
     recording = to_recording(contents)
     if list(recording.sensor_labels) != list(run.recording.sensor_labels) or list(recording.exciter_labels) != list(
         run.recording.exciter_labels
     ):
-        raise MasslineError(f"{source} is not the file diagnosed (its channels differ): give the file diagnose read")
-    factor, sources = row_operation(recording, faults)
+        raise MasslineError("the files given are not those diagnosed (their channels differ): give the files read")
+    factor, rows = row_operation(recording, faults)
     fixed = corrected(recording, faults)
     sign = np.where(flipped(factor), -1.0, 1.0)
     channels = {("response", i): (label, fixed.sensors.points[i], sign[i] * fixed.sensors.directions[i])
@@ -81,7 +84,8 @@ def amendment(run, source, faults: list, notes: list) -> Amendment:
                  for j, label in enumerate(recording.exciter_labels)}  # fmt: skip
     placement = placed(contents.node_ids, contents.node_points, contents.node_frames, contents.node_systems,
                        list(contents.systems), channels)  # fmt: skip
-    return Amendment(recording.frequencies, factor * sign[:, None], sources, placement, tuple(notes))
+    return Amendment(recording.frequencies, factor * sign[:, None], rows, placement, recording.sensor_labels,
+                     recording.exciter_labels, tuple(notes))  # fmt: skip
 
 
 def changes(run, finding, placement) -> str:
@@ -165,14 +169,23 @@ def header(run, faults: list, placement) -> list[tuple[str, str]]:
     return entries or [("massline: no finding", "the recording as it came: nothing to correct")]
 
 
-def write_corrected(run, source, path, *, force: bool = False) -> Path:
-    """Write the file ``source`` that ``run`` diagnosed with the faults it names undone to ``path`` (an existing
-    file only with ``force``); a header lists each correction with its ± and each finding not corrected."""
-    if run.recording.runs:
-        raise MasslineError(f"the diagnosis read {len(run.recording.runs)} runs' files: a corrected recording is "
-                            "written from one file; diagnose each run's file on its own")  # fmt: skip
+def corrected_paths(path, sources) -> list[Path]:
+    """Where the corrected recording of ``sources`` (files or folders of a test's runs) goes: ``path`` for one
+    file; for several runs' files, one file beside ``path`` per run, ``STEM.RUN.uff`` (RUN the run's file stem)."""
+    files, path = run_paths(sources if isinstance(sources, (list, tuple)) else [sources]), Path(path)
+    if len(files) == 1:
+        return [path]
+    return [path.with_name(f"{path.stem}.{f.stem}{path.suffix or '.uff'}") for f in files]
+
+
+def write_corrected(run, source, path, *, force: bool = False) -> list[Path]:
+    """Write the file ``source`` (or the runs' files and folders of a list) that ``run`` diagnosed with the faults
+    it names undone to ``path`` (several runs: :func:`corrected_paths`), each an existing file only with ``force``;
+    a header lists each correction with its ± and each finding not corrected. Returns the files written."""
+    sources = run_paths(source if isinstance(source, (list, tuple)) else [source])
     faults = written_faults(run.findings)
-    first = amendment(run, source, faults, [])
+    first = amendment(run, sources, faults, [])
     entries = header(run, faults, first.placement)
-    return write_amended(source, path, replace(first, header=tuple(entries)), force=force)
+    paths = corrected_paths(path, sources)
+    return write_amended(sources, paths, replace(first, header=tuple(entries)), force=force)
 

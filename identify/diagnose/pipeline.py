@@ -230,9 +230,10 @@ class DiagnosisRun:
         (:func:`.corrections.corrected`)."""
         return corrected(self.recording, written_faults(self.findings))
 
-    def write_corrected(self, source: str | Path, path: str | Path, *, force: bool = False) -> Path:
-        """Write the file ``source`` this diagnosis read with the faults named undone, and a header listing each
-        correction and each finding not corrected, to ``path`` (:mod:`.corrected_file`)."""
+    def write_corrected(self, source, path: str | Path, *, force: bool = False) -> list[Path]:
+        """Write the file ``source`` this diagnosis read (or its runs' files, a list) with the faults named undone,
+        and a header listing each correction and each finding not corrected, to ``path`` (several runs: one file
+        per run beside it); the files written (:mod:`.corrected_file`)."""
         return write_corrected(self, source, path, force=force)
 
     def export(self, path: str | Path, units: str | Units = SI, *, as_tested: bool = False, force: bool = False,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 from rich.console import Console
@@ -11,7 +10,7 @@ from rich.table import Table
 
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
-from massline.identify.diagnose.corrected_file import written_faults
+from massline.identify.diagnose.corrected_file import corrected_paths, written_faults
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import as_recording
@@ -29,7 +28,8 @@ from massline.cli.options import (
 )
 from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.errors import MasslineError
-from massline.core.files import write_atomic
+from massline.core.files import claim_outputs, write_atomic
+from massline.uff.runs import run_paths
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY
 
@@ -103,12 +103,12 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
 
 def run(args: argparse.Namespace, console: Console) -> None:
     check_band(args.band)
-    claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report,
-                         "--write-corrected": args.write_corrected})  # fmt: skip
-    if args.write_corrected and len(args.uff) > 1:
-        raise MasslineError("--write-corrected writes one corrected file from one recording: give one file")
-    if args.write_corrected and Path(args.write_corrected).resolve() == Path(args.uff[0]).resolve():
-        raise MasslineError(f"--write-corrected {args.write_corrected} is the recording itself: give another file")
+    fixed = corrected_paths(args.write_corrected, args.uff) if args.write_corrected else []
+    claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report})
+    read = {p.resolve() for p in run_paths(args.uff)}
+    if any(path.resolve() in read for path in fixed):
+        raise MasslineError(f"--write-corrected {args.write_corrected} names a recording read: give another file")
+    claim_outputs([("--write-corrected", path) for path in fixed], args.force)
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
     setup = support_setup(args, mesh)
@@ -160,7 +160,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         write_report(console, args.report, lambda: diagnose_report(found, source_of(args.uff), mesh), args.force)
     write_exports(console, found, args)
     if args.write_corrected:
-        written = found.write_corrected(args.uff[0], args.write_corrected, force=args.force)
+        written = found.write_corrected(args.uff, args.write_corrected, force=args.force)
         faults, rest = len(written_faults(found.findings)), len(found.findings) - len(written_faults(found.findings))
-        console.print(f"wrote {written} ({faults} correction{'s' * (faults != 1)}, {rest} finding"
-                      f"{'s' * (rest != 1)} not corrected; each listed in its header)")  # fmt: skip
+        console.print(f"wrote {', '.join(map(str, written))} ({faults} correction{'s' * (faults != 1)}, {rest} "
+                      f"finding{'s' * (rest != 1)} not corrected; each listed in its header)")  # fmt: skip
