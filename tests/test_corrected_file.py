@@ -28,6 +28,7 @@ from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.core.lines import Lines
 from massline.identify.pipeline import identify_recording
+from massline.identify.suspicions import beyond_chance
 from massline.placement.hand_layouts import structure_exciters
 from massline.uff.channel_geometry import placed
 from massline.uff.datasets import split
@@ -90,6 +91,7 @@ def test_identify_on_the_corrected_file_is_the_body_after_and_diagnose_finds_no_
     np.testing.assert_allclose(again.body.cog, after.cog, atol=tolerance * np.abs(after.cog).max())
     np.testing.assert_allclose(again.body.inertia_cog, after.inertia_cog, atol=tolerance * after.principal_moments[2])
     assert abs(again.body.mass - after.mass) < 1e-3 * found.after.std["mass"]
+    assert not beyond_chance(again.best.chi2, again.best.dof)  # the rigid model fits the corrected file within chance
     assert [f for f in diagnose_recording(fixed).findings if f.kind == "fault"] == []
 
 

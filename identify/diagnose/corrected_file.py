@@ -66,9 +66,9 @@ def flipped(factor: np.ndarray) -> np.ndarray:
     return np.all((factor.real < 0) & (np.abs(factor.imag) <= EXACT * np.abs(factor)), axis=1)
 
 
-def amendment(run, sources: list, faults: list, notes: list) -> Amendment:
+def amendment(run, sources: list, faults: list) -> Amendment:
     """The files' amendment for ``faults`` of ``run``'s diagnosis of the files ``sources`` (one, or each run's),
-    with ``notes`` as its header."""
+    without its header."""
     contents = read_runs(sources)
     recording = to_recording(contents)
     if list(recording.sensor_labels) != list(run.recording.sensor_labels) or list(recording.exciter_labels) != list(
@@ -85,7 +85,7 @@ def amendment(run, sources: list, faults: list, notes: list) -> Amendment:
     placement = placed(contents.node_ids, contents.node_points, contents.node_frames, contents.node_systems,
                        list(contents.systems), channels)  # fmt: skip
     return Amendment(recording.frequencies, factor * sign[:, None], rows, placement, recording.sensor_labels,
-                     recording.exciter_labels, tuple(notes))  # fmt: skip
+                     recording.exciter_labels)  # fmt: skip
 
 
 def changes(run, finding, placement) -> str:
@@ -184,7 +184,7 @@ def write_corrected(run, source, path, *, force: bool = False) -> list[Path]:
     a header lists each correction with its ± and each finding not corrected. Returns the files written."""
     sources = run_paths(source if isinstance(source, (list, tuple)) else [source])
     faults = written_faults(run.findings)
-    first = amendment(run, sources, faults, [])
+    first = amendment(run, sources, faults)
     entries = header(run, faults, first.placement)
     paths = corrected_paths(path, sources)
     return write_amended(sources, paths, replace(first, header=tuple(entries)), force=force)
