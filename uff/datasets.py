@@ -15,7 +15,7 @@ Values stay in file units and local systems; `uff` places them in the global fra
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -35,12 +35,14 @@ FUNCTION_NAMES += ("coherence", "auto correlation", "cross correlation", "PSD", 
 @dataclass(frozen=True, eq=False)
 class RawDataset:
     """One dataset: its number, the line of its opening delimiter, its text after the identifier line
-    (up to the data of a 58b), and a 58b's byte order and data."""
+    (up to the data of a 58b), a 58b's byte order and data, and its bytes in the file (``span``: from its
+    opening delimiter to after its closing one)."""
 
     number: int
     line: int
     text: str
     binary: tuple[str, bytes] | None = None
+    span: tuple[int, int] = (0, 0)
 
     @cached_property
     def lines(self) -> list[str]:
@@ -156,7 +158,7 @@ def split(data: bytes, name: str) -> list[RawDataset]:
     while (opening := _delimiter(data, position)) is not None and not TRAILING.match(data, opening.end()):
         line, counted = line + data.count(b"\n", counted, opening.start()), opening.start()
         block, position = _block(data, opening.end() + 1, line, name)
-        blocks.append(block)
+        blocks.append(replace(block, span=(opening.start(), position)))
     return blocks
 
 

@@ -37,7 +37,7 @@ def _characteristics(c: Characteristic) -> str:
     return f"{c.data_type:10d}{a:5d}{b:5d}{t:5d} {label:<20.20s} {unit:<20.20s}\n"
 
 
-def _ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
+def ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
     """Record 12 in ascii: 4E20.12 (even), E13.5,2E20.12 (uneven complex), 2(E13.5,E20.12) (uneven real)."""
     columns = parts if even else [x, *parts]
     formats = ["%20.12E"] * len(parts) if even else ["%13.5E"] + ["%20.12E"] * len(parts)
@@ -46,7 +46,7 @@ def _ascii_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
     return "".join("".join(fields[i : i + per_line]) + "\n" for i in range(0, len(fields), per_line)).encode()
 
 
-def _binary_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
+def binary_values(x: np.ndarray, parts: list[np.ndarray], even: bool) -> bytes:
     """Record 12 in binary, little-endian: ordinates as doubles, an uneven abscissa as singles before each point."""
     fields = ([] if even else [("x", "<f4")]) + [(f"y{i}", "<f8") for i in range(len(parts))]
     packed = np.empty(len(parts[0]), dtype=fields)
@@ -74,7 +74,7 @@ def dataset_58(
     even = step is not None
     minimum, increment = (frequencies[0], step) if even else (0.0, 0.0)
     parts = [values.real, values.imag] if np.iscomplexobj(values) else [values]
-    body = (_binary_values if binary else _ascii_values)(frequencies, parts, even)
+    body = (binary_values if binary else ascii_values)(frequencies, parts, even)
     opening = f"{58:6d}b{1:6d}{2:6d}{11:12d}{len(body):12d}{0:6d}{0:6d}{0:12d}{0:12d}\n" if binary else f"{58:6d}\n"
     header = "".join(
         [

@@ -19,6 +19,8 @@ import numpy as np
 
 from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
+from massline.identify.diagnose.corrected_file import write_corrected, written_faults
+from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, roomy
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import held
@@ -223,6 +225,17 @@ class DiagnosisRun:
         )
         return Body(mass=body.mass, cog=values["cog"], inertia=values["inertia_cog"], std=self.after.std, note=note,
                     warnings=self.warnings)  # fmt: skip
+
+    def corrected(self) -> Recording:
+        """The recording with the faults named undone, as the properties after were identified on it
+        (:func:`.corrections.corrected`)."""
+        return corrected(self.recording, written_faults(self.findings))
+
+    def write_corrected(self, source, path: str | Path, *, force: bool = False) -> list[Path]:
+        """Write the file ``source`` this diagnosis read (or its runs' files, a list) with the faults named undone,
+        and a header listing each correction and each finding not corrected, to ``path`` (several runs: one file
+        per run beside it); the files written (:mod:`.corrected_file`)."""
+        return write_corrected(self, source, path, force=force)
 
     def export(self, path: str | Path, units: str | Units = SI, *, as_tested: bool = False, force: bool = False,
                source: str = "") -> Path:  # fmt: skip

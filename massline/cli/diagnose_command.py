@@ -10,6 +10,7 @@ from rich.table import Table
 
 from massline.identify.diagnose.diagnosis import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
+from massline.identify.diagnose.corrected_file import corrected_paths, written_faults
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import as_recording
@@ -26,7 +27,9 @@ from massline.cli.options import (
     source_of,
 )
 from massline.cli.output import check_exportable, write_exports, write_json, write_report
-from massline.core.files import write_atomic
+from massline.core.errors import MasslineError
+from massline.core.files import claim_outputs, write_atomic
+from massline.uff.runs import run_paths
 from massline.core.numbers import number, value_with_sigma
 from massline.core.properties import SUMMARY
 
@@ -54,8 +57,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="OUT", help="write the findings, fit and properties as JSON; - for stdout")
     parser.add_argument("--plot", metavar="PNG", help="residual maps and FRF overlays before and after")
     parser.add_argument("--report", metavar="OUT.html", help="write the diagnosis report (one HTML page)")
+    parser.add_argument(
+        "--write-corrected",
+        metavar="FIXED.uff",
+        help="write the recording with the faults named undone (signs, gains, swaps, a chain's factor on the FRFs; "
+        "moved and turned lines in the geometry), a header record listing each correction with its ± and each "
+        "finding not corrected",
+    )
     add_export_arguments(parser)
-    parser.add_argument("--force", action="store_true", help="overwrite OUT, PNG, OUT.html and the --export files")
+    parser.add_argument(
+        "--force", action="store_true", help="overwrite OUT, PNG, OUT.html, FIXED.uff and the --export files"
+    )
 
 
 def properties_table(found: DiagnosisRun, nominal, planar: bool = False) -> Table:
@@ -91,7 +103,12 @@ def print_screens(console: Console, screens: dict, sensors: list[str]) -> None:
 
 def run(args: argparse.Namespace, console: Console) -> None:
     check_band(args.band)
+    fixed = corrected_paths(args.write_corrected, args.uff) if args.write_corrected else []
     claim_exports(args, {"--json": args.json, "--plot": args.plot, "--report": args.report})
+    read = {p.resolve() for p in run_paths(args.uff)}
+    if any(path.resolve() in read for path in fixed):
+        raise MasslineError(f"--write-corrected {args.write_corrected} names a recording read: give another file")
+    claim_outputs([("--write-corrected", path) for path in fixed], args.force)
     mesh = nominal_mesh(args)
     nominal = None if mesh is None else mesh.nominal
     setup = support_setup(args, mesh)
@@ -142,3 +159,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
 
         write_report(console, args.report, lambda: diagnose_report(found, source_of(args.uff), mesh), args.force)
     write_exports(console, found, args)
+    if args.write_corrected:
+        written = found.write_corrected(args.uff, args.write_corrected, force=args.force)
+        faults, rest = len(written_faults(found.findings)), len(found.findings) - len(written_faults(found.findings))
+        console.print(f"wrote {', '.join(map(str, written))} ({faults} correction{'s' * (faults != 1)}, {rest} "
+                      f"finding{'s' * (rest != 1)} not corrected; each listed in its header)")  # fmt: skip
