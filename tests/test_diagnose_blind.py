@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import session_cache
 from blind_measures import TAILS, outcome, report
 
 from massline.identify.diagnose.effects import BY_NAME
@@ -32,7 +33,7 @@ from massline.placement.on_surface import plan
 from massline.placement.planner import Budget
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
-from massline.virtual.elastic import ElasticBody, Material
+from massline.virtual.elastic import Material
 from massline.virtual.scenarios import (
     FAULTS,
     PAIRS,
@@ -64,8 +65,8 @@ def bench(name: str) -> Bench:
     """The body, its planned layout, its elastic modes and a record to f1/2.5."""
     budget, (youngs, poisson) = BENCHES[name]
     mesh = load_body(BUNDLED[name].path, "m", BUNDLED[name].density)
-    planned = plan(mesh, budget)
-    modes = ElasticBody.from_mesh(mesh.mesh, Material(youngs, poisson, mesh.density)).modes(12)
+    planned = session_cache.value("blind bench plan", lambda: plan(mesh, budget), name)  # once this session
+    modes = session_cache.fe_modes(mesh.mesh, Material(youngs, poisson, mesh.density), 12)
     fmax = modes.frequencies_hz[0] / 2.5
     return Bench(mesh.nominal, planned.sensors, planned.exciters, modes, fmax, 2000, mesh.mesh, name == "plate")
 
