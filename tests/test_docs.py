@@ -15,6 +15,7 @@
   command. Design values (defaults, thresholds, tolerances) are not measured and need none.
 """
 
+import argparse
 import os
 import re
 import subprocess
@@ -45,12 +46,14 @@ def prose(page_text: str, gap: str = "") -> str:
 
 @cache
 def help_options(command: str | None) -> frozenset[str]:
-    """The options ``massline [COMMAND] --help`` prints (run as tests/test_cli.py runs the command)."""
-    run = subprocess.run(
-        [sys.executable, "-m", "massline", *([command] if command else []), "--help"], capture_output=True, text=True
-    )
-    assert run.returncode == 0, run.stderr
-    return frozenset(OPTION.findall(run.stdout))
+    """The options ``massline [COMMAND] --help`` prints, from the parser the command builds (in process: eight
+    interpreters' imports spared; tests/test_cli.py runs the command itself)."""
+    from massline.cli.app import build_parser
+
+    parser = build_parser([command] if command else [])
+    if command:
+        parser = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    return frozenset(OPTION.findall(parser.format_help()))
 
 
 def every_option() -> frozenset[str]:
