@@ -17,12 +17,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
-import trimesh
 from scipy.spatial import cKDTree
 from skfem import Basis, BilinearForm, ElementTetP2, ElementVector, MeshTet, asm
 from skfem.helpers import dot
@@ -31,6 +31,9 @@ from skfem.models.elasticity import lame_parameters, linear_elasticity
 from massline.core.errors import MasslineError, param
 from massline.core.numbers import number, vector_text
 from massline.virtual.tetmesh import default_tetrahedra, tetrahedralise
+
+if TYPE_CHECKING:  # trimesh loads where a surface is read, not for every command that imports this
+    import trimesh
 
 N_RIGID = 6
 INTORDER = 2  # the basis's quadrature, exact for the stiffness: strains are linear (degree 1 + 1)
@@ -170,7 +173,9 @@ class ElasticModes:
         if len(out):
             corners = np.moveaxis(mesh.p[:, mesh.t[:, cells[out]]], 0, -1)  # (4, k, 3)
             faces = np.transpose(corners[[[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]]], (2, 0, 1, 3))  # (k, 4, 3, 3)
-            nearest = trimesh.triangles.closest_point(faces.reshape(-1, 3, 3), np.repeat(x[:, out].T, 4, axis=0))
+            from trimesh.triangles import closest_point
+
+            nearest = closest_point(faces.reshape(-1, 3, 3), np.repeat(x[:, out].T, 4, axis=0))
             nearest = nearest.reshape(len(out), 4, 3)
             closest = np.linalg.norm(nearest - x[:, out].T[:, None], axis=2).argmin(axis=1)
             on_face = nearest[np.arange(len(out)), closest]

@@ -21,13 +21,16 @@ import hashlib
 import os
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 import massline.virtual.elastic as elastic
 import massline.virtual.tetmesh as tetmesh
 from massline.virtual.elastic import ElasticBody, ElasticModes, Material
+
+if TYPE_CHECKING:  # a surface is hashed here, never read
+    import trimesh
 
 FORMAT = 1  # bump when the file's arrays change meaning
 

@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from massline.core.errors import MasslineError, param
 from massline.meshes.loader import validate_solid
+
+if TYPE_CHECKING:  # trimesh loads where a surface is read, not for every command that imports this
+    import trimesh
 
 SIZE_PER_THICKNESS = 4.0  # element size / mean thickness 2V/A
 SPANS = 16  # elements, at least, along the largest extent
