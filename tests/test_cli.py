@@ -1,5 +1,7 @@
 """The command line: tables, JSON contract, exit codes, nothing overwritten."""
 
+import contextlib
+import io
 import json
 import os
 import re
@@ -23,6 +25,32 @@ def massline(*args, cwd=None):
     stray = [line for line in (run.stdout + run.stderr).splitlines() if "debug:" in line or "On entry to" in line]
     assert not stray, f"stray warnings from massline {' '.join(map(str, args))}: {stray}"
     return run
+
+
+@contextlib.contextmanager
+def inside(folder):
+    """The working directory ``folder`` (None: unchanged) while the block runs."""
+    before = os.getcwd()
+    os.chdir(folder or before)
+    try:
+        yield
+    finally:
+        os.chdir(before)
+
+
+def cli(*args, cwd=None):
+    """``massline ARGS`` run in this process, as :func:`massline` runs it in its own: the command's exit code,
+    stdout and stderr (warnings shown, and failed on). For refusals, whose work is parsing and checking: the
+    interpreter's second of imports is paid once (tests/test_refusals.py goes through the real entry point)."""
+    from massline.cli.app import run
+
+    out, err = io.StringIO(), io.StringIO()
+    with inside(cwd), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = run([str(a) for a in args], show_warnings=True)
+    done = subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
+    stray = [line for line in (done.stdout + done.stderr).splitlines() if "debug:" in line]
+    assert not stray, f"stray warnings from massline {' '.join(map(str, args))}: {stray}"
+    return done
 
 
 def test_bare_massline_prints_the_help():
@@ -89,7 +117,7 @@ def test_output_is_never_overwritten_without_force(tmp_path):
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(args, words):
-    run = massline(*args)
+    run = cli(*args)
     assert run.returncode == 2
     assert words in run.stderr
     assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
@@ -197,7 +225,7 @@ def test_plan_on_a_real_cad_part_in_inches(tmp_path):
     ],
 )
 def test_plan_bad_budgets_exit_2(tmp_path, args, words):
-    run = massline(*args, "--out", tmp_path)
+    run = cli(*args, "--out", tmp_path)
     assert run.returncode == 2 and words in run.stderr and "Traceback" not in run.stderr
 
 
@@ -253,7 +281,7 @@ def test_identify_plate_method_report_shows_unobservable_entries(plate_uff, tmp_
 
 @pytest.mark.parametrize("method", [m for m in PAPER_METHODS if m != "plate"])
 def test_identify_refuses_a_3d_method_on_plate_data(plate_uff, method):
-    run = massline("identify", plate_uff, "--band", 5, 95, "--method", method)
+    run = cli("identify", plate_uff, "--band", 5, 95, "--method", method)
     assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1, run.stderr
     assert "plate data" in run.stderr and "--method plate" in run.stderr and "Traceback" not in run.stderr
 

@@ -9,7 +9,7 @@ import pytest
 import yourdfpy
 from conftest import bundled
 from export_bodies import assert_same_body, comment_text, record, rigid_bodies
-from test_cli import massline
+from test_cli import cli, massline
 from test_export_adams import read_by_the_manual as read_adams
 from test_export_csv import read_row
 from test_export_mjcf import loaded
@@ -111,7 +111,7 @@ def test_refusals_come_before_any_work_in_one_line(tmp_path, case, command):
     """The recording named does not exist: a refusal that reads it would say so instead."""
     (tmp_path / "old.bdf").write_text("$ a deck\n")
     args, words = REFUSALS[case]
-    result = massline(command, tmp_path / "no-such.uff", *(a.format(tmp=tmp_path) for a in args))
+    result = cli(command, tmp_path / "no-such.uff", *(a.format(tmp=tmp_path) for a in args))
     assert result.returncode == 2 and "Traceback" not in result.stderr
     assert result.stderr.count("\n") == 1 and re.search(words, result.stderr), result.stderr
 

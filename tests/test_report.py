@@ -13,7 +13,7 @@ import session_cache
 from conftest import FIXTURE_MESHES, bundled
 from PIL import Image
 from rich.console import Console
-from test_cli import massline
+from test_cli import cli, massline
 
 from massline.placement.candidates import CandidateOptions
 from massline.core.files import to_json
@@ -222,7 +222,7 @@ def test_bad_plan_file_is_one_line_and_exit_2(tmp_path, content, words):
     path = tmp_path / "plan.json"
     if content is not None:
         path.write_text(content)
-    run = massline("report", path)
+    run = cli("report", path)
     assert run.returncode == 2 and words in run.stderr
     assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
     assert not (tmp_path / "report.html").exists()

@@ -12,7 +12,7 @@ from conftest import assert_body_close, bundled
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-from test_cli import massline
+from test_cli import cli, massline
 
 from massline.identify.estimator import estimate
 from massline.identify.pipeline import identify_recording
@@ -339,7 +339,7 @@ def test_without_a_sensor_mass_the_json_is_unchanged(loaded_uff, tmp_path):
     ],
 )
 def test_bad_masses_are_refused_in_one_line(loaded_uff, option, value, words):
-    result = massline("identify", loaded_uff[0], "--band", 5, 95, "--bootstrap", 0, f"{option}={value}")
+    result = cli("identify", loaded_uff[0], "--band", 5, 95, "--bootstrap", 0, f"{option}={value}")
     assert result.returncode == 2, result.stderr
     assert re.search(words, result.stderr) and "Traceback" not in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1

@@ -9,7 +9,7 @@ import pytest
 import session_cache
 import pyuff
 from conftest import bundled
-from test_cli import massline
+from test_cli import cli, massline
 
 from massline.identify.massline_fit import fit_band
 from massline.core.masslines import Masslines
@@ -126,7 +126,7 @@ def test_check_predicts_the_band_and_plots_it(planned, tmp_path):
     ],
 )
 def test_bad_options_are_named(planned, args, words):
-    run = massline("simulate", planned, "--check" if "--out" not in words else "--rigid", *args)
+    run = cli("simulate", planned, "--check" if "--out" not in words else "--rigid", *args)
     assert run.returncode == 2 and words in run.stderr and "Traceback" not in run.stderr
 
 

@@ -356,10 +356,10 @@ def bad_file(tmp_path, case):
 
 def assert_command_refuses(command: str, tmp_path, case: str) -> None:
     """``massline COMMAND FILE`` on a BAD case's file exits 2 with one line naming the problem, no traceback."""
-    from test_cli import massline
+    from test_cli import cli
 
     path, words = bad_file(tmp_path, case)
-    result = massline(command, path)
+    result = cli(command, path)
     assert result.returncode == 2, result.stderr
     assert re.search(words, result.stderr) and "Traceback" not in result.stderr
     assert result.stderr.count("\n") == 1
