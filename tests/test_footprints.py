@@ -4,14 +4,13 @@ its side of the wall), no two accelerometers closer than a base, on the plans of
 import numpy as np
 import pytest
 import session_cache
-from conftest import FIXTURE_MESHES, bundled
+from conftest import bundled
 from test_cli import massline
 from test_diagnosability import default_plan as diagnosable_default
-from test_mountable import CAD
+from test_mountable import CAD, cad_plan
 
 from massline.core.errors import MasslineError
 from massline.core.lines import Lines
-from massline.meshes.loader import load_body
 from massline.placement.diagnosable_plan import minimal_budget
 from massline.placement.footprints import (
     Footprint,
@@ -146,10 +145,8 @@ def test_default_plans_of_the_bundled_bodies_are_mountable_together(default_plan
 @pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(CAD))
 def test_plans_of_the_cad_parts_are_mountable_together(name):
-    units, budget, options = CAD[name]
-    body = load_body(FIXTURE_MESHES / name, units, density=2700)
-    p = plan(body, budget, options, certify_steps=2500)
-    assert_mountable_together(p, Footprint(options.sensor_base, options.hammer_tip))
+    options = CAD[name][2]
+    assert_mountable_together(cad_plan(name)[1], Footprint(options.sensor_base, options.hammer_tip))
 
 
 def test_fixed_lines_kept_apart_from_the_planned_ones():

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+import session_cache
 import trimesh
 from conftest import FIXTURE_MESHES, bundled
 from test_cli import massline
@@ -38,6 +39,16 @@ CAD = {
     "angle_block.STL": ("in", Budget(0, 3, 3), CandidateOptions()),
     "ADIS16480.STL": ("m", Budget(6, 3), CandidateOptions()),
 }
+
+
+def cad_plan(name: str):
+    """The CAD part ``name`` (tests/fixtures/meshes) and its plan of ``CAD``'s budget, planned once this session
+    (test_footprints keeps the same plan's points apart)."""
+    units, budget, options = CAD[name]
+    body = load_body(FIXTURE_MESHES / name, units, density=2700)
+    return body, session_cache.value("CAD plan", lambda: plan(body, budget, options, certify_steps=12500), name)
+
+
 IDLER_BORE = (0.375, 0.15, 0.25)  # inches: on the axis of the 0.2 in hole through the idler's foot
 
 
@@ -119,9 +130,7 @@ def test_bundled_plans_are_mountable_and_sliding_gains(bundled_plans, name):
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(CAD))
 def test_cad_plans_are_mountable(name):
-    units, budget, options = CAD[name]
-    body = load_body(FIXTURE_MESHES / name, units, density=2700)
-    p = plan(body, budget, options, certify_steps=12500)
+    body, p = cad_plan(name)
     assert_mountable(body, p)
     assert p.sliding.gain >= 0
 
