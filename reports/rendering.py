@@ -27,6 +27,7 @@ FONT_PX = 26
 COG_PX = 11  # radius of the CoG symbol
 TRIAD = 42  # px: length of the axis triad's arms, also its distance from the corner
 BODY, EDGES = (200, 203, 208), (90, 90, 90)  # RGB
+RIG = (130, 80, 20)  # RGB: the support's cord and bridle legs, a dot where each is tied
 FACING = 0.2  # a surface faces a view when its outward normal has this component towards the camera
 AXIS_VIEWS = {  # per axis: (direction towards the camera, up, name) for + and − sides
     2: (((0, 0, 1), (0, 1, 0), "top"), ((0, 0, -1), (0, 1, 0), "bottom")),
@@ -218,10 +219,14 @@ def render_views(scene: Scene) -> list[Rendering]:
         ]
         if glyphs:
             plotter.add_mesh(pv.merge(glyphs), color=COLOURS[kind], smooth_shading=True)
+    if len(scene.rig):  # the support's cord and bridle legs
+        lines = [pv.Line(a, b) for a, b in scene.rig]
+        plotter.add_mesh(pv.merge(lines), color=RIG, line_width=3)
+        plotter.add_mesh(pv.merge([pv.Sphere(0.06 * scene.length, a) for a, _ in scene.rig]), color=RIG)
     plotter.enable_parallel_projection()
     plotter.enable_anti_aliasing("ssaa")
     plotter.show(auto_close=False)  # the first render; later ones keep the cameras set here
-    points = np.vstack([scene.mesh.vertices, *[a.reshape(-1, 3) for a in scene.arrows]])
+    points = np.vstack([scene.mesh.vertices, *[a.reshape(-1, 3) for a in scene.arrows], scene.rig.reshape(-1, 3)])
     try:
         return [_render(plotter, view, scene, points) for view in choose_views(scene.normals)]
     finally:

@@ -22,7 +22,7 @@ from massline.core.errors import MasslineError
 from massline.core.numbers import vector_text
 from massline.meshes import BUNDLED
 from massline.meshes.loader import UNITS, BodyMesh, load_body
-from massline.virtual.band_prediction import choose_support, support_candidates
+from massline.virtual.band_prediction import choose_support, support_candidates, support_rig
 from massline.virtual.elastic import ElasticBody, ElasticModes, Material
 from massline.virtual.fe_cache import cached_modes
 from massline.virtual.suspended import SuspendedBody
@@ -129,7 +129,9 @@ def plan_test(
     Returns
     -------
     test : dict
-        plan.json's ``suspension``, ``band``, ``elastic`` and ``alternatives`` (:mod:`massline.placement.plan_file`).
+        plan.json's ``suspension``, ``rig`` (the cord's tie point or the bridle that holds its apex,
+        :mod:`massline.virtual.rigging`; null on foam), ``band``, ``elastic`` and ``alternatives``
+        (:mod:`massline.placement.plan_file`).
     fe : FEModel
         The elastic modes they were predicted on and their material.
     """
@@ -147,8 +149,10 @@ def plan_test(
         "poisson": material.poisson,
         "frequencies_hz": modes.frequencies_hz.tolist(),
     }
+    rigged = chosen.suspension.cords and support_rig(body.mesh, carried, chosen.suspension.cords[0].attachment)
     return {
         "suspension": chosen.suspension.as_dict() | {"description": chosen.suspension.describe()},
+        "rig": rigged.as_dict() | {"description": rigged.describe()} if rigged else None,
         "band": band_to_dict(band),
         "elastic": elastic,
         "alternatives": [{"suspension": m.suspension.describe(), "band": band_to_dict(b)} for m, b in others],
