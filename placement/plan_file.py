@@ -31,7 +31,8 @@ default cord): ``suspension`` (``cords``: ``{"attachment" m, "stiffness" N/m, "l
 ``foam``: ``{"points" m, "stiffness" N/m, "shear_ratio"}`` or null, ``loss_factor``, ``up``,
 ``description``), ``rig`` (how it is hung, :mod:`massline.virtual.rigging`: ``apex`` m straight above the CoG, where
 the cord is tied, and ``legs``, the bridle's, each ``{"attachment" m on the surface, "normal", "length_m",
-"tension_n"}``, none where the cord is tied on the surface; ``description``; null on foam), ``band`` (the band it predicts: ``low_hz``, ``high_hz``, ``tolerance`` — every FRF within
+"tension_n"}``, none where the cord is tied on the surface; on foam ``pads``, its contact points, m;
+``description``), ``band`` (the band it predicts: ``low_hz``, ``high_hz``, ``tolerance`` — every FRF within
 it of its massline —, ``suspension_top_hz``, ``first_elastic_hz``), ``elastic`` (the FE model behind it:
 ``element_size`` m, ``modes``, ``dofs``, ``youngs`` Pa, ``poisson``, ``frequencies_hz``) and
 ``alternatives`` (the other supports considered: ``{"suspension": description, "band": {...}}``).

@@ -260,6 +260,8 @@ def rig_html(rig: dict | None) -> str:
     the surface, its length and tension ('' for a plan that keeps none)."""
     if not rig:
         return ""
+    if "apex" not in rig:
+        return f'<p class="note">Rig: {escape(rig.get("description", ""))}.</p>'
     apex = ", ".join(num(1e3 * c, ".1f") for c in rig["apex"])
     legs = rig.get("legs") or []
     if not legs:
@@ -307,7 +309,8 @@ def report_html(
         '<p class="note"><span class="sensor">A1 …</span> accelerometers, arrow along the measuring direction '
         '(triaxials: three arrows, one number); <span class="hit">H1 …</span> hammer hits, arrow into the surface '
         "at the hit point (moved aside where a hit shares an accelerometer's point); the black and white disc "
-        "marks the nominal centre of gravity (drawn on top even where the body hides it); axes in the corner. "
+        "marks the nominal centre of gravity (drawn on top even where the body hides it); brown lines: the support's "
+        "cord and its bridle's legs, a dot where each leg is tied (also drawn on top); axes in the corner. "
         "Parallel projections in the mesh's frame.</p>"
     )
     parts = [

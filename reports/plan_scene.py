@@ -166,7 +166,7 @@ CORD_DRAWN = 0.35  # of the body's largest extent: how much of the cord above th
 def rig_segments(rig: dict | None, mesh: trimesh.Trimesh) -> np.ndarray:
     """The rig of plan.json (``rig``: apex and legs, m) as segments (k, 2, 3) m: each leg from its attachment to
     the apex, and the cord from the apex up ``CORD_DRAWN`` × the body's size towards its hook."""
-    if not rig:
+    if not rig or "apex" not in rig:
         return np.zeros((0, 2, 3))
     apex = np.asarray(rig["apex"], dtype=float)
     legs = [(np.asarray(leg["attachment"], dtype=float), apex) for leg in rig.get("legs", [])]
