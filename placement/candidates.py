@@ -206,22 +206,22 @@ def candidate_points(
         )
     excluded["edges, corners, small or curved faces"] = int((~fits & ~out).sum())
     usable = np.flatnonzero(fits & ~out)
-    normals = surface.surface_normal(points[usable], faces[usable])
-    reached = reach(mesh, points[usable], normals, options.reach_sizes)
+    thinned = usable[thin(points[usable], 0.5 * spacing)]
+    normals = surface.surface_normal(points[thinned], faces[thinned])
+    reached = reach(mesh, points[thinned], normals, options.reach_sizes)
     excluded |= unreachable_counts(reached)
-    either = reached.hit | reached.sensor
     if not reached.hit.any():
         raise MasslineError(
             f"the hammer reaches no place on the surface: a {1e3 * options.hammer_head:.3g} mm head needs "
             f"{1e3 * options.hammer_swing:.3g} mm clear along the normal: give a smaller "
             f"{param('options.hammer_head')} or {param('options.hammer_swing')}"
         )
-    thinned = thin(points[usable[either]], 0.5 * spacing)
-    kept, reached = usable[either][thinned], reached.take(np.flatnonzero(either)[thinned])
+    either = np.flatnonzero(reached.hit | reached.sensor)
+    kept, reached = thinned[either], reached.take(either)
     gap = surface.base_gap(points[kept], faces[kept], options.sensor_base)
     return CandidatePoints(
         points=points[kept],
-        normals=normals[np.flatnonzero(either)[thinned]],
+        normals=normals[either],
         faces=faces[kept],
         excluded=excluded,
         sensor_fit=(clearance[kept] >= sensor) & (gap <= PAD_GAP) & reached.sensor,
