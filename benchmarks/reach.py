@@ -43,7 +43,8 @@ def main() -> None:
         dropped = ", ".join(f"{n} {reason.split(' (')[0]}" for reason, n in points.excluded.items() if n)
         print(
             f"{name}: {len(points)} candidate points ({len(points.hit_points())} hits, {len(points.sensor_points())} "
-            f"accelerometers); dropped: {dropped}; enumeration {enumerated:.2f} s, reach {1e3 * per_point:.2f} ms a point"
+            f"accelerometers); dropped: {dropped}; enumeration {enumerated:.2f} s, "
+            f"reach {1e3 * per_point:.2f} ms a point"
         )
 
 

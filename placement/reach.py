@@ -68,7 +68,11 @@ class Reach:
     def entry(self, k: int, side: int) -> dict:
         """plan.json's ``reach`` of point k as a hit (``side`` 1) or an accelerometer (0), m."""
         if side == 1:
-            return {"approach_m": float(self.approach[k]), "swing_m": self.sizes.hammer_swing, "clear": bool(self.hit[k])}
+            return {
+                "approach_m": float(self.approach[k]),
+                "swing_m": self.sizes.hammer_swing,
+                "clear": bool(self.hit[k]),
+            }
         return {
             "housing_m": float(self.housing[k]),
             "height_m": self.sizes.sensor_height,
@@ -102,27 +106,30 @@ def reaches(mesh: trimesh.Trimesh, point: np.ndarray, normal: np.ndarray, sizes:
     return bool(side_free(mesh, point[None], normal[None], sizes.sensor_height / 2, run)[0][0] >= run)
 
 
+APPROACH, HOUSING, CABLE = "hammer's approach blocked", "accelerometer's housing blocked", "no way out for its cable"
+
+
 def unreachable_counts(reach: Reach) -> dict:
-    """How many points each reason takes: the hammer's approach, the housing, the cable (a point can fail several)."""
+    """How many points each reason takes: the hammer's approach, the housing, the cable (a point can fail several),
+    each reason with the sizes it was judged for."""
     s = reach.sizes
     return {
-        f"hammer's approach blocked (a {1e3 * s.hammer_head:.3g} mm head over a {1e3 * s.hammer_swing:.3g} mm "
-        "swing: holes, bores, pockets, re-entrant corners)": int((~reach.hit).sum()),
-        f"accelerometer's housing blocked ({1e3 * s.sensor_base:.3g} mm across, {1e3 * s.sensor_height:.3g} mm "
-        "tall)": int((reach.housing < s.sensor_height).sum()),
-        f"no way out for its cable ({1e3 * s.cable_run:.3g} mm)": int(
+        f"{APPROACH} (a {1e3 * s.hammer_head:.3g} mm head over a {1e3 * s.hammer_swing:.3g} mm swing: holes, bores, "
+        "pockets, re-entrant corners)": int((~reach.hit).sum()),
+        f"{HOUSING} ({1e3 * s.sensor_base:.3g} mm across, {1e3 * s.sensor_height:.3g} mm tall)": int(
+            (reach.housing < s.sensor_height).sum()
+        ),
+        f"{CABLE} ({1e3 * s.cable_run:.3g} mm)": int(
             ((reach.housing >= s.sensor_height) & (reach.cable < s.sensor_base / 2 + s.cable_run)).sum()
         ),
     }
 
 
 def reach_sentence(dropped: dict, kept: int) -> str:
-    """What the reach took of the candidate points (plan.json's ``candidates.dropped`` and ``points``): "reach: 729
-    places dropped for the hammer's approach …; 516 candidate points kept"."""
-    reasons = [f"{n} {reason}" for reason, n in dropped.items() if n and reason.split(" ")[0] in REACH_WORDS]
+    """What the reach took of the candidate points (plan.json's ``candidates.dropped`` and ``points``): "reach: places
+    dropped (as hits or as accelerometers) for 177 hammer's approach blocked (…); …; 507 candidate points kept"."""
+    reasons = [f"{n} {reason}" for reason, n in dropped.items() if n and reason.startswith((APPROACH, HOUSING, CABLE))]
     if not reasons:
         return f"reach: every candidate place is in reach of the hammer and takes an accelerometer; {kept} points kept"
-    return f"reach: places dropped (as hits or as accelerometers) for {'; '.join(reasons)}; {kept} candidate points kept"
-
-
-REACH_WORDS = ("hammer's", "accelerometer's", "no")  # the first words of the reasons unreachable_counts gives
+    said = "; ".join(reasons)
+    return f"reach: places dropped (as hits or as accelerometers) for {said}; {kept} candidate points kept"

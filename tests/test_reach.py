@@ -148,4 +148,5 @@ def test_hub_plans_in_reach(extra):
     assert all(e["reach"]["clear"] for key in ("sensors", "exciters") for e in doc[key])
     assert all(e["reach"]["approach_m"] >= e["reach"]["swing_m"] for e in doc["exciters"])
     assert doc["mounting"]["reach"]["hammer_head_m"] == SIZES.hammer_head
-    assert any(reason.startswith("hammer's approach blocked") and n > 0 for reason, n in doc["candidates"]["dropped"].items())
+    dropped = doc["candidates"]["dropped"]
+    assert any(reason.startswith("hammer's approach blocked") and n > 0 for reason, n in dropped.items())

@@ -58,7 +58,7 @@ class Rig:
         return {"apex": self.apex.tolist(), "legs": legs}
 
     def describe(self) -> str:
-        """'bridle of 3 legs to the apex (0, 0, 72) mm: from (20, 0, 60) mm, 23 mm long, 1.1 N; …' or the tie point."""
+        """'bridle of 3 legs to the apex (0, 0, 72) mm: from (19, 4, 60) mm, 23 mm long, 1.8 N; …', or the tie."""
         if not len(self.attachments):
             return f"the cord tied on the surface at {mm(self.apex)} mm"
         legs = "; ".join(
