@@ -140,7 +140,8 @@ def cli_plan(*extra: str) -> dict:
 @pytest.mark.parametrize("extra", [(), ("--minimal",), ("--triaxial", "3")], ids=["default", "minimal", "triaxial"])
 def test_hub_plans_in_reach(extra):
     """``massline plan hub.stl --units mm --density 2700`` (and --minimal, --triaxial 3): no hit or accelerometer in
-    a bolt hole or the bore, every approach and housing clear, each point's reach in plan.json, the drops counted."""
+    a bolt hole or the bore, every approach and housing clear, each point's reach in plan.json, the drops counted, the
+    support rigged outside the bore."""
     doc = cli_plan(*extra)
     sides = [np.array([e["point"] for e in doc[key]]) for key in ("sensors", "exciters")]
     normals = [np.array([outward_normal(p) for p in side]) for side in sides]
@@ -150,3 +151,6 @@ def test_hub_plans_in_reach(extra):
     assert doc["mounting"]["reach"]["hammer_head_m"] == SIZES.hammer_head
     dropped = doc["candidates"]["dropped"]
     assert any(reason.startswith("hammer's approach blocked") and n > 0 for reason, n in dropped.items())
+    rig = doc["rig"]  # the support as rigged: a bridle tied outside the bore and the holes, or the foam's pads
+    assert rig["legs"] if "apex" in rig else len(rig["pads"]) >= 3
+    assert not in_a_hole(np.array([leg["attachment"] for leg in rig.get("legs", [])]).reshape(-1, 3)).any()
