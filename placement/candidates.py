@@ -5,8 +5,9 @@ flat patches (the centre of a rectangle split in two triangles, where a thin
 face has the most room) and area-uniform samples, about ``n_samples`` over the surface, thinned so that no two are closer than half the
 mean spacing; each with the outward normal of the face it lies on. Only points
 where a hit lands square (a smooth region, clear of sharp edges by the tip's radius,
-:mod:`.mountable`) are kept; those that also take the accelerometer's base, with a gap under it
-that a film or a cemented pad fills, are the sensor candidates. Lines at each point: the surface normal (a hammer hit, a
+:mod:`.mountable`) and the hammer swings in clear (:mod:`.reach`) are the hit candidates; those that take the
+accelerometer's base, with a gap under it that a film or a cemented pad fills, its housing clear of the part and a
+way out for its cable, are the sensor candidates. Lines at each point: the surface normal (a hammer hit, a
 uniaxial accelerometer glued on the face) and, optionally, the three global axes
 (mounting blocks). A triaxial accelerometer is one candidate of three global-axis
 lines through a point. Regions can be excluded (boxes, faces).
@@ -23,6 +24,8 @@ from scipy.spatial import cKDTree
 from massline.core.errors import MasslineError, param
 from massline.core.lines import AXES, Lines
 from massline.placement.mountable import PAD_GAP, Surface
+from massline.placement.reach import CABLE_RUN, HAMMER_HEAD, HAMMER_SWING, SENSOR_HEIGHT, Reach, ReachSizes, reach
+from massline.placement.reach import unreachable_counts
 
 MOST_BLOCKED = 1  # unseen motions the planner offers mounting blocks for (a turned part's axis)
 BLOCK = 2  # the budget group of lines on mounting blocks (0 uniaxial on the surface, 1 triaxial)
@@ -40,6 +43,8 @@ class CandidateOptions:
     ``sensor_base``, ``hammer_tip``: size across (m) of the accelerometer's base and of the hammer's tip;
     a point takes one where the flat disk of half that size around it is clear of edges (:mod:`.mountable`);
     ``edge_keepout``: a larger distance (m) to keep from edges, sensors and hits alike;
+    ``hammer_head``, ``hammer_swing``, ``sensor_height``, ``cable_run``: the reach a hit and an accelerometer need
+    (m, :mod:`.reach`);
     ``axes``: add the global axes as line directions (mounting blocks).
     """
 
@@ -51,6 +56,15 @@ class CandidateOptions:
     hammer_tip: float = HAMMER_TIP
     edge_keepout: float = 0.0
     seed: int = 0
+    hammer_head: float = HAMMER_HEAD
+    hammer_swing: float = HAMMER_SWING
+    sensor_height: float = SENSOR_HEIGHT
+    cable_run: float = CABLE_RUN
+
+    @property
+    def reach_sizes(self) -> ReachSizes:
+        """The instruments' sizes the reach is judged for (:mod:`.reach`)."""
+        return ReachSizes(self.hammer_head, self.hammer_swing, self.sensor_base, self.sensor_height, self.cable_run)
 
     @property
     def clearances(self) -> tuple[float, float]:
@@ -61,8 +75,9 @@ class CandidateOptions:
 @dataclass(frozen=True, eq=False)
 class CandidatePoints:
     """Points (n, 3) m, outward normals (n, 3), the face each lies on (n,), how many points each exclusion
-    took, whether an accelerometer fits at each (n,) (every point takes a hit), each one's clearance (m) and
-    the gap (m) under an accelerometer's base there (0 on flat faces, :meth:`.Surface.base_gap`)."""
+    took, whether an accelerometer fits at each (n,) and whether the hammer reaches it (n,) (None: every point
+    takes one), each one's clearance (m) from edges, the gap (m) under an accelerometer's base there (0 on flat
+    faces, :meth:`.Surface.base_gap`) and its reach (:mod:`.reach`)."""
 
     points: np.ndarray
     normals: np.ndarray
@@ -71,10 +86,16 @@ class CandidatePoints:
     sensor_fit: np.ndarray | None = None
     clearance: np.ndarray | None = None
     gap: np.ndarray | None = None
+    hit_fit: np.ndarray | None = None
+    reach: Reach | None = None
 
     def sensor_points(self) -> np.ndarray:
         """Indices of the points an accelerometer fits on."""
         return np.arange(len(self)) if self.sensor_fit is None else np.flatnonzero(self.sensor_fit)
+
+    def hit_points(self) -> np.ndarray:
+        """Indices of the points the hammer reaches."""
+        return np.arange(len(self)) if self.hit_fit is None else np.flatnonzero(self.hit_fit)
 
     def __len__(self) -> int:
         return len(self.points)
@@ -155,8 +176,9 @@ def candidate_points(
     """Samples, vertices and face centres of a closed mesh in metres that a sensor or a hit can use.
 
     Refused when the exclusions (boxes, faces) leave nothing, or when no point of the surface has the
-    clearance (:mod:`.mountable`) a hit needs; then the excluded points and those short of that
-    clearance are taken out, and near-duplicates.
+    clearance (:mod:`.mountable`) a hit needs; then the excluded points, those short of that
+    clearance and those neither the hammer nor an accelerometer reaches (:mod:`.reach`) are taken out, and
+    near-duplicates.
     """
     surface = Surface.of(mesh) if surface is None else surface
     spacing = np.sqrt(mesh.area / max(options.n_samples, 1))
@@ -184,16 +206,29 @@ def candidate_points(
         )
     excluded["edges, corners, small or curved faces"] = int((~fits & ~out).sum())
     usable = np.flatnonzero(fits & ~out)
-    kept = usable[thin(points[usable], 0.5 * spacing)]
+    thinned = usable[thin(points[usable], 0.5 * spacing)]
+    normals = surface.surface_normal(points[thinned], faces[thinned])
+    reached = reach(mesh, points[thinned], normals, options.reach_sizes)
+    excluded |= unreachable_counts(reached)
+    if not reached.hit.any():
+        raise MasslineError(
+            f"the hammer reaches no place on the surface: a {1e3 * options.hammer_head:.3g} mm head needs "
+            f"{1e3 * options.hammer_swing:.3g} mm clear along the normal: give a smaller "
+            f"{param('options.hammer_head')} or {param('options.hammer_swing')}"
+        )
+    either = np.flatnonzero(reached.hit | reached.sensor)
+    kept, reached = thinned[either], reached.take(either)
     gap = surface.base_gap(points[kept], faces[kept], options.sensor_base)
     return CandidatePoints(
         points=points[kept],
-        normals=surface.surface_normal(points[kept], faces[kept]),
+        normals=normals[either],
         faces=faces[kept],
         excluded=excluded,
-        sensor_fit=(clearance[kept] >= sensor) & (gap <= PAD_GAP),
+        sensor_fit=(clearance[kept] >= sensor) & (gap <= PAD_GAP) & reached.sensor,
         clearance=clearance[kept],
         gap=gap,
+        hit_fit=reached.hit,
+        reach=reached,
     )
 
 
@@ -272,11 +307,11 @@ def side_lines(
 def candidate_lines(
     points: CandidatePoints, axes: bool, planar: bool, triaxial: bool, blocks=(np.zeros((0, 6)), np.zeros((0, 6)))
 ) -> tuple[CandidateLines, CandidateLines]:
-    """Sensor candidates where an accelerometer fits (triaxials among them when asked), exciter candidates at
-    every point; ``axes``: mounting blocks along the global axes; ``blocks``: the rigid motions (k, 6) each side's
+    """Sensor candidates where an accelerometer fits (triaxials among them when asked), exciter candidates where
+    the hammer reaches; ``axes``: mounting blocks along the global axes; ``blocks``: the rigid motions (k, 6) each side's
     normals leave unseen, read or driven on blocks along them (:func:`blocks_needed`)."""
     sensors = side_lines(points, points.sensor_points(), axes, planar, triaxial, blocks[0])
-    return sensors, side_lines(points, np.arange(len(points)), axes, planar, False, blocks[1])
+    return sensors, side_lines(points, points.hit_points(), axes, planar, False, blocks[1])
 
 
 def unseen_twists(points: CandidatePoints, index: np.ndarray) -> np.ndarray:
@@ -308,4 +343,4 @@ def blocks_needed(points: CandidatePoints, planar: bool, triaxial: bool) -> tupl
         unseen = unseen_twists(points, index) if len(index) else none
         return unseen if len(unseen) <= MOST_BLOCKED else none
 
-    return (none if triaxial else offered(points.sensor_points())), offered(np.arange(len(points)))
+    return (none if triaxial else offered(points.sensor_points())), offered(points.hit_points())

@@ -29,6 +29,7 @@ from massline.core.model import RigidModel
 from massline.placement.mountable import Surface, closest_on_surface, snap
 from massline.placement.certification import CERTIFY_STEPS
 from massline.placement.planner import plan_on_candidates
+from massline.placement.reach import reach
 from massline.placement.sliding import slide
 from massline.placement.work import Work
 
@@ -186,4 +187,16 @@ def plan(
     )
     progress("sliding the points on their faces", 0.95)
     located = replace(result, candidates=points, clearances=options.clearances, blocks=blocks)
-    return slid(located, surface, points, options, diagnosable, footprints)
+    moved = slid(located, surface, points, options, diagnosable, footprints)
+    return replace(moved, reach=reached(moved, surface, options))
+
+
+def reached(plan: Plan, surface: Surface, options: CandidateOptions) -> tuple:
+    """The reach (:mod:`.reach`) of every sensor and hit line where it ended, along the smooth surface's outward
+    normal there (fixed lines' too)."""
+    out = []
+    for lines in (plan.sensors, plan.exciters):
+        faces = np.array([closest_on_surface(surface.mesh, p)[1] for p in lines.points], dtype=int)
+        normals = surface.surface_normal(lines.points, faces).reshape(-1, 3)
+        out.append(reach(surface.mesh, lines.points, normals, options.reach_sizes))
+    return tuple(out)

@@ -1,8 +1,11 @@
 """plan.json: the plan as other tools read it (DESIGN.md's lab contracts: the points, their mounts, the rig).
 
 Keys: ``mesh``, ``units``, ``density``, ``planar``, ``nominal`` (identify's keys),
-``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial", "mount"}``, metres, mesh
-frame; ``mount``: ``kind`` flat, film, pad, curved, block or fixed and ``gap_m`` under the base, :mod:`.mounts`;
+``sensors`` and ``exciters`` (``{"node", "candidate", "point", "direction", "triaxial", "mount", "reach"}``, metres,
+mesh frame; ``mount``: ``kind`` flat, film, pad, curved, block or fixed and ``gap_m`` under the base, :mod:`.mounts`;
+``reach``: a hit's ``approach_m``, the free length of the hammer head's cylinder along the normal, against its
+``swing_m``; an accelerometer's ``housing_m`` against its ``height_m``, ``cable_m`` the free run sideways from half its
+height and ``cable_exit`` its direction; ``clear``, :mod:`.reach`;
 ``blocks``: the rigid motions, in words, that the ``sensors``' and the ``hits``' normals leave unseen and that
 mounting blocks were offered for;
 ``node`` is the point's label, the test's one numbering (:mod:`massline.core.numbering`: accelerometers from 1,
@@ -13,7 +16,9 @@ information; ``log_det``, ``condition_numbers`` with ``condition_systems`` namin
 equation, ``d_efficiency_lower_bound``, ``upper_bounds`` of log det; every bound and efficiency is against
 the best layout of candidate points changing the sensors alone or the exciters alone, the other side held at
 the plan's: placement/certification.py; ``sliding``: ``candidate_log_det``, ``gain`` in log det,
-``criterion_gain``, ``largest_move_m``), ``mounting`` (the clearance from edges, m, a sensor and a hit keep),
+``criterion_gain``, ``largest_move_m``), ``mounting`` (the clearance from edges, m, a sensor and a hit keep, and
+``reach``: the hammer's head and swing, the accelerometer's base, height and cable run, m), ``candidates``
+(``points``, ``lines``, and ``dropped``: how many points each exclusion, edge or reach took, by reason),
 ``noise``, ``predicted_std`` (identify's std keys), ``diagnosability`` (``diagnosable``, per-channel and
 per-hit leverage, ``hidden``: the faults each channel could hide, ``failures``; ``cost``: the minimal
 layout's lines, hits and worst relative 1-σ against this plan's, null when the plan was not compared;
@@ -24,6 +29,9 @@ NaN (unobservable) is written as null.
 The test the plan sets up (absent in plans written before it was kept; their readers fall back to a
 default cord): ``suspension`` (``cords``: ``{"attachment" m, "stiffness" N/m, "length" m, "direction"}``,
 ``foam``: ``{"points" m, "stiffness" N/m, "shear_ratio"}`` or null, ``loss_factor``, ``up``,
+``description``), ``rig`` (how it is hung, :mod:`massline.virtual.rigging`: ``apex`` m straight above the CoG, where
+the cord is tied, and ``legs``, the bridle's, each ``{"attachment" m on the surface, "normal", "length_m",
+"tension_n"}``, none where the cord is tied on the surface; on foam ``pads``, its contact points, m;
 ``description``), ``band`` (the band it predicts: ``low_hz``, ``high_hz``, ``tolerance`` — every FRF within
 it of its massline —, ``suspension_top_hz``, ``first_elastic_hz``), ``elastic`` (the FE model behind it:
 ``element_size`` m, ``modes``, ``dofs``, ``youngs`` Pa, ``poisson``, ``frequencies_hz``) and
@@ -43,7 +51,7 @@ from massline.placement.plans import Plan
 from massline.core.lines import Lines
 
 
-def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray, mounted: list[Mount]) -> list:
+def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray, mounted: list[Mount], reach, side: int) -> list:
     groups = {g: k for k, g in enumerate(dict.fromkeys(int(t) for t in lines.triaxial if t >= 0))}
     return [
         {
@@ -55,8 +63,25 @@ def _lines(lines: Lines, nodes: np.ndarray, labels: np.ndarray, mounted: list[Mo
             "mount": m.to_dict(),
         }
         | ({"fixed": True} if n < 0 else {})
-        for n, label, p, d, t, m in zip(nodes, labels, lines.points, lines.directions, lines.triaxial, mounted)
+        | ({"reach": reach.entry(k, side)} if reach is not None else {})
+        for k, (n, label, p, d, t, m) in enumerate(
+            zip(nodes, labels, lines.points, lines.directions, lines.triaxial, mounted)
+        )
     ]
+
+
+def _reach(plan: Plan) -> dict | None:
+    """The instruments' sizes the reach was judged for, and how many candidate points each reason dropped."""
+    if plan.candidates is None or plan.candidates.reach is None:
+        return None
+    sizes = plan.candidates.reach.sizes
+    return {
+        "hammer_head_m": sizes.hammer_head,
+        "hammer_swing_m": sizes.hammer_swing,
+        "sensor_base_m": sizes.sensor_base,
+        "sensor_height_m": sizes.sensor_height,
+        "cable_run_m": sizes.cable_run,
+    }
 
 
 def _sliding(plan: Plan) -> dict:
@@ -93,8 +118,8 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
         "density": density,
         "planar": plan.model.planar,
         "nominal": nominal.as_dict(),
-        "sensors": _lines(plan.sensors, plan.sensor_nodes, plan.point_labels[0], mounts(plan, 0)),
-        "exciters": _lines(plan.exciters, plan.exciter_nodes, plan.point_labels[1], mounts(plan, 1)),
+        "sensors": _lines(plan.sensors, plan.sensor_nodes, plan.point_labels[0], mounts(plan, 0), plan.reach[0], 0),
+        "exciters": _lines(plan.exciters, plan.exciter_nodes, plan.point_labels[1], mounts(plan, 1), plan.reach[1], 1),
         "blocks": {side: [motion_text(t) for t in twists] for side, twists in zip(("sensors", "hits"), plan.blocks)},
         "criterion": {
             "name": plan.criterion.name,
@@ -113,12 +138,17 @@ def plan_to_dict(plan: Plan, mesh: str, units: str, density: float, test: dict |
             "worst_relative_std": plan.worst_relative_std,
             "sliding": _sliding(plan),
         },
-        "mounting": {"sensor_clearance_m": plan.clearances[0], "hit_clearance_m": plan.clearances[1]},
+        "mounting": {
+            "sensor_clearance_m": plan.clearances[0],
+            "hit_clearance_m": plan.clearances[1],
+            "reach": _reach(plan),
+        },
         "noise": {"relative": plan.noise.relative, "floor": plan.noise.floor},
         "predicted_std": plan.predicted_std,
         "candidates": {
             "points": len(plan.candidates) if plan.candidates is not None else None,
             "lines": plan.n_candidate_lines,
+            "dropped": None if plan.candidates is None else plan.candidates.excluded,
         },
         "diagnosability": {
             **plan.diagnosability.as_dict(),

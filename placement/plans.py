@@ -94,6 +94,7 @@ class Plan:
     search: Reached | None = None  # what the diagnosable search spent and reached (None: the budget was given)
     certificate: Reached | None = None  # what the D certificate's branch and bound spent of its relaxation steps
     blocks: tuple = (np.zeros((0, 6)), np.zeros((0, 6)))  # sensors, hits: the motions (k, 6) blocks were offered for
+    reach: tuple = (None, None)  # sensors, hits: each line's Reach where it ended (:mod:`.reach`), None off a mesh
 
     @property
     def point_labels(self) -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,8 @@ information F and the criterion c(F) (log det F for D-optimality; any smooth fun
 smooth in (a, b).
 
 Projected gradient ascent: the gradient by central differences; a point whose step would leave the
-mountable region (inside its patch or region, clearance ≥ what it needs, outside the exclusions, and for an
+mountable region (inside its patch or region, clearance ≥ what it needs, outside the exclusions, in reach of the
+hammer or with room for the accelerometer and its cable (:mod:`.reach`), and for an
 accelerometer on a curve a gap under its base no wider than a pad fills) or come onto
 another's footprint (accelerometers a base apart, hits half a base and half a tip from the accelerometers on
 their side, fixed ones included: :mod:`.footprints`; the candidate layout starts clear of them) loses the step's
@@ -34,6 +35,7 @@ from massline.core.information import NoiseModel, fisher, log_det
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
 from massline.placement.mountable import Surface
+from massline.placement.reach import reaches
 
 Criterion = Callable[[np.ndarray], float]  # information matrix F (p × p) → value to maximise
 Admissible = Callable[[Lines, Lines], bool]  # may the layout (sensors, exciters) be used?
@@ -183,14 +185,16 @@ class Slider:
         return np.array([(self.value(x + e) - self.value(x - e)) / (2 * h) for e in steps]).reshape(x.shape)
 
     def mountable(self, m: int, offset: np.ndarray) -> bool:
-        """Is movable point m at ``offset`` on its patch or region, clear by its need, not excluded, and (an
-        accelerometer on a curve) with a gap under its base that a pad fills?"""
-        point, face, _ = self.place(m, offset)
+        """Is movable point m at ``offset`` on its patch or region, clear by its need, not excluded, (an
+        accelerometer on a curve) with a gap under its base that a pad fills, and in reach (:mod:`.reach`)?"""
+        point, face, normal = self.place(m, offset)
         if face < 0 or excluded_by(point[None], np.array([face]), self.options)[0][0]:
             return False
         if self.surface.clearance(point[None], np.array([face]), self.mounts.need[m])[0] < self.mounts.need[m]:
             return False
-        return not (self.mounts.curved[m] and self.mounts.side[m] == 0) or self.gap(point, face) <= PAD_GAP
+        if self.mounts.curved[m] and self.mounts.side[m] == 0 and self.gap(point, face) > PAD_GAP:
+            return False
+        return reaches(self.surface.mesh, point, normal, self.options.reach_sizes, int(self.mounts.side[m]))
 
     def gap(self, point: np.ndarray, face: int) -> float:
         """The gap (m) under an accelerometer's base at ``point`` on ``face``."""

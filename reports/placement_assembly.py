@@ -10,7 +10,7 @@ page (:mod:`.placement_report`). ``massline plan`` and ``massline report`` write
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +21,7 @@ from massline.meshes.loader import BodyMesh
 from massline.placement.plan_file import read_plan
 from massline.reports.html import Report
 from massline.reports.placement_report import BandRow, report_html
-from massline.reports.plan_scene import scene_of
+from massline.reports.plan_scene import rig_segments, scene_of
 from massline.reports.rendering import render_views
 from massline.virtual.band_prediction import predict_band
 from massline.virtual.planned_test import FEModel, assumed_material, body_material, fe_model, plan_mesh, planned_band
@@ -125,7 +125,7 @@ def build_placement_report(plan_path: str | Path, progress=None) -> PlacementRep
     if planned is None:
         *planned, fe = predicted_bands(body, doc.get("mesh"), sensors, exciters, progress)
     bands, fe_note = planned
-    scene = scene_of(body.mesh, sensors, exciters, nominal.cog)
+    scene = replace(scene_of(body.mesh, sensors, exciters, nominal.cog), rig=rig_segments(doc.get("rig"), body.mesh))
     if progress is not None:
         progress("rendering the views", 0, None)  # a stage of unknown length
     renderings = render_views(scene)

@@ -18,6 +18,7 @@ from massline.core import __version__
 from massline.core.numbers import counted
 from massline.placement.mountable import SHARP_EDGE_DEG
 from massline.placement.mounts import Mount
+from massline.placement.reach import reach_sentence
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
 from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
@@ -226,6 +227,20 @@ def mounting_rows(doc: dict) -> list:
                 f"over {SHARP_EDGE_DEG:g}°); on a curve the gap under a base is filled by adhesive or a cemented pad",
             ]
         )
+    reach = (mounting or {}).get("reach")
+    if reach:
+        mm = {k: num(1e3 * _float(v), ".3g") for k, v in reach.items()}
+        candidates = doc.get("candidates", {})
+        rows.append(
+            [
+                "reach",
+                f"every hit with its hammer's approach clear (a {mm['hammer_head_m']} mm head over a "
+                f"{mm['hammer_swing_m']} mm swing along the normal), every accelerometer with its housing "
+                f"({mm['sensor_base_m']} mm across, {mm['sensor_height_m']} mm tall) and a {mm['cable_run_m']} mm way "
+                f"out for its cable clear of the part. "
+                + escape(reach_sentence(candidates.get("dropped") or {}, candidates.get("points") or 0)),
+            ]
+        )
     if sliding:
         gain, moved = _float(sliding.get("gain")), 1e3 * _float(sliding.get("largest_move_m"))
         rows.append(
@@ -252,6 +267,33 @@ def band_html(rows: list[BandRow], fe_note: str) -> str:
         )
     head = ["suspension", "top susp. mode (Hz)", "band (Hz)", "every FRF within", "1st elastic (Hz)", "width"]
     return html_table(head, out, "lrrrrr", [36, 12, 16, 12, 12, 12]) + f'<p class="note">{escape(fe_note)}</p>'
+
+
+def rig_html(rig: dict | None) -> str:
+    """How the body is hung (plan.json ``rig``): the apex above the CoG and each bridle leg's attachment point on
+    the surface, its length and tension ('' for a plan that keeps none)."""
+    if not rig:
+        return ""
+    if "apex" not in rig:
+        return f'<p class="note">Rig: {escape(rig.get("description", ""))}.</p>'
+    apex = ", ".join(num(1e3 * c, ".1f") for c in rig["apex"])
+    legs = rig.get("legs") or []
+    if not legs:
+        return f'<p class="note">Rig: the cord is tied on the surface at ({apex}) mm, straight above the CoG.</p>'
+    rows = [
+        [str(k + 1), *(num(1e3 * c, ".1f") for c in leg["attachment"]), num(1e3 * leg["length_m"], ".0f"),
+         num(leg["tension_n"], ".2g")]
+        for k, leg in enumerate(legs)
+    ]  # fmt: skip
+    head = ["leg", "x (mm)", "y (mm)", "z (mm)", "length (mm)", "tension (N)"]
+    note = (
+        f'<p class="note">Rig (drawn in the views): the cord hangs from its hook to the apex ({apex}) mm, straight '
+        f"above the CoG, where a bridle of {len(legs)} stiff legs (wire or rope) meets; each leg is tied at its point "
+        "on the surface (an eyelet, a clamp or a shackle; each has a clamp's room along its normal and runs clear of "
+        "the body) and cut to the length given, so that the body hangs level, as if the cord were tied at the apex, "
+        "which is how the band above was predicted.</p>"
+    )
+    return note + html_table(head, rows, "lrrrrr", [10, 18, 18, 18, 18, 18])
 
 
 def report_html(
@@ -281,7 +323,8 @@ def report_html(
         '<p class="note"><span class="sensor">A1 …</span> accelerometers, arrow along the measuring direction '
         '(triaxials: three arrows, one number); <span class="hit">H1 …</span> hammer hits, arrow into the surface '
         "at the hit point (moved aside where a hit shares an accelerometer's point); the black and white disc "
-        "marks the nominal centre of gravity (drawn on top even where the body hides it); axes in the corner. "
+        "marks the nominal centre of gravity (drawn on top even where the body hides it); brown lines: the support's "
+        "cord and its bridle's legs, a dot where each leg is tied (also drawn on top); axes in the corner. "
         "Parallel projections in the mesh's frame.</p>"
     )
     parts = [
@@ -303,7 +346,8 @@ def report_html(
         "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"
         if doc.get("diagnosability")
         else "",
-        "<section><h2>Massline band and suspension</h2>" + band_html(bands, fe_note) + "</section>",
+        "<section><h2>Massline band and suspension</h2>" + band_html(bands, fe_note) + rig_html(doc.get("rig"))
+        + "</section>",
     ]
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'

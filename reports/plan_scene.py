@@ -8,7 +8,7 @@ outside the body.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import trimesh
@@ -67,6 +67,9 @@ class Scene:
         Length of a uniaxial marker's arrow, m.
     opacity : float
         Of the body's surface: below 1 it shows what lies inside (the principal axes at the CoG).
+    rig : (k, 2, 3) array
+        The support's cord and bridle legs, each from its end on the body (or the apex) to the apex (or the
+        hook's side), m; none when the plan keeps no rig.
     """
 
     mesh: trimesh.Trimesh
@@ -77,6 +80,7 @@ class Scene:
     arrows: list[np.ndarray]
     length: float
     opacity: float = 1.0
+    rig: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 3)))
 
 
 def markers_of(sensors: Lines, exciters: Lines) -> list[Marker]:
@@ -154,3 +158,17 @@ def scene_of(mesh: trimesh.Trimesh, sensors: Lines, exciters: Lines, cog: np.nda
     length = ARROW * float(mesh.extents.max())
     arrows = [arrows_of(m, n, length, sensors.points) for m, n in zip(markers, normals)]
     return Scene(mesh, markers, np.asarray(cog, dtype=float), normals, faces, arrows, length)
+
+
+CORD_DRAWN = 0.35  # of the body's largest extent: how much of the cord above the apex the pictures show
+
+
+def rig_segments(rig: dict | None, mesh: trimesh.Trimesh) -> np.ndarray:
+    """The rig of plan.json (``rig``: apex and legs, m) as segments (k, 2, 3) m: each leg from its attachment to
+    the apex, and the cord from the apex up ``CORD_DRAWN`` × the body's size towards its hook."""
+    if not rig or "apex" not in rig:
+        return np.zeros((0, 2, 3))
+    apex = np.asarray(rig["apex"], dtype=float)
+    legs = [(np.asarray(leg["attachment"], dtype=float), apex) for leg in rig.get("legs", [])]
+    cord = (apex, apex + np.array([0.0, 0.0, CORD_DRAWN * float(mesh.extents.max())]))
+    return np.array(legs + [cord]).reshape(-1, 2, 3)

@@ -27,6 +27,7 @@ FONT_PX = 26
 COG_PX = 11  # radius of the CoG symbol
 TRIAD = 42  # px: length of the axis triad's arms, also its distance from the corner
 BODY, EDGES = (200, 203, 208), (90, 90, 90)  # RGB
+RIG = (130, 80, 20)  # RGB: the support's cord and bridle legs, a dot where each is tied
 FACING = 0.2  # a surface faces a view when its outward normal has this component towards the camera
 AXIS_VIEWS = {  # per axis: (direction towards the camera, up, name) for + and − sides
     2: (((0, 0, 1), (0, 1, 0), "top"), ((0, 0, -1), (0, 1, 0), "bottom")),
@@ -172,10 +173,22 @@ def _draw_triad(draw: ImageDraw.ImageDraw, right: np.ndarray, up: np.ndarray, fo
         draw.text(tuple(letter), "xyz"[k], fill="black", font=font, anchor="mm")
 
 
-def _annotate(image: np.ndarray, labels: list[Label], colours: list[tuple], cog: np.ndarray, right, up) -> np.ndarray:
-    """Draw the CoG symbol, the axis triad and the labels (with leader lines) on the picture."""
+def _draw_rig(draw: ImageDraw.ImageDraw, segments: np.ndarray) -> None:
+    """The support's cord and bridle legs (k, 2, 2) px, drawn over the body (a leg behind it shows too), a dot
+    where each is tied."""
+    for a, b in segments:
+        draw.line((*a, *b), fill=RIG, width=3)
+    for a, _ in segments[:-1]:  # the last segment is the cord above the apex
+        draw.ellipse((*(a - 5), *(a + 5)), fill=RIG)
+
+
+def _annotate(
+    image: np.ndarray, labels: list[Label], colours: list[tuple], cog: np.ndarray, right, up, rig=np.zeros((0, 2, 2))
+) -> np.ndarray:
+    """Draw the rig, the CoG symbol, the axis triad and the labels (with leader lines) on the picture."""
     picture = Image.fromarray(image)
     draw = ImageDraw.Draw(picture)
+    _draw_rig(draw, rig)
     _draw_cog(draw, *cog)
     font = _font()
     _draw_triad(draw, right, up, ImageFont.load_default(size=FONT_PX - 6))
@@ -221,7 +234,7 @@ def render_views(scene: Scene) -> list[Rendering]:
     plotter.enable_parallel_projection()
     plotter.enable_anti_aliasing("ssaa")
     plotter.show(auto_close=False)  # the first render; later ones keep the cameras set here
-    points = np.vstack([scene.mesh.vertices, *[a.reshape(-1, 3) for a in scene.arrows]])
+    points = np.vstack([scene.mesh.vertices, *[a.reshape(-1, 3) for a in scene.arrows], scene.rig.reshape(-1, 3)])
     try:
         return [_render(plotter, view, scene, points) for view in choose_views(scene.normals)]
     finally:
@@ -249,10 +262,12 @@ def _render(plotter, view: View, scene: Scene, points: np.ndarray) -> Rendering:
     anchors = [project(outer_end(scene.markers[i], scene.arrows[i]))[0, :2] for i in shown] + [cog]
     corner = np.stack(np.meshgrid(np.linspace(0, 2 * TRIAD, 5), SIZE[1] - np.linspace(0, 2 * TRIAD, 5)), -1)
     cog_disc = cog + np.array([[0, 0], [-COG_PX, -COG_PX], [COG_PX, COG_PX]])
-    keep_clear = np.vstack([a[:, :2] for a in along] + [cog_disc, corner.reshape(-1, 2)])
+    rig_line = project((scene.rig[:, :1] + samples.reshape(1, -1, 1) * np.diff(scene.rig, axis=1)).reshape(-1, 3))
+    keep_clear = np.vstack([a[:, :2] for a in along] + [cog_disc, corner.reshape(-1, 2), rig_line[:, :2]])
     boxes, leader = place_labels(np.array(anchors), sizes, SIZE, keep_clear)
     labels = [Label(t, tuple(b), tuple(a), bool(ld)) for t, b, a, ld in zip(texts, boxes, anchors, leader)]
     colours = [COLOURS[scene.markers[i].kind] for i in shown] + [(0, 0, 0)]
-    image = _annotate(image, labels, colours, cog, right, up)
+    rig = project(scene.rig.reshape(-1, 3))[:, :2].reshape(-1, 2, 2)
+    image = _annotate(image, labels, colours, cog, right, up, rig)
     tips = project(np.vstack([a[:, 1] for a in scene.arrows]))[:, :2]
     return Rendering(view, image, labels, tips, tuple(scene.markers[i].label for i in shown))

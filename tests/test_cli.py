@@ -140,7 +140,7 @@ def test_plan_writes_plan_json():
     assert len(doc["sensors"]) >= 8 and len(doc["exciters"]) >= 4  # the default: the cheapest diagnosable plan
     assert doc["diagnosability"]["diagnosable"] and "diagnosable" in stdout
     assert doc["diagnosability"]["cost"]["minimal_lines"] == 6 and doc["diagnosability"]["cost"]["minimal_hits"] == 3
-    assert set(doc["sensors"][0]) == {"node", "candidate", "point", "direction", "triaxial", "mount"}
+    assert set(doc["sensors"][0]) == {"node", "candidate", "point", "direction", "triaxial", "mount", "reach"}
     assert {"log_det", "condition_numbers", "d_efficiency_lower_bound"} <= set(doc["criterion"])
     # the certificate bounds every layout of the budget, diagnosable or not and footprints or not: the constraints
     # cost some per cent

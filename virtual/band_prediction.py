@@ -10,6 +10,8 @@ the band is at least ``MIN_RATIO`` wide.
 
 from __future__ import annotations
 
+from itertools import islice
+
 import numpy as np
 
 from massline.core.band import Band, held_band, stray
@@ -19,11 +21,13 @@ from massline.core.masslines import synthesise
 from massline.core.rigid_body import RigidBody
 from massline.virtual.attachment import UP, point_above
 from massline.virtual.suspended import SuspendedBody
-from massline.virtual.suspension import CORD_LENGTH, STRETCH, Cord, Suspension
+from massline.virtual.rigging import Rig, rig
+from massline.virtual.suspension import CORD_LENGTH, GRAVITY, STRETCH, Cord, Suspension
 
 TOLERANCES = (0.01, 0.02, 0.05)  # every FRF within 1 %, else 2 %, else 5 % of its massline
 MIN_RATIO = 2.0  # a band at least an octave wide holds at the tolerance chosen
 PIVOTS = (0.02, 0.05)  # m above the CoG: a bridle apex close above it (Appendix A), where nothing is above
+HIGHER = (0.5, 1.0, 2.0)  # apexes this many body heights above the body's top, tried where no pivot can be rigged
 BISECTIONS = 12  # halvings of a grid step (1.4 % of f) that place each band edge
 
 
@@ -97,16 +101,31 @@ def choose_support(
 def support_candidates(mesh, body: RigidBody, up=UP) -> list[Suspension]:
     """The supports a plan chooses from: Appendix A's soft long cord hung at each pivot straight above the CoG
     (where the vertical leaves the body, and a bridle apex ``PIVOTS`` above the CoG where nothing of the body
-    lies over it), and the foam pad under the lowest points where the body can rest on one."""
+    lies over it) that a technician can rig (:func:`support_rig`: a bridle's legs reach the apex; where none of
+    these can be rigged, the lowest of ``HIGHER`` apexes above the body's top that can), and the foam pad under the
+    lowest points where the body can rest on one."""
     top, on_surface = point_above(mesh, body.cog, up)
     height = float((top - body.cog) @ up)
     heights = sorted({height} | {h for h in PIVOTS if h > height or not on_surface})
+    size = float(np.ptp(mesh.vertices @ up))
+    riggable = [h for h in heights if support_rig(mesh, body, body.cog + h * up, up) is not None]
+    higher = (h for h in (height + f * size for f in HIGHER) if support_rig(mesh, body, body.cog + h * up, up))
+    heights = riggable or list(islice(higher, 1)) or heights
     supports = [Suspension(cords=(Cord.soft(body.cog + h * up, body.mass),), up=up) for h in heights]
     try:
         supports.append(Suspension.parse("foam", mesh, body))
     except MasslineError:  # no underside the body can rest on
         pass
     return supports
+
+
+def support_rig(mesh, body: RigidBody, apex: np.ndarray, up=UP) -> Rig | None:
+    """The rig of a cord tied at ``apex`` (3,) m straight above the CoG of ``body`` (:mod:`.rigging`): tied on the
+    surface where the vertical leaves the body there, else a bridle whose legs carry the weight; None when no
+    bridle reaches the apex (inside a bore, under an overhang)."""
+    top, on_surface = point_above(mesh, body.cog, up)
+    tied = on_surface and np.linalg.norm(top - apex) <= 1e-9 * max(float(np.ptp(mesh.vertices)), 1e-300)
+    return rig(mesh, apex, body.mass * GRAVITY, up, bool(tied))
 
 
 def recommend_suspension(

@@ -22,14 +22,16 @@ from massline.core.errors import MasslineError
 from massline.core.numbers import vector_text
 from massline.meshes import BUNDLED
 from massline.meshes.loader import UNITS, BodyMesh, load_body
-from massline.virtual.band_prediction import choose_support, support_candidates
+from massline.virtual.band_prediction import choose_support, support_candidates, support_rig
 from massline.virtual.elastic import ElasticBody, ElasticModes, Material
 from massline.virtual.fe_cache import cached_modes
+from massline.virtual.rigging import mm
 from massline.virtual.suspended import SuspendedBody
 from massline.virtual.suspension import Suspension
 
 MODES = 20  # elastic modes of the FE model (simulate's default --modes)
 MESH_MATCH = 1e-6  # relative mass and CoG (of the body's size) within which a mesh is the plan's body
+MOST_PADS_SAID = 6  # contact points of a foam pad the rig's description lists
 FE_STAGES = 4  # meshing, assembling stiffness, assembling mass, solving for modes
 
 
@@ -129,7 +131,8 @@ def plan_test(
     Returns
     -------
     test : dict
-        plan.json's ``suspension``, ``band``, ``elastic`` and ``alternatives`` (:mod:`massline.placement.plan_file`).
+        plan.json's ``suspension``, ``rig`` (:func:`rig_entry`), ``band``, ``elastic`` and ``alternatives``
+        (:mod:`massline.placement.plan_file`).
     fe : FEModel
         The elastic modes they were predicted on and their material.
     """
@@ -149,10 +152,24 @@ def plan_test(
     }
     return {
         "suspension": chosen.suspension.as_dict() | {"description": chosen.suspension.describe()},
+        "rig": rig_entry(body.mesh, carried, chosen.suspension),
         "band": band_to_dict(band),
         "elastic": elastic,
         "alternatives": [{"suspension": m.suspension.describe(), "band": band_to_dict(b)} for m, b in others],
     }, fe
+
+
+def rig_entry(mesh, body, suspension: Suspension) -> dict | None:
+    """plan.json's ``rig`` of ``suspension``: a cord's apex and the bridle that holds it (:mod:`.rigging`), or the foam
+    pad's contact points (``pads``, m), with a ``description``; None for a free body or a cord no bridle reaches."""
+    if suspension.cords:
+        rigged = support_rig(mesh, body, suspension.cords[0].attachment)
+        return rigged.as_dict() | {"description": rigged.describe()} if rigged else None
+    if suspension.foam is not None:
+        pads = suspension.foam.points
+        where = "; ".join(mm(p) for p in pads[:MOST_PADS_SAID]) + (" …" if len(pads) > MOST_PADS_SAID else "")
+        return {"pads": pads.tolist(), "description": f"foam pad under {len(pads)} contact points, at {where} mm"}
+    return None
 
 
 def planned_suspension(doc: dict) -> Suspension | None:

@@ -14,6 +14,7 @@ from massline.cli.meshargs import add_mesh_arguments, body_from_arguments
 from massline.cli.options import SEED, add_sensor_mass_argument, count, finite, fraction, real
 from massline.cli.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
+from massline.placement.reach import CABLE_RUN, HAMMER_HEAD, HAMMER_SWING, SENSOR_HEIGHT
 from massline.placement.diagnosable_plan import EVALUATIONS, cheapest_diagnosable, minimal_budget
 from massline.core.errors import MasslineError
 from massline.core.housing_masses import HousingMasses
@@ -31,6 +32,7 @@ from massline.cli.plan_console import (
     criterion_text,
     diagnosability_note,
     layout_table,
+    reach_note,
     sliding_line,
     std_table,
 )
@@ -124,6 +126,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="hammer tip across (mm, default 6): hits land along the surface normal, on flat faces or curves, half "
         "of it clear of every sharp edge (a crease over 30°)",
     )
+    add_reach_arguments(parser)
     parser.add_argument(
         "--edge-keepout",
         type=real(0, unit="mesh units"),
@@ -144,6 +147,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=SEED, default=0, metavar="N", help="seed of the surface sampling (default 0)")
     parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
     parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
+
+
+def add_reach_arguments(parser: argparse.ArgumentParser) -> None:
+    """The instruments' sizes the reach is judged for (mm): the hammer's head and swing, the accelerometer's
+    height and its cable's run."""
+    sizes = (
+        ("--hammer-head", HAMMER_HEAD, "hammer head across (mm, default 16): a hit needs a free cylinder this wide "
+         "around its line of approach"),
+        ("--hammer-swing", HAMMER_SWING, "run the hammer's head needs clear along the normal (mm, default 50): "
+         "holes, bores, pockets and re-entrant corners narrower hold no hit"),
+        ("--sensor-height", SENSOR_HEIGHT, "accelerometer height (mm, default 15): its housing must stand clear of "
+         "the part"),
+        ("--cable-run", CABLE_RUN, "clear run beyond the accelerometer's side for its connector and cable, in some "
+         "direction from half its height (mm, default 20)"),
+    )  # fmt: skip
+    for flag, default, text in sizes:
+        parser.add_argument(flag, type=real(0, MAX_FOOTPRINT_MM * 10, "mm"), default=default * 1e3, metavar="MM",
+                            help=text)  # fmt: skip
 
 
 def add_criterion_arguments(parser: argparse.ArgumentParser) -> None:
@@ -271,6 +292,10 @@ def run(args: argparse.Namespace, console: Console) -> None:
         exclude_faces=tuple(args.exclude_faces),
         sensor_base=args.sensor_base * 1e-3,
         hammer_tip=args.tip * 1e-3,
+        hammer_head=args.hammer_head * 1e-3,
+        hammer_swing=args.hammer_swing * 1e-3,
+        sensor_height=args.sensor_height * 1e-3,
+        cable_run=args.cable_run * 1e-3,
         edge_keepout=args.edge_keepout * scale,
         seed=args.seed,
     )
@@ -291,6 +316,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     console.print(layout_table("Accelerometers", result.sensors, result.sensor_nodes, sensor_labels, mounts(result, 0)))
     console.print(layout_table("Hammer hits", result.exciters, result.exciter_nodes, hit_labels, mounts(result, 1)))
     blocks_note(console, result)
+    reach_note(console, result)
     console.print(std_table(result))
     console.print(criterion_text(result))
     console.print(sliding_line(result))
@@ -309,6 +335,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         doc["sensor_mass_assumed"] = assumed_loading(body.nominal, result.sensors, doc["predicted_std"])
         console.print(assumed_sentence(doc["sensor_mass_assumed"]))
     console.print(f"support: {test['suspension']['description']}; massline band {band_phrase(planned_band(doc))}")
+    if test.get("rig"):
+        console.print(f"rig: {test['rig']['description']}")
     out.mkdir(parents=True, exist_ok=True)
     write_atomic(target, to_json(doc), args.force)
     console.print(f"wrote {target}")

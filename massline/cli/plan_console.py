@@ -10,6 +10,7 @@ from rich.table import Table
 from massline.core.lines import Lines
 from massline.core.numbers import counted, formatted, number, sigma_text, vector_text
 from massline.placement.mounts import motion_text, mounts
+from massline.placement.reach import reach_sentence
 from massline.placement.plan_file import condition_systems
 
 
@@ -120,6 +121,14 @@ def blocks_note(console: Console, result) -> None:
         f"sides along it (mount \"block\"): as few as the motion needs (one line and one hit read and drive it, three "
         f"lines and two hits check each other; more where fewer leave no well-posed layout), the rest on the surface"
     )
+
+
+def reach_note(console: Console, result) -> None:
+    """How many candidate places the hammer's approach, the accelerometer's housing and its cable took
+    (:mod:`massline.placement.reach`)."""
+    points = result.candidates
+    if points is not None and points.reach is not None:
+        console.print(reach_sentence(points.excluded, len(points)))
 
 
 def diagnosability_note(console: Console, result) -> None:
