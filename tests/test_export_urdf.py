@@ -24,16 +24,22 @@ def test_yourdfpy_reads_the_link_inertial(tmp_path, name):
     assert_same_body(inertial.mass, origin[:3, 3], inertial.inertia, body, rtol=1e-9)
 
 
-def test_mujoco_loads_the_urdf_file_as_written_as_the_same_body(tmp_path):
-    """MuJoCo's own URDF parser, given the file as a user would: the link becomes a body whose mass, CoG and inertia
-    are massline's (the file's MuJoCo extension keeps the jointless link from being fused into the world)."""
+def test_mujoco_loads_the_urdf_file_as_written_as_the_same_free_body(tmp_path):
+    """MuJoCo's own URDF parser, given the file as a user would: the link becomes a free body (one free joint; it
+    falls at g) whose mass, CoG and inertia are massline's; without the floating joint the MuJoCo extension still
+    keeps the link from being fused into the world."""
     body = rigid_bodies()["far"]
     path = write_export(measured(body), tmp_path / "far.urdf")
     model = mujoco.MjModel.from_xml_path(str(path))
     assert model.nbody == 2 and model.body_mass[1] == pytest.approx(body.mass, rel=1e-9)
+    assert model.njnt == 1 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE and model.jnt_bodyid[0] == 1
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    np.testing.assert_allclose(data.qacc[:3], model.opt.gravity, rtol=0, atol=1e-9 * 9.81)  # nothing holds it
     assert_same_body(*loaded(path.read_text()), body, rtol=1e-9)
-    without = path.read_text().replace(KEEP_LINK, "")
-    assert mujoco.MjModel.from_xml_string(without).nbody == 1  # fused into the world: what the extension prevents
+    fixed = path.read_text().split('  <joint name="free"')[0] + path.read_text().split("  </joint>\n")[1]
+    assert mujoco.MjModel.from_xml_string(fixed).nbody == 2  # jointless, kept by the extension
+    assert mujoco.MjModel.from_xml_string(fixed.replace(KEEP_LINK, "")).nbody == 1  # fused: what it prevents
 
 
 def test_a_plate_is_refused_with_its_unobserved_entries():
