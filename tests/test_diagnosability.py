@@ -232,3 +232,35 @@ if __name__ == "__main__":
                 )
             lines += markdown(name, results, sizes)
     print("\n" + "\n".join(lines))
+
+
+def test_a_planners_known_layouts_keep_their_excess_and_count_as_work():
+    """The planner keeps each layout's excess (a search meets a third of its trials again): asked again, alone or
+    in a stack with others, a layout gets the value a fresh planner computes for it, and every trial asked counts
+    one unit of the search's work, known or not."""
+    from massline.core.information import NoiseModel
+    from massline.placement.alternation import Planner
+    from massline.placement.candidates import CandidateLines
+    from massline.placement.diagnosability import excesses
+    from massline.placement.planner import Budget
+    from massline.placement.work import Work
+    import trimesh
+
+    body = load_body(BUNDLED["structure"].path, "m", BUNDLED["structure"].density)
+    rng = np.random.default_rng(4)
+    points, faces = trimesh.sample.sample_surface(body.mesh, 60, seed=4)
+    side = CandidateLines.single(Lines(points, body.mesh.face_normals[faces]))
+    model, noise = RigidModel(body.nominal), NoiseModel()
+    made = lambda: Planner(model, side, side, Budget(8, 4), noise, diagnosable=True, work=Work(10**6, "trials"))  # noqa: E731
+    trials = [(sorted(rng.choice(60, 8, replace=False)), sorted(rng.choice(60, 4, replace=False))) for _ in range(30)]
+    planner = made()
+    first = planner.violations(trials[:20])
+    again = planner.violations(trials[10:] + trials[:3] + trials[:3])
+    alone = [planner.violation(*t) for t in trials[25:]]
+    assert planner.work.spent == 20 + 26 + 5
+    S, W = (np.stack([model.coordinates(side.lines[np.asarray(t[i])]) for t in trials]) for i in (0, 1))
+    fresh = excesses(model, S, W, noise)
+    np.testing.assert_array_equal(first, fresh[:20])
+    np.testing.assert_array_equal(again, np.concatenate([fresh[10:], fresh[:3], fresh[:3]]))
+    np.testing.assert_array_equal(alone, fresh[25:])
+    assert (fresh > 0).any()  # trials short of diagnosable: values that differ from layout to layout
