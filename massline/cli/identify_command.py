@@ -23,6 +23,7 @@ from massline.cli.options import (
     BAND_EDGE,
     MAX_DRAWS,
     TRANSVERSE_PRIOR,
+    add_calibration_argument,
     add_export_arguments,
     add_instrumentation_arguments,
     add_recording_argument,
@@ -34,7 +35,8 @@ from massline.cli.options import (
 )
 from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
-from massline.core.properties import QUANTITIES
+from massline.core.properties import QUANTITIES, SUMMARY
+from massline.identify.uncertainty_budget import SHORT_NAMES, SOURCES
 from massline.core.rigid_body import RigidBody
 
 
@@ -65,6 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="bootstrap draws over the sensors (default 100; 0: none)",
     )
     add_instrumentation_arguments(parser)
+    add_calibration_argument(parser, "they join the 1-σ's budget")
     parser.add_argument(
         "--weighed-mass",
         type=checked(WeighedMass.parse),
@@ -98,6 +101,26 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
     return table
 
 
+def budget_table(found: Identification) -> Table:
+    """Mass, CoG and principal moments' 1-σ split by source (the sources that move any of them): the mass and
+    moments in per cent of their value, the CoG in mm."""
+    budget = found.budget
+    table = Table(title=f"uncertainty budget (1-σ; {budget.calibration.describe()})")
+    rows, total = budget.table(), budget.std()
+    shown = [s for s in SOURCES if any(rows[q.name][s] > 0 for q in SUMMARY)]
+    for col in ("quantity", "± 1-σ", *(SHORT_NAMES[s] for s in shown), "unit"):
+        table.add_column(col, justify="right")
+    for q in SUMMARY:
+        sigma = q.sigma(total)
+        if np.isnan(sigma):
+            continue
+        relative = q.key != "cog"
+        scale = 100 / abs(q.value(found.body, found.planar)) if relative else q.scale
+        cells = [number(sigma * scale, 2), *(number(rows[q.name][s] * scale, 2) if rows[q.name][s] > 1e-6 * sigma else "0" for s in shown)]
+        table.add_row(q.name, *cells, "%" if relative else q.unit)
+    return table
+
+
 def run(args: argparse.Namespace, console: Console) -> None:
     claim_exports(args, {"--json": args.json, "--report": args.report})
     check_band(args.band)
@@ -109,6 +132,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
         exciter_mass=args.exciter_mass, weighed=weighed, support=support_model(setup, console),
+        calibration=args.calibration,
     )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
@@ -128,9 +152,12 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for line in mass_lines(found):
         console.print(line)
     body = "bare body, accelerometers off" if found.housings.count else "frame of the file"
-    title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± from the data)"
+    title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± the budget below)"
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
+    console.print(budget_table(found))
+    for sentence in found.budget_payload["limits"]:
+        console.print(f"budget: {sentence}")
     console.print(
         f"reduced χ² {number(found.best.chi2, 3)} over {int(np.isfinite(found.sigma).sum())} masslines"
         + ("; physical-consistency constraint active" if found.best.constrained else "")
