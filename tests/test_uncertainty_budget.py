@@ -12,7 +12,8 @@ from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
 from massline.core.properties import property_vector
 from massline.core.rigid_body import RigidBody, mass_matrix
-from massline.identify.estimator import estimate, perpendicular_bases
+from massline.identify.estimator import estimate
+from massline.core.lines import perpendicular_bases
 from massline.identify.sensor_mass import Housings
 from massline.identify.uncertainty import identified_spread
 from massline.identify.uncertainty_budget import SOURCES

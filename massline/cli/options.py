@@ -244,7 +244,6 @@ def add_calibration_argument(parser: argparse.ArgumentParser, role: str) -> None
     parser.add_argument(
         "--calibration",
         type=checked(Calibration.parse),
-        default=Calibration(),
         metavar="SENSOR[,FORCE]",
         help=f"1-σ of each accelerometer's and of the force transducer's calibration, per cent (default "
         f"{100 * SENSOR_CALIBRATION:g},{100 * FORCE_CALIBRATION:g}: a datasheet's or a year-old certificate's "
