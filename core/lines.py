@@ -46,6 +46,11 @@ def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
     return np.stack([t1, cross(directions, t1)], axis=2)
 
 
+def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """(t_k, r_i × t_k) (n_s, 6, 2): the line coordinates of each channel's transverse axes T_i at its point r_i."""
+    return np.concatenate([T, cross(points[:, :, None], T, axis=1)], axis=1)
+
+
 @dataclass(frozen=True, eq=False)
 class Lines:
     """An ordered set of lines: points (n, 3) in m and unit directions (n, 3).

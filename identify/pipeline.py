@@ -24,7 +24,7 @@ from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
 from massline.identify.uncertainty import identified_spread
-from massline.identify.uncertainty_budget import UncertaintyBudget, limits
+from massline.core.uncertainty_budget import UncertaintyBudget, limits
 from massline.identify.warning_codes import CodedWarning, codes_of
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band

@@ -26,7 +26,8 @@ import numpy as np
 from massline.identify.estimator import Estimate, estimate
 from massline.identify.sensor_mass import Housings
 from massline.identify.massline_fit import BandFit
-from massline.identify.uncertainty_budget import UncertaintyBudget, body_budget, budget_shifts
+from massline.core.uncertainty_budget import UncertaintyBudget
+from massline.identify.uncertainty_budget import body_budget, budget_shifts
 from massline.core.accuracy import covariance_std
 from massline.core.calibration import Calibration
 from massline.core.errors import MasslineError, solver_errors

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from massline.core.properties import SUMMARY
-from massline.identify.uncertainty_budget import SHORT_NAMES as HEADS
-from massline.identify.uncertainty_budget import SOURCES, UncertaintyBudget, limits, source_name
+from massline.core.uncertainty_budget import SHORT_NAMES as HEADS
+from massline.core.uncertainty_budget import SOURCES, UncertaintyBudget, limits, source_name
 from massline.reports.html import escape, html_table, num
 
 def budget_section(budget: UncertaintyBudget, body, planar: bool) -> str:

@@ -35,8 +35,8 @@ from massline.cli.options import (
 )
 from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
-from massline.core.properties import QUANTITIES, SUMMARY
-from massline.identify.uncertainty_budget import SHORT_NAMES, SOURCES
+from massline.core.properties import QUANTITIES
+from massline.cli.budget_console import budget_table
 from massline.core.rigid_body import RigidBody
 
 
@@ -101,26 +101,6 @@ def results_table(body: RigidBody, std: dict, planar: bool, title: str, nominal:
     return table
 
 
-def budget_table(found: Identification) -> Table:
-    """Mass, CoG and principal moments' 1-σ split by source (the sources that move any of them): the mass and
-    moments in per cent of their value, the CoG in mm."""
-    budget = found.budget
-    table = Table(title=f"uncertainty budget (1-σ; {budget.calibration.describe()})")
-    rows, total = budget.table(), budget.std()
-    shown = [s for s in SOURCES if any(rows[q.name][s] > 0 for q in SUMMARY)]
-    for col in ("quantity", "± 1-σ", *(SHORT_NAMES[s] for s in shown), "unit"):
-        table.add_column(col, justify="right")
-    for q in SUMMARY:
-        sigma = q.sigma(total)
-        if np.isnan(sigma):
-            continue
-        relative = q.key != "cog"
-        scale = 100 / abs(q.value(found.body, found.planar)) if relative else q.scale
-        cells = [number(sigma * scale, 2), *(number(rows[q.name][s] * scale, 2) if rows[q.name][s] > 1e-6 * sigma else "0" for s in shown)]
-        table.add_row(q.name, *cells, "%" if relative else q.unit)
-    return table
-
-
 def run(args: argparse.Namespace, console: Console) -> None:
     claim_exports(args, {"--json": args.json, "--report": args.report})
     check_band(args.band)
@@ -155,7 +135,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± the budget below)"
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
-    console.print(budget_table(found))
+    console.print(budget_table(found.budget, found.body, found.planar, "uncertainty budget"))
     for sentence in found.budget_payload["limits"]:
         console.print(f"budget: {sentence}")
     console.print(
