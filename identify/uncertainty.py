@@ -149,6 +149,10 @@ class Spread:
         (:func:`truncation_std`), SI.
     budget, tested_budget : UncertaintyBudget
         The bare body's and the tested body's budgets, source by source.
+    explained : float
+        Σ r² of the fit that the chain's calibration errors at their 1-σ explain (the fit cannot absorb them).
+    draws : int
+        How many independent calibration errors that is (each channel's and the force transducer's).
     """
 
     tested: dict
@@ -157,6 +161,8 @@ class Spread:
     truncation: np.ndarray
     budget: UncertaintyBudget
     tested_budget: UncertaintyBudget
+    explained: float = 0.0
+    draws: int = 1
 
 
 def identified_spread(
@@ -187,7 +193,7 @@ def identified_spread(
     budget = body_budget(shifts, bare.model, calibration, bootstrap=bootstrap_std(bare, bare_bodies, draws), **options)
     return Spread(
         tested=tested.std(), bare=budget.std(), statistical=std_of(budget.statistical, planar=planar),
-        truncation=truncation, budget=budget, tested_budget=tested,
+        truncation=truncation, budget=budget, tested_budget=tested, explained=shifts.explained, draws=shifts.draws,
     )  # fmt: skip
 
 

@@ -27,21 +27,27 @@ from massline.core.uncertainty_budget import (
 from massline.identify.weighted_system import WeightedSystem
 
 
-def noise_scale(gain: Gains, measured: np.ndarray, dof: float, type_b_rows: np.ndarray) -> float:
-    """The factor on the noise's variance: the measured rows' Σ r² less what the type-B changes ``type_b_rows``
-    (n_d, k) leave in them at their 1-σ, over the degrees of freedom ``dof``, at least 1 (1 with no redundancy)."""
+def explained_chi2(gain: Gains, type_b_rows: np.ndarray) -> float:
+    """Σ r² the type-B changes ``type_b_rows`` (n_d, k), each at its 1-σ, leave in the measured rows: E Σ r² of
+    independent errors, the part of the fit's χ² the chain's calibration explains (what the fit cannot absorb)."""
+    rows = np.zeros((gain.residual_maker.shape[0], type_b_rows.shape[1]))
+    rows[: len(type_b_rows)] = type_b_rows
+    return float(np.sum((gain.residual_maker @ rows) ** 2))
+
+
+def noise_scale(measured: np.ndarray, dof: float, explained: float) -> float:
+    """The factor on the noise's variance: the measured rows' Σ r² less what the calibration ``explained``, over
+    the degrees of freedom ``dof``, at least 1 (1 with no redundancy)."""
     if dof <= 0.5:
         return 1.0
-    rows = np.zeros((len(measured), type_b_rows.shape[1]))
-    rows[: len(type_b_rows)] = type_b_rows
-    explained = float(np.sum((gain.residual_maker @ rows) ** 2))
     return max(1.0, (float(np.sum(measured**2)) - explained) / dof)
 
 
 @dataclass(frozen=True, eq=False)
 class Shifts:
     """What every body's budget shares: θ̃'s covariance of each row group (in the tested model's scaling), the type-B
-    shifts (p, k), the noise's scale factor."""
+    shifts (p, k), and Σ r² the calibration explains in the fit (``explained``, over ``draws`` independent
+    errors: each channel's and the force's)."""
 
     noise: np.ndarray
     transverse: np.ndarray
@@ -49,6 +55,8 @@ class Shifts:
     sensor: np.ndarray
     force: np.ndarray
     scale: np.ndarray  # the tested model's (m₀, m₀L, m₀L²) per parameter
+    explained: float = 0.0
+    draws: int = 1
 
 
 def budget_shifts(system: WeightedSystem, model: RigidModel, masslines: np.ndarray, sigma: np.ndarray,
@@ -59,9 +67,10 @@ def budget_shifts(system: WeightedSystem, model: RigidModel, masslines: np.ndarr
     n_s, n_e, p = system.A.shape
     gain = gains(system.dense()[0], p, n_s * n_e, int(system.scale_row is not None))
     sensor, force, rows = calibration_shifts(gain, masslines, sigma, calibration)
-    factor = noise_scale(gain, chi2_measured, dof, rows)
+    explained = explained_chi2(gain, rows)
+    factor = noise_scale(chi2_measured, dof, explained)
     return Shifts(factor * gain.data @ gain.data.T, gain.prior @ gain.prior.T, gain.scale @ gain.scale.T, sensor,
-                  force, model.scale)  # fmt: skip
+                  force, model.scale, explained, rows.shape[1])  # fmt: skip
 
 
 def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, truncation: np.ndarray,
