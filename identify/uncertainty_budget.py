@@ -24,7 +24,12 @@ from massline.core.uncertainty_budget import (
     entries_std,
     gains,
 )
+from massline.core.chi_square import chi2_isf
+from massline.identify.suspicions import CHANCE
 from massline.identify.weighted_system import WeightedSystem
+
+
+BOOTSTRAP_WIDER = 2.0  # a bootstrap spread counts beyond this many times the budget's sensor-to-sensor sources
 
 
 def explained_chi2(gain: Gains, type_b_rows: np.ndarray) -> float:
@@ -35,12 +40,15 @@ def explained_chi2(gain: Gains, type_b_rows: np.ndarray) -> float:
     return float(np.sum((gain.residual_maker @ rows) ** 2))
 
 
-def noise_scale(measured: np.ndarray, dof: float, explained: float) -> float:
-    """The factor on the noise's variance: the measured rows' Σ r² less what the calibration ``explained``, over
-    the degrees of freedom ``dof``, at least 1 (1 with no redundancy)."""
+def noise_scale(measured: np.ndarray, dof: float, explained: float, draws: int) -> float:
+    """The factor on the noise's variance: the measured rows' Σ r² less what the calibration can explain by chance,
+    over the degrees of freedom ``dof``, at least 1 (1 with no redundancy). The calibration's Σ r² is ``explained``
+    on average, but it is a χ² of only ``draws`` errors (each channel's and the force's): what it can explain is its
+    CHANCE tail, the bar identify's misfit warning uses (:func:`.suspicions.fit_warnings`), so that a test whose
+    calibration errors drew large is not taken for a noisy one."""
     if dof <= 0.5:
         return 1.0
-    return max(1.0, (float(np.sum(measured**2)) - explained) / dof)
+    return max(1.0, (float(np.sum(measured**2)) - explained * chi2_isf(CHANCE, draws) / draws) / dof)
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,7 +76,7 @@ def budget_shifts(system: WeightedSystem, model: RigidModel, masslines: np.ndarr
     gain = gains(system.dense()[0], p, n_s * n_e, int(system.scale_row is not None))
     sensor, force, rows = calibration_shifts(gain, masslines, sigma, calibration)
     explained = explained_chi2(gain, rows)
-    factor = noise_scale(chi2_measured, dof, explained)
+    factor = noise_scale(chi2_measured, dof, explained, rows.shape[1])
     return Shifts(factor * gain.data @ gain.data.T, gain.prior @ gain.prior.T, gain.scale @ gain.scale.T, sensor,
                   force, model.scale, explained, rows.shape[1])  # fmt: skip
 
@@ -77,7 +85,9 @@ def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, 
                 bootstrap: np.ndarray | None = None) -> UncertaintyBudget:  # fmt: skip
     """The budget of the body of ``model`` (the tested body's or the bare one's: θ differs by known housings, so
     every δθ is the same), with the ``truncation`` shift (25 entries, SI) and the ``bootstrap``'s 1-σ (25, or
-    None) widening the noise where it is wider than the noise, transverse and sensor calibration together."""
+    None) widening the noise where it is BOOTSTRAP_WIDER times the noise, transverse and accelerometer calibration
+    together: a bootstrap over n sensors knows its spread to about √(2/(n − 1)) (±50 % on 9 sensors), and the
+    calibration it also draws is already in the budget."""
     ratio = shifts.scale / model.scale  # δθ̃ in this model's scaling
     jacobian = property_jacobian(model) * ratio[None, :]
     parts = {
@@ -89,8 +99,9 @@ def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, 
         "truncation": np.abs(np.nan_to_num(truncation, nan=0.0)),
     }
     if bootstrap is not None:
-        seen = parts["transverse"] ** 2 + parts["sensor_calibration"] ** 2
-        parts["noise"] = np.sqrt(np.fmax(parts["noise"] ** 2, np.nan_to_num(bootstrap**2 - seen, nan=0.0)))
+        seen = parts["noise"] ** 2 + parts["transverse"] ** 2 + parts["sensor_calibration"] ** 2
+        wider = np.nan_to_num(bootstrap, nan=0.0) > BOOTSTRAP_WIDER * np.sqrt(seen)
+        parts["noise"] = np.where(wider, np.sqrt(np.clip(bootstrap**2 - seen + parts["noise"] ** 2, 0, None)), parts["noise"])
     return UncertaintyBudget(parts, calibration, model.planar)
 
 
