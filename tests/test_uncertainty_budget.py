@@ -16,8 +16,13 @@ from massline.identify.estimator import estimate
 from massline.core.lines import perpendicular_bases
 from massline.identify.sensor_mass import Housings
 from massline.identify.uncertainty import identified_spread
-from massline.identify.uncertainty_budget import SOURCES
+from massline.core.uncertainty_budget import SOURCES
 from massline.cli.app import run
+from massline.core.model import RigidModel
+from massline.placement.predicted_budget import massline_sigma, massline_variance_factor, predicted_budget
+from massline.uff.grid import to_recording
+from massline.uff.reader import read_uff
+from massline.virtual.chain_errors import draw_chain_errors
 
 ROTATION = Rotation.from_euler("xyz", [25, -40, 60], degrees=True).as_matrix()
 BODY = RigidBody(3.2, np.array([0.01, -0.02, 0.03]), ROTATION @ np.diag([0.02, 0.03, 0.045]) @ ROTATION.T)
@@ -144,7 +149,65 @@ def test_identify_reports_the_budget_and_a_calibrated_chain_removes_its_sources(
 
 @pytest.fixture(scope="module")
 def bracket_recording(bracket_default_plan, tmp_path_factory):
-    """An ideal virtual test of the bracket's default plan (rigid: no FE solve)."""
+    """An ideal virtual test of the bracket's default plan (rigid: no FE solve; no chain errors, so that a
+    calibrated chain's budget is the noise's)."""
     path = tmp_path_factory.mktemp("budget") / "b.uff"
-    assert run(["simulate", str(bracket_default_plan), "--rigid", "--seed", "2", "--out", str(path)]) == 0
+    assert run(["simulate", str(bracket_default_plan), "--rigid", "--ideal", "--seed", "2", "--out", str(path)]) == 0
     return path
+
+
+def test_the_plan_predicts_the_budget_identify_states_on_the_same_masslines():
+    """The plan's budget (placement) and identify's on exact masslines with the σ the plan assumes: the same
+    gains, so every source agrees to rounding."""
+    sensors, exciters = layout()
+    data = synthesise(BODY, sensors, exciters)
+    frequencies = np.linspace(20.0, 200.0, 120)
+    sigma = massline_sigma(data.values, 0.01, frequencies)
+    found = estimate(data, sigma, transverse=0.03)
+    spread = identified_spread(data, sigma, np.zeros_like(sigma), found, bare=found, housings=Housings(), draws=0,
+                               calibration=Calibration())  # fmt: skip
+    predicted = predicted_budget(RigidModel(BODY), sensors, exciters, line_noise=0.01, frequencies=frequencies,
+                                 calibration=Calibration())  # fmt: skip
+    for source in ("noise", "transverse", "sensor_calibration", "force_calibration"):
+        got, expected = predicted.parts[source][:16], spread.budget.parts[source][:16]
+        np.testing.assert_allclose(got, expected, rtol=1e-4, atol=1e-12 * np.abs(expected).max(), err_msg=source)
+
+
+def test_a_massline_is_known_to_its_band_fits_variance():
+    """σ_A = ν/√2 |H| √[(XᵀX)⁻¹]₀₀: more lines, less; a band too short to fit four terms, none."""
+    few, many = np.linspace(20, 200, 50), np.linspace(20, 200, 200)
+    assert 0.2 < massline_variance_factor(many) / massline_variance_factor(few) < 0.3  # ≈ 50/200
+    assert massline_variance_factor(np.linspace(20, 400, 200)) < massline_variance_factor(many)  # a wider band
+    assert massline_variance_factor(many[:4]) == np.inf
+    assert massline_sigma(np.array([[2.0]]), 0.01, many)[0, 0] == pytest.approx(
+        0.01 / np.sqrt(2) * 2.0 * np.sqrt(massline_variance_factor(many))
+    )
+
+
+def test_the_chain_errors_are_drawn_from_their_sigma_on_their_own_stream():
+    directions = np.random.default_rng(0).normal(size=(4000, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    errors = draw_chain_errors(Calibration(0.01, 0.02, 0.03), directions, seed=5)
+    assert np.std(errors.gains - 1) == pytest.approx(0.01, rel=0.05)
+    assert np.abs(np.einsum("nk,nk->n", errors.transverse, directions)).max() < 1e-12  # ⊥ each axis
+    assert np.sqrt(np.mean(np.sum(errors.transverse**2, axis=1)) / 2) == pytest.approx(0.03, rel=0.05)
+    again = draw_chain_errors(Calibration(0.01, 0.02, 0.03), directions, seed=5)
+    assert again.force_gain == errors.force_gain and np.array_equal(again.gains, errors.gains)
+    vectors = errors.reading_vectors(directions)
+    np.testing.assert_allclose(np.einsum("nk,nk->n", vectors, directions), errors.gains, rtol=1e-12)
+
+
+def test_the_virtual_test_draws_the_chain_by_default_and_ideal_draws_none(bracket_default_plan, tmp_path):
+    real, ideal = tmp_path / "real.uff", tmp_path / "ideal.uff"
+    base = ["simulate", str(bracket_default_plan), "--rigid", "--seed", "4", "--no-dc"]
+    assert run([*base, "--out", str(real)]) == 0 and run([*base, "--ideal", "--out", str(ideal)]) == 0
+    chain = json.loads(real.with_suffix(".truth.json").read_text())["chain"]
+    assert json.loads(ideal.with_suffix(".truth.json").read_text())["chain"] is None
+    assert chain["calibration"] == {"sensor": 0.01, "force": 0.01, "transverse": 0.03}
+    drawn = to_recording(read_uff(real)).frf
+    clean = to_recording(read_uff(ideal)).frf
+    # the force gauge's error divides every FRF; channel i reads (1 + ε_i) along its axis (+ across it)
+    ratio = np.median(np.abs(drawn / clean), axis=(1, 2))
+    expected = (1 + np.array(chain["sensor_gain_errors"])) / (1 + chain["force_gain_error"])
+    np.testing.assert_allclose(ratio, expected, rtol=0.05)
+    assert run([*base, "--ideal", "--calibration", "1", "--out", str(tmp_path / "x.uff")]) == 2
