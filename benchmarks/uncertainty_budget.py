@@ -111,7 +111,7 @@ def fixture_floors() -> None:
             try:
                 found = identify_recording(path, calibration=calibration, draws=0)
             except MasslineError as error:  # a file identify refuses (no FRFs, no geometry): said, not counted
-                row.append("refused: " + str(error).split(": ", 1)[-1][:60])
+                row.append("refused: " + str(error).replace(f"file {path}", "the file")[:90])
                 continue
             p = found.payload
             relative = np.concatenate([[p["std"]["mass"] / p["mass"]], np.divide(p["std"]["principal_moments"], np.abs(p["principal_moments"]))])
