@@ -106,12 +106,15 @@ def columns_std(jacobian: np.ndarray, shifts: np.ndarray) -> np.ndarray:
 class UncertaintyBudget:
     """Each source's 1-σ (25 entries of ``property_vector``, SI) of one body's properties, and what it assumed.
 
-    ``parts`` maps each name of SOURCES to its 1-σ; ``planar``: plate data (the out-of-plane entries are NaN).
+    ``parts`` maps each name of SOURCES to its 1-σ; ``planar``: plate data (the out-of-plane entries are NaN);
+    ``misfit``: the factor on the noise's variance for a fit that leaves more than the noise and the calibration
+    explain (1: none; then the noise's 1-σ is mostly that misfit's, and a sentence says so).
     """
 
     parts: dict
     calibration: Calibration
     planar: bool = False
+    misfit: float = 1.0
 
     @property
     def total(self) -> np.ndarray:
@@ -198,7 +201,21 @@ def limits(budget: UncertaintyBudget, body) -> list[str]:
             continue
         source = max(SOURCES, key=lambda s: sum(np.nan_to_num(r[s]) ** 2 for r in rows))
         by_source.setdefault(source, []).append(f"{what} to {size}")
-    return [
-        f"{source_name(s, budget.calibration)} limits {' and '.join(items)}: {REMEDIES[s]}"
-        for s, items in by_source.items()
-    ]
+    return [f"{limiting(s, budget)} limits {' and '.join(items)}: {remedy(s, budget)}" for s, items in by_source.items()]
+
+
+MISFIT_SAID = 4.0  # a noise variance scaled up more than this is said to be the fit's misfit, not the recording's noise
+
+
+def limiting(source: str, budget: UncertaintyBudget) -> str:
+    """A source as the sentence names it: the noise scaled up by a misfit is that misfit."""
+    if source == "noise" and budget.misfit > MISFIT_SAID:
+        return f"the fit's misfit ({np.sqrt(budget.misfit):.2g}× the noise, beyond the calibration's)"
+    return source_name(source, budget.calibration)
+
+
+def remedy(source: str, budget: UncertaintyBudget) -> str:
+    """What cuts a source (a misfit: finding what leaves it)."""
+    if source == "noise" and budget.misfit > MISFIT_SAID:
+        return "massline diagnose says what leaves it"
+    return REMEDIES[source]

@@ -64,6 +64,7 @@ class Shifts:
     force: np.ndarray
     scale: np.ndarray  # the tested model's (m₀, m₀L, m₀L²) per parameter
     explained: float = 0.0
+    factor: float = 1.0  # the noise's variance factor (:func:`noise_scale`)
     draws: int = 1
 
 
@@ -78,7 +79,7 @@ def budget_shifts(system: WeightedSystem, model: RigidModel, masslines: np.ndarr
     explained = explained_chi2(gain, rows)
     factor = noise_scale(chi2_measured, dof, explained, rows.shape[1])
     return Shifts(factor * gain.data @ gain.data.T, gain.prior @ gain.prior.T, gain.scale @ gain.scale.T, sensor,
-                  force, model.scale, explained, rows.shape[1])  # fmt: skip
+                  force, model.scale, explained, factor, rows.shape[1])  # fmt: skip
 
 
 def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, truncation: np.ndarray,
@@ -102,6 +103,6 @@ def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, 
         seen = parts["noise"] ** 2 + parts["transverse"] ** 2 + parts["sensor_calibration"] ** 2
         wider = np.nan_to_num(bootstrap, nan=0.0) > BOOTSTRAP_WIDER * np.sqrt(seen)
         parts["noise"] = np.where(wider, np.sqrt(np.clip(bootstrap**2 - seen + parts["noise"] ** 2, 0, None)), parts["noise"])
-    return UncertaintyBudget(parts, calibration, model.planar)
+    return UncertaintyBudget(parts, calibration, model.planar, shifts.factor)
 
 
