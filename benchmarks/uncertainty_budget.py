@@ -49,7 +49,8 @@ def entries(values: dict) -> np.ndarray:
 
 def truth_entries(truth: dict, planar: bool) -> np.ndarray:
     """The same of the true bare body (the truth file's ``nominal``), a plate's in-plane moments for plate data."""
-    body = RigidBody(truth["nominal"]["mass"], np.array(truth["nominal"]["cog"]), np.array(truth["nominal"]["inertia_cog"]))
+    nominal = truth["nominal"]
+    body = RigidBody(nominal["mass"], np.array(nominal["cog"]), np.array(nominal["inertia_cog"]))
     return entries(reported_values(body, planar))
 
 
@@ -84,7 +85,8 @@ def one_plan(body: str, minimal: bool, seeds: int, work: Path) -> dict:
 def rms(z: np.ndarray) -> np.ndarray:
     """The RMS of each column over its finite entries (nan for a column with none: a plate's z_G)."""
     finite = np.isfinite(z)
-    return np.sqrt(np.where(finite, z, 0.0).__pow__(2).sum(axis=0) / np.fmax(finite.sum(axis=0), 1)) + np.where(finite.any(axis=0), 0, np.nan)
+    mean_square = np.sum(np.where(finite, z, 0.0) ** 2, axis=0) / np.fmax(finite.sum(axis=0), 1)
+    return np.where(finite.any(axis=0), np.sqrt(mean_square), np.nan)
 
 
 def print_plan(result: dict) -> None:
@@ -114,7 +116,8 @@ def fixture_floors() -> None:
                 row.append("refused: " + str(error).replace(f"file {path}", "the file")[:90])
                 continue
             p = found.payload
-            relative = np.concatenate([[p["std"]["mass"] / p["mass"]], np.divide(p["std"]["principal_moments"], np.abs(p["principal_moments"]))])
+            moments = np.divide(p["std"]["principal_moments"], np.abs(p["principal_moments"]))
+            relative = np.concatenate([[p["std"]["mass"] / p["mass"]], moments])
             row.append(f"{100 * np.nanmin(relative):.3g} %")
         print(f"  {row[0]:<38} default: {row[1]}; --calibration 0: {row[2]}")
 

@@ -44,7 +44,7 @@ SHORT_NAMES = {
 
 @dataclass(frozen=True, eq=False)
 class Gains:
-    """K = (JᵀJ)⁻¹Jᵀ's θ̃ rows, split by the rows of J (the weighted system at the estimate, in the tested model's
+    """K = (JᵀJ)⁻¹Jᵀ's θ̃ rows, split by the rows of J (the weighted system at the estimate, in its model's
     scaled parameters): ``data`` (p, n_s·n_e) the masslines', ``scale`` (p, 0 or 1) the scale's, ``prior``
     (p, 2 n_s or 0) the transverse priors'; ``residual_maker`` (n_m, n_m) I − J (JᵀJ)⁻¹Jᵀ on the measured rows
     (masslines, then the scale's)."""
@@ -102,6 +102,13 @@ def columns_std(jacobian: np.ndarray, shifts: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum((jacobian @ shifts) ** 2, axis=1))
 
 
+def json_unit(q) -> str:
+    """A quantity's unit in the JSON (SI, ASCII): 'kg', 'm', 'kg m^2', 'deg'."""
+    if q.key == "principal_axes":
+        return "deg"
+    return q.unit.replace("mm", "m").replace("·", " ").replace("²", "^2")
+
+
 @dataclass(frozen=True, eq=False)
 class UncertaintyBudget:
     """Each source's 1-σ (25 entries of ``property_vector``, SI) of one body's properties, and what it assumed.
@@ -151,7 +158,7 @@ class UncertaintyBudget:
             share = {s: (row[s] ** 2 / sigma**2 if sigma > 0 else np.nan) for s in SOURCES}
             properties[q.name] = {
                 "std": sigma,
-                "unit": "deg" if q.key == "principal_axes" else q.unit.replace("mm", "m").replace("·", " ").replace("²", "^2"),
+                "unit": json_unit(q),
                 "dominant": self.dominant(q.name) if np.isfinite(sigma) else None,
                 "sources": {s: {"std": row[s], "share": share[s]} for s in SOURCES},
             }
@@ -201,7 +208,7 @@ def limits(budget: UncertaintyBudget, body) -> list[str]:
             continue
         source = max(SOURCES, key=lambda s: sum(np.nan_to_num(r[s]) ** 2 for r in rows))
         by_source.setdefault(source, []).append(f"{what} to {size}")
-    return [f"{limiting(s, budget)} limits {' and '.join(items)}: {remedy(s, budget)}" for s, items in by_source.items()]
+    return [f"{limiting(s, budget)} limits {' and '.join(said)}: {remedy(s, budget)}" for s, said in by_source.items()]
 
 
 MISFIT_SAID = 4.0  # a noise variance scaled up more than this is said to be the fit's misfit, not the recording's noise

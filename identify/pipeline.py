@@ -185,7 +185,8 @@ class Identification:
     @property
     def budget_payload(self) -> dict:
         """identify JSON's ``uncertainty_budget``: the calibration assumed, each quantity's 1-σ split by source
-        (:meth:`.uncertainty_budget.UncertaintyBudget.payload`), and the sentences naming what limits it (``limits``)."""
+        (:meth:`massline.core.uncertainty_budget.UncertaintyBudget.payload`), and the sentences naming what limits
+        it (``limits``)."""
         return self.budget.payload() | {"limits": limits(self.budget, self.body)}
 
     @property

@@ -102,7 +102,8 @@ def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, 
     if bootstrap is not None:
         seen = parts["noise"] ** 2 + parts["transverse"] ** 2 + parts["sensor_calibration"] ** 2
         wider = np.nan_to_num(bootstrap, nan=0.0) > BOOTSTRAP_WIDER * np.sqrt(seen)
-        parts["noise"] = np.where(wider, np.sqrt(np.clip(bootstrap**2 - seen + parts["noise"] ** 2, 0, None)), parts["noise"])
+        widened = np.sqrt(np.clip(bootstrap**2 - seen + parts["noise"] ** 2, 0, None))
+        parts["noise"] = np.where(wider, widened, parts["noise"])
     return UncertaintyBudget(parts, calibration, model.planar, shifts.factor)
 
 

@@ -126,9 +126,9 @@ def budget_note(doc: dict) -> str:
     said = " ".join(escape(s[0].upper() + s[1:]) + "." for s in budget["limits"])
     return (
         f'<p class="note">The uncertainty budget identify will state: the noise of {budget["band_lines"]} lines in '
-        f"the band at {100 * budget['line_noise']:g} % each, each channel's transverse sensitivity ({100 * c['transverse']:g} % "
-        f"prior), each accelerometer's ({100 * c['sensor']:g} %) and the force transducer's ({100 * c['force']:g} %) "
-        f"calibration, in quadrature. {said}</p>"
+        f"the band at {100 * budget['line_noise']:g} % each, each channel's transverse sensitivity "
+        f"({100 * c['transverse']:g} % prior), each accelerometer's ({100 * c['sensor']:g} %) and the force "
+        f"transducer's ({100 * c['force']:g} %) calibration, in quadrature. {said}</p>"
     )
 
 

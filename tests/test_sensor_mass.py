@@ -312,7 +312,8 @@ def test_identify_json_has_the_bare_body_and_the_body_as_tested(structure, loade
     }
     assert tested["std"]["mass"] == pytest.approx(found["std"]["mass"], rel=1e-9)
     weighed = tmp_path / "w.json"
-    args = ("--sensor-mass", 0.025, "--weighed-mass", f"{structure.mass:.6f}±0.002", "--calibration", 0, "--json", weighed)
+    args = ("--sensor-mass", 0.025, "--weighed-mass", f"{structure.mass:.6f}±0.002", "--calibration", 0)
+    args += ("--json", weighed)
     run_ = massline("identify", path, "--band", 5, 95, "--bootstrap", 0, *args)
     assert run_.returncode == 0, run_.stderr
     assert "weighed mass" in run_.stdout and "used as a prior" in run_.stdout

@@ -26,6 +26,7 @@ def budget_table(budget: UncertaintyBudget, body, planar: bool, title: str) -> T
         relative = q.key != "cog"
         scale = 100 / abs(q.value(body, planar)) if relative else q.scale
         row = rows[q.name]
-        cells = [number(sigma * scale, 2), *(number(row[s] * scale, 2) if row[s] > 1e-6 * sigma else "0" for s in shown)]
+        parts = (number(row[s] * scale, 2) if row[s] > 1e-6 * sigma else "0" for s in shown)
+        cells = [number(sigma * scale, 2), *parts]
         table.add_row(q.name, *cells, "%" if relative else q.unit)
     return table
