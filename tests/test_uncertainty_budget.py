@@ -23,6 +23,11 @@ from massline.placement.predicted_budget import massline_sigma, massline_varianc
 from massline.uff.grid import to_recording
 from massline.uff.reader import read_uff
 from massline.virtual.chain_errors import draw_chain_errors
+from massline.identify.pipeline import identify_recording
+from massline.placement.plan_file import read_plan
+from massline.virtual.acquisition import Acquisition
+from massline.virtual.planned_test import plan_mesh
+from massline.virtual.simulation import simulate_test
 
 ROTATION = Rotation.from_euler("xyz", [25, -40, 60], degrees=True).as_matrix()
 BODY = RigidBody(3.2, np.array([0.01, -0.02, 0.03]), ROTATION @ np.diag([0.02, 0.03, 0.045]) @ ROTATION.T)
@@ -211,3 +216,35 @@ def test_the_virtual_test_draws_the_chain_by_default_and_ideal_draws_none(bracke
     expected = (1 + np.array(chain["sensor_gain_errors"])) / (1 + chain["force_gain_error"])
     np.testing.assert_allclose(ratio, expected, rtol=0.05)
     assert run([*base, "--ideal", "--calibration", "1", "--out", str(tmp_path / "x.uff")]) == 2
+
+
+@pytest.mark.long  # 24 virtual tests of the bracket with its FE modes: about a minute
+@pytest.mark.parametrize("minimal", [True, False], ids=["minimal", "default"])
+def test_the_budget_is_the_error_and_the_plan_predicts_it(minimal):
+    """On the bracket's plan, 12 default virtual tests (the chain's errors drawn): the RMS of error / reported 1-σ
+    over mass, CoG and principal moments within 0.75–1.33, and the plan's predicted 1-σ within 25 % of identify's
+    median reported 1-σ, property by property (benchmarks/uncertainty_budget.py runs all three bodies)."""
+    import session_cache
+
+    path = session_cache.plan("bracket", *(["--minimal"] if minimal else []))
+    sensors, exciters, doc = read_plan(path)
+    mesh = plan_mesh(doc, path)
+    z, reported = [], []
+    for seed in range(1, 13):
+        test = simulate_test(doc, sensors, exciters, mesh, acquisition=Acquisition(chain=Calibration()), seed=seed)
+        found = identify_recording(test.recording).payload
+        truth = test.truth["nominal"]
+        values, std = summary(found), summary(found["std"])
+        true = summary({**truth, "principal_moments": np.linalg.eigvalsh(np.array(truth["inertia_cog"]))})
+        z.append((values - true) / std)
+        reported.append(std)
+    rms = np.sqrt(np.mean(np.square(z)))
+    ratio = summary(doc["predicted_std"]) / np.median(reported, axis=0)
+    print(f"RMS z {rms:.2f}; predicted / reported {np.round(ratio, 2)}")
+    assert 0.75 < rms < 1.33
+    assert np.all(np.abs(ratio - 1) < 0.25), ratio
+
+
+def summary(values: dict) -> np.ndarray:
+    """mass, CoG (3), principal moments (3) of identify's value or std keys."""
+    return np.concatenate([[values["mass"]], values["cog"], values["principal_moments"]]).astype(float)
