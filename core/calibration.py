@@ -36,12 +36,14 @@ _PERCENT = re.compile(r"^\s*([^%\s]+)\s*%?\s*$")
 @dataclass(frozen=True)
 class Calibration:
     """The chain's type-B 1-σ, relative (fractions): each accelerometer channel's sensitivity (``sensor``,
-    independent per channel), the force transducer's (``force``, common to every FRF), and each channel's
-    transverse sensitivity components (``transverse``)."""
+    independent per channel), the force transducer's (``force``, common to every FRF), each channel's
+    transverse sensitivity components (``transverse``), and each accelerometer housing's mass (``housings``,
+    independent per housing; 0: weighed, the default, as ``--sensor-mass`` takes them)."""
 
     sensor: float = SENSOR_CALIBRATION
     force: float = FORCE_CALIBRATION
     transverse: float = TRANSVERSE
+    housings: float = 0.0
 
     @classmethod
     def parse(cls, text: str, transverse: float = TRANSVERSE) -> "Calibration":
@@ -57,6 +59,15 @@ class Calibration:
             )
         return cls(values[0], values[-1], transverse)
 
+    def with_housings(self, tolerance: float) -> "Calibration":
+        """The same with each housing's mass known to ``tolerance`` (relative 1-σ, 0 ≤ it ≤ MAX_CALIBRATION)."""
+        if not 0 <= tolerance <= MAX_CALIBRATION:
+            raise MasslineError(
+                f"{param('housing_tolerance', f'{tolerance:g}')}: give each housing's mass 1-σ as a fraction of it, "
+                f"0 ≤ value ≤ {MAX_CALIBRATION:g}"
+            )
+        return Calibration(self.sensor, self.force, self.transverse, tolerance)
+
     def describe(self) -> str:
         """'accelerometers 1 %, force 1 % (1-σ), transverse 3 %'."""
         return (
@@ -66,7 +77,7 @@ class Calibration:
 
     @property
     def payload(self) -> dict:
-        return {"sensor": self.sensor, "force": self.force, "transverse": self.transverse}
+        return {"sensor": self.sensor, "force": self.force, "transverse": self.transverse, "housings": self.housings}
 
 
 def _percent(text: str) -> float:

@@ -13,6 +13,8 @@ rows moves θ̃ by δx = K δr, K = (JᵀJ)⁻¹Jᵀ (θ̃'s rows). Each source 
 * ``force_calibration`` (type B): the force transducer's sensitivity off by ε (1-σ ``calibration.force``) moves
   every massline by ε H. M⁻¹ scales by (1 + ε), so θ by 1/(1 + ε): exact to first order, the mass and inertia
   move one for one, the CoG not (with a scale's reading or riding masses, less: K says how much);
+* ``housings`` (type B): each accelerometer housing's mass known to ``calibration.housings`` (relative): the bare
+  body is the tested one less the housings' θ_k, so housing k's error moves it by its θ_k times that;
 * ``truncation`` (systematic): how far the band fits' tails' next term moves the properties.
 
 Each source's δθ̃ is carried to the 25 entries of ``property_vector`` through the Jacobian of θ → properties
@@ -28,7 +30,7 @@ import numpy as np
 from massline.core.calibration import Calibration
 from massline.core.properties import QUANTITIES, std_of
 
-SOURCES = ("noise", "transverse", "sensor_calibration", "force_calibration", "weighed_mass", "truncation")
+SOURCES = ("noise", "transverse", "sensor_calibration", "force_calibration", "weighed_mass", "housings", "truncation")
 """The budget's sources, in the order every table shows them."""
 
 SHORT_NAMES = {
@@ -37,6 +39,7 @@ SHORT_NAMES = {
     "sensor_calibration": "accel. cal.",
     "force_calibration": "force cal.",
     "weighed_mass": "scale",
+    "housings": "housings",
     "truncation": "truncation",
 }
 """Each source's name in a table's head."""
@@ -173,6 +176,7 @@ def source_name(source: str, calibration: Calibration) -> str:
         "sensor_calibration": f"the accelerometers' {100 * calibration.sensor:g} % calibration",
         "force_calibration": f"the force transducer's {100 * calibration.force:g} % calibration",
         "weighed_mass": "the scale's reading",
+        "housings": f"the accelerometer housings' {100 * calibration.housings:g} % mass tolerance",
         "truncation": "the band fits' tail truncation",
     }[source]
 
@@ -183,6 +187,7 @@ REMEDIES = {
     "sensor_calibration": "calibrated accelerometers (--calibration 0,F), or more of them, cut it",
     "force_calibration": "a calibrated hammer, or --weighed-mass, cuts it",
     "weighed_mass": "a finer scale cuts it",
+    "housings": "weighing the housings cuts it",
     "truncation": "a softer support, or a band further from the resonances, cuts it",
 }
 

@@ -190,7 +190,9 @@ def identified_spread(
     options = dict(truncation=truncation)
     tested = body_budget(shifts, result.model, calibration, bootstrap=bootstrap_std(result, bodies, draws), **options)
     bare_bodies = housings.removed_from_each(bodies, planar)
-    budget = body_budget(shifts, bare.model, calibration, bootstrap=bootstrap_std(bare, bare_bodies, draws), **options)
+    tolerance = calibration.housings * housings.theta_each(planar).T  # (p, k): each housing's θ at its 1-σ
+    budget = body_budget(shifts, bare.model, calibration, bootstrap=bootstrap_std(bare, bare_bodies, draws),
+                         housings=tolerance, **options)  # fmt: skip
     return Spread(
         tested=tested.std(), bare=budget.std(), statistical=std_of(budget.statistical, planar=planar),
         truncation=truncation, budget=budget, tested_budget=tested, explained=shifts.explained, draws=shifts.draws,

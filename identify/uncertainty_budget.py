@@ -83,12 +83,14 @@ def budget_shifts(system: WeightedSystem, model: RigidModel, masslines: np.ndarr
 
 
 def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, truncation: np.ndarray,
-                bootstrap: np.ndarray | None = None) -> UncertaintyBudget:  # fmt: skip
+                bootstrap: np.ndarray | None = None, housings: np.ndarray | None = None) -> UncertaintyBudget:  # fmt: skip
     """The budget of the body of ``model`` (the tested body's or the bare one's: θ differs by known housings, so
     every δθ is the same), with the ``truncation`` shift (25 entries, SI) and the ``bootstrap``'s 1-σ (25, or
     None) widening the noise where it is BOOTSTRAP_WIDER times the noise, transverse and accelerometer calibration
     together: a bootstrap over n sensors knows its spread to about √(2/(n − 1)) (±50 % on 9 sensors), and the
-    calibration it also draws is already in the budget."""
+    calibration it also draws is already in the budget. ``housings`` (p, k), SI: each housing's θ_k at its mass's
+    1-σ, what the bare body moves by (None: the body as tested, which the housings do not move)."""
+    housings = np.zeros((model.p, 0)) if housings is None else housings
     ratio = shifts.scale / model.scale  # δθ̃ in this model's scaling
     jacobian = property_jacobian(model) * ratio[None, :]
     parts = {
@@ -97,6 +99,7 @@ def body_budget(shifts: Shifts, model: RigidModel, calibration: Calibration, *, 
         "sensor_calibration": columns_std(jacobian, shifts.sensor),
         "force_calibration": columns_std(jacobian, shifts.force),
         "weighed_mass": entries_std(jacobian, shifts.weighed),
+        "housings": columns_std(property_jacobian(model) / model.scale[None, :], housings),
         "truncation": np.abs(np.nan_to_num(truncation, nan=0.0)),
     }
     if bootstrap is not None:

@@ -80,6 +80,7 @@ def predicted_budget(
         "sensor_calibration": columns_std(jacobian, sensor),
         "force_calibration": columns_std(jacobian, force),
         "weighed_mass": np.zeros(jacobian.shape[0]),
+        "housings": np.zeros(jacobian.shape[0]),
         "truncation": np.zeros(jacobian.shape[0]),
     }
     return UncertaintyBudget(parts, calibration, model.planar)

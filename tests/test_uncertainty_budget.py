@@ -8,6 +8,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from massline.core.calibration import Calibration
+from massline.core.errors import MasslineError
 from massline.core.lines import Lines
 from massline.core.masslines import Masslines, synthesise
 from massline.core.properties import property_vector
@@ -248,3 +249,19 @@ def test_the_budget_is_the_error_and_the_plan_predicts_it(minimal):
 def summary(values: dict) -> np.ndarray:
     """mass, CoG (3), principal moments (3) of identify's value or std keys."""
     return np.concatenate([[values["mass"]], values["cog"], values["principal_moments"]]).astype(float)
+
+
+def test_the_housings_tolerance_moves_the_bare_mass_by_each_housing_in_quadrature():
+    sensors, exciters = layout()
+    housings = Housings.alike(0.02, sensors.points[:4])
+    tested = RigidModel(BODY).body(RigidModel(BODY).theta + housings.theta())
+    data = synthesise(tested, sensors, exciters)
+    sigma = QUIET * np.abs(data.values) + 1e-12
+    found = estimate(data, sigma, transverse=0.0)
+    calibration = Calibration(0.0, 0.0, 0.0).with_housings(0.05)
+    spread = identified_spread(data, sigma, np.zeros_like(sigma), found, bare=housings.removed(found),
+                               housings=housings, draws=0, calibration=calibration)  # fmt: skip
+    assert spread.budget.parts["housings"][0] == pytest.approx(np.sqrt(4) * 0.05 * 0.02, rel=1e-6)
+    assert np.all(spread.tested_budget.parts["housings"] == 0)  # the body as tested does not depend on them
+    with pytest.raises(MasslineError):
+        Calibration().with_housings(0.5)

@@ -16,6 +16,7 @@ from massline.identify.pipeline import (
     as_recording,
     identify_recording,
 )
+from massline.core.calibration import MAX_CALIBRATION, Calibration
 from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.cli.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
@@ -24,6 +25,7 @@ from massline.cli.options import (
     MAX_DRAWS,
     TRANSVERSE_PRIOR,
     add_calibration_argument,
+    fraction,
     add_export_arguments,
     add_instrumentation_arguments,
     add_recording_argument,
@@ -69,6 +71,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_instrumentation_arguments(parser)
     add_calibration_argument(parser, "they join the 1-σ's budget")
     parser.add_argument(
+        "--sensor-mass-tolerance",
+        type=fraction(MAX_CALIBRATION),
+        default=0.0,
+        metavar="FRACTION",
+        help="1-σ of each accelerometer housing's mass (--sensor-mass), a fraction of it: it joins the bare body's "
+        "budget (default 0: weighed housings)",
+    )
+    parser.add_argument(
         "--weighed-mass",
         type=checked(WeighedMass.parse),
         metavar="KG[±SD]",
@@ -112,7 +122,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
         exciter_mass=args.exciter_mass, weighed=weighed, support=support_model(setup, console),
-        calibration=args.calibration,
+        calibration=(args.calibration or Calibration()).with_housings(args.sensor_mass_tolerance),
     )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
