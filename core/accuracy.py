@@ -17,8 +17,8 @@ from massline.core.properties import property_vector, std_of
 STEP = 1e-6  # relative step of the central differences, in scaled parameters
 
 
-def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.ndarray:
-    """Covariance of ``property_vector`` from that of the scaled parameters."""
+def property_jacobian(model: RigidModel) -> np.ndarray:
+    """∂(property vector)/∂θ̃ (25, p) at the model's body, by central differences in the scaled parameters."""
     theta0 = model.theta
     columns = []
     for k in range(model.p):
@@ -27,7 +27,12 @@ def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.
         plus = property_vector(model.body(theta0 + step), model.planar)
         minus = property_vector(model.body(theta0 - step), model.planar)
         columns.append((plus - minus) / (2 * STEP))
-    jac = np.array(columns).T
+    return np.array(columns).T
+
+
+def property_covariance(model: RigidModel, covariance_scaled: np.ndarray) -> np.ndarray:
+    """Covariance of ``property_vector`` from that of the scaled parameters."""
+    jac = property_jacobian(model)
     return jac @ covariance_scaled @ jac.T
 
 

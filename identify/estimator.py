@@ -34,8 +34,9 @@ import numpy as np
 
 from massline.identify.weighing import WeighedMass
 from massline.core.band import GIVE_BAND
+from massline.core.calibration import TRANSVERSE
 from massline.core.errors import MasslineError
-from massline.core.lines import cross
+from massline.core.lines import perpendicular_bases
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
@@ -48,7 +49,6 @@ DIVERGED = (
     "the estimate diverged: the masslines fit no rigid body (a flipped or swapped channel, or a band across a "
     f"resonance?); run massline diagnose, or give {GIVE_BAND}"
 )
-TRANSVERSE = 0.03  # prior 1-σ of an accelerometer's transverse sensitivity (datasheets: 3–5 %, paper §3)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -83,6 +83,9 @@ class Estimate:
     riding : (n_e, p) array or None
         SI parameters of the mass riding at each exciter's point while it drives (a force gauge's structure
         side): column j's masslines are those of ``body`` plus it (``core.information.sensitivities``).
+    system : WeightedSystem or None
+        The weighted system at the estimate (its Jacobian carries the data's and the priors' weight on θ̃:
+        :mod:`.uncertainty_budget`).
     """
 
     body: RigidBody
@@ -97,14 +100,7 @@ class Estimate:
     weighed: WeighedMass | None = None
     weighed_z: float = np.nan
     riding: np.ndarray | None = None
-
-
-def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
-    """T_i (n, 3, 2): two unit vectors ⊥ each direction d_i, the axes a sensor's transverse reading lies on."""
-    helper = np.eye(3)[np.argmin(np.abs(directions), axis=1)]
-    t1 = cross(directions, helper)
-    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return np.stack([t1, cross(directions, t1)], axis=2)
+    system: WeightedSystem | None = None
 
 
 def damped(trial, theta, dtheta, tilt, dtilt, before: float, halvings: int = 40):
@@ -216,6 +212,7 @@ def estimate_at(problem: WeightedProblem, last: Iterate, constrained: bool) -> E
         weighed=problem.weighed,
         weighed_z=z,
         riding=problem.riding,
+        system=system,
     )
 
 

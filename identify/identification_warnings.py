@@ -80,7 +80,7 @@ def identification_warnings(
     points = np.vstack([recording.sensors.points, recording.exciters.points])
     repeated = [coherence_weights(r.coherence) for r in recording.repeats]
     return tuple(
-        fit_warnings(best.chi2, best.dof)
+        fit_warnings(best.chi2, best.dof, spread.explained, spread.draws)
         + weighing_warnings(best.weighed_z, weighed, housings.total)
         + band_warnings(used, int(in_band.sum()))
         + coherence_warnings(frf, coherence, in_band, channels)

@@ -24,9 +24,11 @@ from massline.identify.sensor_mass import Housings, file_labels, housing_points
 from massline.identify.support_fit import SupportFit, record_resonances, taken_off
 from massline.identify.suspicions import recording_warnings
 from massline.identify.uncertainty import identified_spread
+from massline.core.uncertainty_budget import UncertaintyBudget, limits
 from massline.identify.warning_codes import CodedWarning, codes_of
 from massline.identify.weighing import WeighedMass
 from massline.core.band import Band
+from massline.core.calibration import Calibration
 from massline.core.errors import MasslineError, param
 from massline.core.housing_masses import HousingMasses
 from massline.core.masslines import Masslines
@@ -146,7 +148,7 @@ class Identification:
     any mains interference (``mains``); ``notes`` say what was set aside. ``exciter_mass`` is the force gauges'
     structure-side mass (kg) each column was fitted with (0: a hammer), never part of ``body``. ``noise`` is each
     FRF's noise over the band as the recording shows it (:mod:`.recording_noise`), the one every fit is measured
-    against.
+    against. ``budget`` is ``std``'s split by source (:mod:`.uncertainty_budget`).
     """
 
     recording: Recording
@@ -169,6 +171,7 @@ class Identification:
     mains: MainsLines | None = None
     support_fit: SupportFit | None = None
     noise: RecordingNoise | None = None
+    budget: UncertaintyBudget | None = None
 
     @property
     def noise_payload(self) -> dict | None:
@@ -178,6 +181,13 @@ class Identification:
             return None
         residual, level = band_residual(self.fit, self.noise), self.noise.relative()
         return {**self.noise.payload, "fit": residual, "fit_over_noise": residual / level if level > 0 else np.nan}
+
+    @property
+    def budget_payload(self) -> dict:
+        """identify JSON's ``uncertainty_budget``: the calibration assumed, each quantity's 1-σ split by source
+        (:meth:`massline.core.uncertainty_budget.UncertaintyBudget.payload`), and the sentences naming what limits
+        it (``limits``)."""
+        return self.budget.payload() | {"limits": limits(self.budget, self.body)}
 
     @property
     def payload(self) -> dict:
@@ -195,6 +205,7 @@ class Identification:
         found["mains"] = None if self.mains is None else self.mains.parameters  # the lines set aside, Hz
         found["support_model"] = None if self.support_fit is None else self.support_fit.payload
         found["noise"] = self.noise_payload
+        found["uncertainty_budget"] = None if self.budget is None else self.budget_payload
         found["units"] = JSON_UNITS
         if self.housings.count:
             found["as_tested"] = properties_payload(self.tested, self.tested_std, band, self.planar)
@@ -271,6 +282,7 @@ def identify_recording(
     exciter_mass: float = 0.0,
     weighed: WeighedMass | None = None,
     support=None,
+    calibration: Calibration | None = None,
 ) -> Identification:
     """The band (``band`` (lo, hi) Hz, or found), the band fits, the estimate and its 1-σ (``draws`` bootstrap).
 
@@ -282,12 +294,16 @@ def identify_recording(
     ``weighed``: a scale's reading of the bare body, a prior on the mass (:mod:`.weighing`);
     ``support``: the support and the body's elastic modes as the mesh's FE model gives them
     (:class:`massline.virtual.support_model.SupportModel`): each FRF's departure from its massline is taken off
-    first (:mod:`.support_fit`), and ``support_fit`` says how.
+    first (:mod:`.support_fit`), and ``support_fit`` says how;
+    ``calibration``: the chain's type-B 1-σ (:class:`massline.core.calibration.Calibration`; default 1 % for each
+    accelerometer and the force transducer, its ``transverse`` replaced by ``transverse``), which join the
+    1-σ's budget (:mod:`.uncertainty_budget`).
     """
+    calibration = replace(calibration or Calibration(), transverse=transverse)
     options = dict(transverse=transverse, sensor_mass=sensor_mass, exciter_mass=exciter_mass, weighed=weighed)
     if support is not None:
         corrected, fit = support_corrected(as_recording(recording), band, support, **options)
-        found = identify_recording(corrected, band, draws=draws, method=method, **options)
+        found = identify_recording(corrected, band, draws=draws, method=method, calibration=calibration, **options)
         notes = found.notes + (CodedWarning("support_modelled", fit.note),)
         return replace(found, support_fit=fit, notes=notes, warnings=found.warnings + fit.warnings)
     recording, notes = usable_lines(as_recording(recording))
@@ -305,7 +321,7 @@ def identify_recording(
     best = estimated(recording, chosen, fitted, planar, transverse, prior=prior, riding=riding)
     bare = housings.removed(best)  # refused first when the housings leave no physical body
     spread = identified_spread(fitted.data, fitted.sigma, fitted.truncation, best, bare=bare, housings=housings,
-                               draws=draws)  # fmt: skip
+                               draws=draws, calibration=calibration)  # fmt: skip
     tested = best.body if method == "best" else paper_body(fitted.data, method, best)
     warnings = identification_warnings(recording, (chosen, used), fitted, best, spread, weighed=weighed,
                                        housings=housings, bare=bare.body, tested=tested)  # fmt: skip
@@ -313,7 +329,7 @@ def identify_recording(
         recording=recording, band=used, fit=fitted.fit, data=fitted.data, sigma=fitted.sigma, planar=planar, best=best,
         std=spread.bare, body=housings.removed_from(tested, planar), method=method, notes=notes + aside,
         warnings=warnings, housings=housings, tested=tested, tested_std=spread.tested, weighed=weighed,
-        exciter_mass=exciter_mass, mains=mains, noise=fitted.noise,
+        exciter_mass=exciter_mass, mains=mains, noise=fitted.noise, budget=spread.budget,
     )  # fmt: skip
 
 

@@ -129,6 +129,12 @@ class Housings:
         each = ", ".join(weight(m) for m in self.masses)
         return f"{self.count} accelerometer housings: {each} (points {', '.join(str(x) for x in self.labels)})"
 
+    def theta_each(self, planar: bool = False) -> np.ndarray:
+        """θ_k of each housing (k, 10 or the plate's 6), SI."""
+        return np.array([point_mass_theta(m, r, planar) for m, r in zip(self.masses, self.points)]).reshape(
+            self.count, 6 if planar else 10
+        )
+
     def theta(self, planar: bool = False) -> np.ndarray:
         """Σ_k θ_k of the housings in the model's parameters (10, or the plate's 6), SI."""
         return sum(

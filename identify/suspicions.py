@@ -69,8 +69,11 @@ def beyond_chance(chi2: float, dof: float) -> bool:
     return bool(np.isfinite(chi2) and chi2 * dof > chi2_isf(CHANCE, max(dof, 1)) and chi2 > MISFIT)
 
 
-def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
-    """The fit statistic: reduced χ² (over ``dof`` degrees of freedom) beyond chance, or no redundancy."""
+def fit_warnings(chi2: float, dof: float, explained: float = 0.0, draws: int = 1) -> list[CodedWarning]:
+    """The fit statistic: reduced χ² (over ``dof`` degrees of freedom) beyond chance, or no redundancy. The
+    chain's calibration errors at their 1-σ leave ``explained`` of Σ r² in the fit (``draws`` independent errors,
+    :mod:`.uncertainty_budget`): beyond chance is then beyond the noise's chance tail plus the calibration's, whose
+    Σ r² is taken as a χ² of ``draws`` degrees of freedom."""
     if not np.isfinite(chi2):
         return [
             CodedWarning(
@@ -79,12 +82,15 @@ def fit_warnings(chi2: float, dof: float) -> list[CodedWarning]:
                 "data can show; add sensors or hits to check the result",
             )
         ]
-    if beyond_chance(chi2, dof):
+    bar = chi2_isf(CHANCE, max(dof, 1)) + explained * chi2_isf(CHANCE, max(draws, 1)) / max(draws, 1)
+    if beyond_chance(chi2, dof) and chi2 * dof > bar:
         return [
             CodedWarning(
                 "model_misfit",
-                f"the rigid model leaves {np.sqrt(chi2):.1f}× the noise in the masslines (reduced χ² {chi2:.3g}): a "
-                "faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline diagnose",
+                f"the rigid model leaves {np.sqrt(chi2):.1f}× the noise in the masslines (reduced χ² {chi2:.3g}"
+                + (f", beyond the {explained / dof:.3g} the chain's calibration explains" if explained > 0 else "")
+                + "): a faulty channel or physics the model leaves out; the ± is scaled up by it, but run massline "
+                "diagnose",
             )
         ]
     return []

@@ -15,6 +15,8 @@ from typing import NamedTuple
 import numpy as np
 
 from massline.core.information import driven, sensitivities
+from massline.core.lines import transverse_lines
+from massline.core.uncertainty_budget import dense_jacobian
 from massline.core.masslines import Masslines
 from massline.core.model import RigidModel
 from massline.identify.weighing import WeighedMass
@@ -119,25 +121,9 @@ class WeightedSystem:
 
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
         """The whole Jacobian and residual: the measured rows first (masslines, then the scale), then the priors."""
-        n_s, n_e, p = self.A.shape
-        width = p + (0 if self.D is None else 2 * n_s)
-        rows = [self.A.reshape(-1, p)]
-        if self.D is not None:
-            block = np.zeros((n_s, n_e, n_s, 2))
-            block[np.arange(n_s), :, np.arange(n_s)] = self.D
-            rows = [np.hstack([rows[0], block.reshape(n_s * n_e, 2 * n_s)])]
-        if self.scale_row is not None:
-            rows.append(np.pad(self.scale_row, (0, width - p))[None, :])
-        residual = [self.measured]
-        if self.D is not None:
-            rows.append(np.hstack([np.zeros((2 * n_s, p)), np.eye(2 * n_s) / self.transverse]))
-            residual.append(self.prior.ravel())
-        return np.vstack(rows), np.concatenate(residual)
-
-
-def transverse_lines(points: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """(t_k, r_i × t_k) (n_s, 6, 2): the line coordinates of each channel's transverse axes T_i at its point r_i."""
-    return np.concatenate([T, np.cross(points[:, :, None], T, axis=1)], axis=1)
+        J = dense_jacobian(self.A, self.D, self.transverse, self.scale_row)
+        residual = [self.measured] + ([] if self.D is None else [self.prior.ravel()])
+        return J, np.concatenate(residual)
 
 
 def weighted_system(

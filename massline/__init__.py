@@ -33,6 +33,7 @@ PUBLIC = {  # name: the module defining it
     "MasslineError": "massline.core",
     "RigidBody": "massline.core",
     "Body": "massline.export",
+    "Calibration": "massline.core.calibration",
     "BUNDLED": "massline.meshes",
     "load_body": "massline.meshes.loader",
     "Recording": "massline.uff.recording",

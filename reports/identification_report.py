@@ -20,6 +20,7 @@ from massline.meshes.loader import BodyMesh
 from massline.core.numbers import counted, formatted, number, sigma_text, signed, value_with_sigma, vector_text
 from massline.core.properties import QUANTITIES
 from massline.core.rigid_body import RigidBody
+from massline.reports.budget_section import budget_section
 from massline.reports.body_scene import identification_scene, principal_frame
 from massline.reports.html import (
     Report,
@@ -206,8 +207,10 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
     fit_note = (
         f"Reduced χ² {number(found.best.chi2, 3)} over {int(np.isfinite(found.sigma).sum())} masslines"
         + ("; the physical-consistency constraint is active" if found.best.constrained else "")
-        + ". The ± is the larger of the information-based 1-σ (scaled by the reduced χ²) and a bootstrap over the "
-        "sensors." + masses_note(found)
+        + ". The ± is the uncertainty budget's (below): the noise (the information's, widened by a reduced χ² "
+        "beyond what the calibration explains, or a bootstrap over the sensors), the transverse sensitivity's prior, "
+        "the accelerometers' and force transducer's calibration and the tails' truncation, in quadrature."
+        + masses_note(found)
     )
     summary = _summary(found.body, found.std, nominal, found.planar)
     parts = [
@@ -224,6 +227,7 @@ def identify_report(found: Identification, uff_path, mesh: BodyMesh | None = Non
         + views
         + axes_table(found.body, found.std, nominal, found.planar)
         + "</section>",
+        budget_section(found.budget, found.body, found.planar),
         turn_it(scene),
         "<section><h2>FRFs and the massline band</h2>"
         + plot_figure(frfs, "representative FRFs", band_note)

@@ -122,8 +122,24 @@ def housings_html(doc: dict) -> str:
     return ""
 
 
+def budget_note(doc: dict) -> str:
+    """What the predicted 1-σ is: the uncertainty budget's sources and what limits each property, or Cramér–Rao."""
+    budget = doc.get("uncertainty_budget")
+    if not budget:
+        return '<p class="note">Cramér–Rao bounds of the criterion\'s noise model (no massline band predicted).</p>'
+    c = budget["calibration"]
+    said = " ".join(escape(s[0].upper() + s[1:]) + "." for s in budget["limits"])
+    return (
+        f'<p class="note">The uncertainty budget identify will state: the noise of {budget["band_lines"]} lines in '
+        f"the band at {100 * budget['line_noise']:g} % each, each channel's transverse sensitivity "
+        f"({100 * c['transverse']:g} % prior), each accelerometer's ({100 * c['sensor']:g} %) and the force "
+        f"transducer's ({100 * c['force']:g} %) calibration, in quadrature. {said}</p>"
+    )
+
+
 def accuracy_table(doc: dict) -> str:
-    """Nominal value and predicted 1-σ (Cramér–Rao) of every property, with units."""
+    """Nominal value and predicted 1-σ of every property (the uncertainty budget's; Cramér–Rao for a plan without a
+    band), with units."""
     nom, std = doc["nominal"], doc["predicted_std"]
     J = np.asarray(nom["inertia_cog"])
     J = np.where(np.abs(J) < 1e-12 * np.abs(J).max(), 0.0, J)  # rounding noise of zero products of inertia
@@ -340,7 +356,7 @@ def report_html(
         "<p class=\"note\">Coordinates in the mesh's frame; 'plan line' numbers the lines of plan.json "
         "(sensors and exciters counted separately, from 1), as <code>massline simulate --effect NAME=SIZE@N</code> "
         "numbers them.</p></section>",
-        "<section><h2>Predicted accuracy (1-σ, Cramér–Rao)</h2>" + accuracy_table(doc) + housings_html(doc)
+        "<section><h2>Predicted accuracy (1-σ)</h2>" + accuracy_table(doc) + budget_note(doc) + housings_html(doc)
         + "</section>",
         "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>",
         "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"

@@ -261,7 +261,8 @@ def test_identify_plate_data_shows_unobservable_entries(plate_uff, tmp_path, met
     out = tmp_path / "p.json"
     run = massline("identify", plate_uff, "--band", 5, 95, "--method", method, "--json", out)
     assert run.returncode == 0, run.stderr
-    rows = {line.split("│")[1].strip(): line for line in run.stdout.splitlines() if line.count("│") > 3}
+    results = run.stdout.split("uncertainty budget")[0]  # the properties' table (the budget's follows)
+    rows = {line.split("│")[1].strip(): line for line in results.splitlines() if line.count("│") > 3}
     for name in ("CoG z", "J_G zz", "J_G xz", "principal moment 3", "principal axis 3"):
         assert "unobservable" in rows[name]
     assert "nan" not in run.stdout.lower() and "0.567" in rows["mass"]
@@ -295,7 +296,8 @@ def test_identify_refuses_the_plate_method_on_3d_data(structure_uff):
 def test_identify_rounds_each_value_to_its_sigma(structure_uff):
     run = massline("identify", structure_uff, "--band", 5, 95, "--method", "method2+method3", "--bootstrap", "20")
     assert run.returncode == 0, run.stderr
-    rows = [line.split("│")[1:5] for line in run.stdout.splitlines() if line.count("│") > 3]
+    results = run.stdout.split("uncertainty budget")[0]  # the properties' table (the budget's follows)
+    rows = [line.split("│")[1:5] for line in results.splitlines() if line.count("│") > 3]
     for name, value, sigma, _ in rows:
         value, sigma = value.strip(), sigma.strip()
         if value and sigma and value != "unobservable":

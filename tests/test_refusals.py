@@ -63,6 +63,8 @@ NUMBERS = {
         "--density": ["-1", "0", NAN, INF],
         "--mass": ["-1", "0", NAN, INF],
         "--weighed-mass": ["-1", "0", NAN, INF, "4±-1", "4±nan"],
+        "--calibration": ["-1", NAN, INF, "30", "1,2,3", "1,-2", "abc"],
+        "--sensor-mass-tolerance": ["-1", NAN, INF, "0.5"],
         "--band": ["-1 40", "0 40", "nan 40", "5 inf", "40 5", "5 1e12"],
         "--suspension": ["cord:k=-1", "cord:k=nan", "cord:L=0", "foam:k=inf", "foam:shear=-1", "cord:at=nan;0;0"],
         "--material": ["0,0.3", "nan,0.3", "70e9,0.6"],

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from massline.core.calibration import Calibration
 from massline.core.effect_names import SimulatedEffect
 from massline.core.housing_masses import HousingMasses
 from massline.core.lines import Lines
@@ -21,6 +22,7 @@ from massline.core.rigid_body import RigidBody
 from massline.uff.recording import Recording
 from massline.virtual.analyser import impact_setup
 from massline.virtual.band_prediction import predict_band
+from massline.virtual.chain_errors import draw_chain_errors
 from massline.virtual.effects import Instrumentation, instrument
 from massline.virtual.hum import channel_levels, check_hum, with_hum
 from massline.virtual.measurement import ImpactTest, Noise, impact_test, noisy_frfs, with_dc_line
@@ -55,6 +57,9 @@ class Acquisition:
     dc_line : bool
         Start the recording at 0 Hz, as exporters store lines + DC: a real-valued outlier with a low
         coherence (noise and window residue, no massline), which identify sets aside.
+    chain : Calibration or None
+        The measuring chain's 1-σ its errors are drawn from (:mod:`.chain_errors`: each accelerometer's and the
+        force transducer's calibration, each channel's transverse sensitivity); None: an ideal chain.
     """
 
     fmax: float | None = None
@@ -64,6 +69,7 @@ class Acquisition:
     sensor_mass: float | HousingMasses = 0.0
     modal_loss: float = 0.002
     dc_line: bool = True
+    chain: Calibration | None = None
 
 
 def accelerometer_masses(sensors: Lines, mass: float | HousingMasses) -> tuple[np.ndarray, np.ndarray]:
@@ -127,6 +133,9 @@ def run(
     inst = instrument(sensors, exciters, list(effects), rng)
     inst.sensor_points = on_the_body(modes, sensors.points, inst.sensor_points)
     inst.exciter_points = on_the_body(modes, exciters.points, inst.exciter_points)
+    chain = None if setup.chain is None else draw_chain_errors(setup.chain, sensors.directions, seed)
+    if chain is not None:
+        inst.sensor_vectors, inst.force_gain = chain.reading_vectors(inst.sensor_vectors), chain.force_gain
     placed = Lines(inst.sensor_points, sensors.directions, sensors.triaxial)
     masses, points = accelerometer_masses(placed, setup.sensor_mass)
     masses, points = np.concatenate([masses, inst.masses]), np.vstack([points, inst.mass_points])
@@ -154,6 +163,7 @@ def run(
         "nominal": body.as_dict(),
         "loaded": model.loaded.as_dict(),
         "effects": inst.applied,
+        "chain": None if chain is None else chain.payload,
         "sensor_mass": sensor_mass_payload(setup.sensor_mass),
         "added_masses": {"mass": model.masses.tolist(), "points": model.mass_points.tolist()},
         "exciter_masses": inst.exciter_masses.tolist(),

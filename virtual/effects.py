@@ -44,6 +44,8 @@ class Instrumentation:
         front end's delay, a mount's resonance), applied to every FRF of that sensor as the test is recorded.
     applied : list of dict
         Every effect as drawn: name, size, lines (1-based), and the perpendicular chosen.
+    force_gain : float
+        The force transducer's reading per unit of the truth (:mod:`.chain_errors`): every FRF divided by it.
     """
 
     sensor_points: np.ndarray
@@ -57,6 +59,7 @@ class Instrumentation:
     hums: list = field(default_factory=list)
     responses: list = field(default_factory=list)
     applied: list = field(default_factory=list)
+    force_gain: float = 1.0
 
     @classmethod
     def planned(cls, sensors: Lines, exciters: Lines) -> "Instrumentation":
@@ -82,11 +85,11 @@ class Instrumentation:
         self.responses.append((sensor, factor))
 
     def read_through(self, H: np.ndarray, frequencies: np.ndarray) -> np.ndarray:
-        """H (n_s, n_e, n_f) as the sensors' chains read it: each row times its responses' factors at ``frequencies``
-        (Hz)."""
-        if not self.responses:
+        """H (n_s, n_e, n_f) as the chains read it: each row times its responses' factors at ``frequencies`` (Hz),
+        over the force transducer's gain."""
+        if not self.responses and self.force_gain == 1.0:
             return H
-        H = H.copy()
+        H = H / self.force_gain
         for sensor, factor in self.responses:
             H[sensor] *= factor(np.asarray(frequencies, dtype=float))
         return H

@@ -16,6 +16,7 @@ from massline.identify.pipeline import (
     as_recording,
     identify_recording,
 )
+from massline.core.calibration import MAX_CALIBRATION, Calibration
 from massline.core.housing_masses import HousingMasses
 from massline.identify.weighing import RELATIVE_SD, WeighedMass
 from massline.cli.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
@@ -23,6 +24,8 @@ from massline.cli.options import (
     BAND_EDGE,
     MAX_DRAWS,
     TRANSVERSE_PRIOR,
+    add_calibration_argument,
+    fraction,
     add_export_arguments,
     add_instrumentation_arguments,
     add_recording_argument,
@@ -35,6 +38,7 @@ from massline.cli.options import (
 from massline.cli.output import check_exportable, write_exports, write_json, write_report
 from massline.core.numbers import number, sigma_text, value_with_sigma
 from massline.core.properties import QUANTITIES
+from massline.cli.budget_console import budget_table
 from massline.core.rigid_body import RigidBody
 
 
@@ -65,6 +69,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="bootstrap draws over the sensors (default 100; 0: none)",
     )
     add_instrumentation_arguments(parser)
+    add_calibration_argument(parser, "they join the 1-σ's budget")
+    parser.add_argument(
+        "--sensor-mass-tolerance",
+        type=fraction(MAX_CALIBRATION),
+        default=0.0,
+        metavar="FRACTION",
+        help="1-σ of each accelerometer housing's mass (--sensor-mass), a fraction of it: it joins the bare body's "
+        "budget (default 0: weighed housings)",
+    )
     parser.add_argument(
         "--weighed-mass",
         type=checked(WeighedMass.parse),
@@ -109,6 +122,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
     found = identify_recording(
         recording, args.band, args.transverse, draws=args.bootstrap, method=args.method, sensor_mass=sensor_mass,
         exciter_mass=args.exciter_mass, weighed=weighed, support=support_model(setup, console),
+        calibration=(args.calibration or Calibration()).with_housings(args.sensor_mass_tolerance),
     )  # fmt: skip
     found = against_nominal(found, None if mesh is None else mesh.nominal)
     band, fit = found.band, found.fit
@@ -128,9 +142,12 @@ def run(args: argparse.Namespace, console: Console) -> None:
     for line in mass_lines(found):
         console.print(line)
     body = "bare body, accelerometers off" if found.housings.count else "frame of the file"
-    title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± from the data)"
+    title = f"{source_of(args.uff)}: identified properties ({args.method}; {body}; ± the budget below)"
     nominal = None if mesh is None else mesh.nominal
     console.print(results_table(found.body, found.std, found.planar, title, nominal))
+    console.print(budget_table(found.budget, found.body, found.planar, "uncertainty budget"))
+    for sentence in found.budget_payload["limits"]:
+        console.print(f"budget: {sentence}")
     console.print(
         f"reduced χ² {number(found.best.chi2, 3)} over {int(np.isfinite(found.sigma).sum())} masslines"
         + ("; physical-consistency constraint active" if found.best.constrained else "")

@@ -13,6 +13,7 @@ import math
 import re
 from collections.abc import Callable
 
+from massline.core.calibration import FORCE_CALIBRATION, SENSOR_CALIBRATION, Calibration
 from massline.core.errors import MasslineError
 from massline.core.files import claim_outputs
 from massline.core.housing_masses import parse_exciter_mass, sensor_mass_token
@@ -28,6 +29,7 @@ FLAGS = {
     "budget.exciters": "--exciters",
     "budget.sensors": "--sensors",
     "budget.triaxial": "--triaxial",
+    "calibration": "--calibration",
     "density": "--density",
     "effect": "--effect",
     "folder": "--out",
@@ -234,6 +236,19 @@ def add_sensor_mass_argument(parser: argparse.ArgumentParser, metavar: str, help
     the default first, each token checked as it is read (:meth:`HousingMasses.parse` reads the list)."""
     parser.add_argument(
         "--sensor-mass", nargs="+", type=checked(sensor_mass_token), default=[], metavar=metavar, help=help
+    )
+
+
+def add_calibration_argument(parser: argparse.ArgumentParser, role: str) -> None:
+    """``--calibration SENSOR[,FORCE]``: the chain's calibration 1-σ in per cent (:mod:`massline.core.calibration`);
+    ``role`` says what the command does with it."""
+    parser.add_argument(
+        "--calibration",
+        type=checked(Calibration.parse),
+        metavar="SENSOR[,FORCE]",
+        help=f"1-σ of each accelerometer's and of the force transducer's calibration, per cent (default "
+        f"{100 * SENSOR_CALIBRATION:g},{100 * FORCE_CALIBRATION:g}: a datasheet's or a year-old certificate's "
+        f"sensitivity; one figure for both; 0 for a calibrated chain): {role}",
     )
 
 

@@ -56,7 +56,7 @@ AXIS_UNDETERMINED = "any (equal moments)"  # an axis whose 1-σ passes 90°: its
 
 def std_table(plan) -> Table:
     b, s = plan.model.nominal, plan.predicted_std
-    table = Table(title="Predicted accuracy (Cramér–Rao, 1-σ)")
+    table = Table(title="Predicted accuracy (Cramér–Rao of the criterion's noise model, 1-σ; no band predicted)")
     for col in ("quantity", "nominal", "± 1-σ", "unit", "relative"):
         table.add_column(col, justify="right")
     rows = [("mass", b.mass, s["mass"], "kg", b.mass)]

@@ -15,12 +15,23 @@ support when it widens the band (``--check`` stops there). The test is set up an
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 from rich.console import Console
 from rich.table import Table
 
-from massline.cli.options import SEED, add_sensor_mass_argument, count, fraction, positive, real
+from massline.cli.options import (
+    SEED,
+    TRANSVERSE_PRIOR,
+    add_calibration_argument,
+    add_sensor_mass_argument,
+    count,
+    fraction,
+    positive,
+    real,
+)
+from massline.core.calibration import TRANSVERSE, Calibration
 from massline.cli.output import progress_bar, say_fe_model, say_material
 from massline.core.band import Band
 from massline.core.housing_masses import HousingMasses
@@ -146,9 +157,38 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--material", metavar="NAME|E,NU", help=f"{', '.join(MATERIALS)}, or Young's modulus (Pa) and Poisson's ratio"
     )
+    add_chain_arguments(parser)
     add_file_arguments(parser)
     parser.add_argument("--plot", metavar="PNG", help="predicted driving-point FRFs with the band marked")
     parser.add_argument("--force", action="store_true", help="overwrite existing outputs")
+
+
+def add_chain_arguments(parser: argparse.ArgumentParser) -> None:
+    """The measuring chain's errors drawn (:mod:`massline.virtual.chain_errors`): ``--calibration``,
+    ``--transverse``, or ``--ideal`` for none."""
+    add_calibration_argument(parser, "each channel's and the force transducer's error is drawn from it")
+    parser.add_argument(
+        "--transverse",
+        type=TRANSVERSE_PRIOR,
+        default=TRANSVERSE,
+        metavar="FRACTION",
+        help=f"1-σ of each component of each accelerometer's transverse sensitivity drawn, a fraction (default "
+        f"{TRANSVERSE}, identify's prior)",
+    )
+    parser.add_argument(
+        "--ideal",
+        action="store_true",
+        help="an ideal measuring chain: no calibration error, no transverse sensitivity (the test's noise only)",
+    )
+
+
+def chain_of(args: argparse.Namespace) -> Calibration | None:
+    """The chain's 1-σ the test draws its errors from; None with --ideal (refused beside --calibration)."""
+    if args.ideal:
+        if args.calibration is not None:
+            raise MasslineError("--ideal draws no calibration error: drop --calibration or --ideal")
+        return None
+    return replace(args.calibration or Calibration(), transverse=args.transverse)
 
 
 def file_units(text: str) -> str:
@@ -230,6 +270,7 @@ def run(args: argparse.Namespace, console: Console) -> None:
         raise MasslineError("--record sets an impact test's record: give --impact, or drop --record")
     named = {} if args.check else recording_outputs(Path(args.out), len(exciters) if args.split_runs else 0)
     outputs = claim_outputs(named | {"--plot": args.plot}, args.force)
+    chain_of(args)  # refused before the work
     effects = tuple(parse_effect(e) for e in args.effect) + gauge_effects(args)
     check_targets(list(effects), len(sensors), len(exciters), args.fmax, args.lines)
     body = plan_mesh(doc, plan_path)
@@ -275,7 +316,20 @@ def run(args: argparse.Namespace, console: Console) -> None:
     write_atomic(truth_file, to_json(truth), args.force)
     console.print(
         f"wrote {files} and their coherence, {recording_axis(truth)}, {frf_units(args)}) and {truth_file} (what "
-        f"was simulated, including {len(effects)} concealed effect{'s' if len(effects) != 1 else ''})"
+        f"was simulated, including {len(effects)} concealed effect{'s' if len(effects) != 1 else ''} and "
+        f"{chain_phrase(truth['chain'])})"
+    )
+
+
+def chain_phrase(chain: dict | None) -> str:
+    """'the chain's errors drawn (accelerometers 1 %, force 1 %, transverse 3 % 1-σ)', or 'an ideal chain'."""
+    if chain is None:
+        return "an ideal measuring chain"
+    c = chain["calibration"]
+    return (
+        f"the chain's errors drawn: accelerometers {100 * c['sensor']:g} %, force {100 * c['force']:g} % (this "
+        f"test's force gauge reads {100 * chain['force_gain_error']:+.2f} %), transverse {100 * c['transverse']:g} % "
+        "1-σ"
     )
 
 
@@ -309,6 +363,7 @@ def acquisition(args: argparse.Namespace, housings: HousingMasses) -> Acquisitio
         impact=impact,
         sensor_mass=housings,
         dc_line=not args.no_dc,
+        chain=chain_of(args),
     )
 
 
