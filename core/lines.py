@@ -38,6 +38,14 @@ def cross(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
     return np.moveaxis(product, 0, axis)
 
 
+def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
+    """T_i (n, 3, 2): two unit vectors ⊥ each direction d_i, the axes a sensor's transverse reading lies on."""
+    helper = np.eye(3)[np.argmin(np.abs(directions), axis=1)]
+    t1 = cross(directions, helper)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    return np.stack([t1, cross(directions, t1)], axis=2)
+
+
 @dataclass(frozen=True, eq=False)
 class Lines:
     """An ordered set of lines: points (n, 3) in m and unit directions (n, 3).

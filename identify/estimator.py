@@ -35,7 +35,7 @@ import numpy as np
 from massline.identify.weighing import WeighedMass
 from massline.core.band import GIVE_BAND
 from massline.core.errors import MasslineError
-from massline.core.lines import cross
+from massline.core.lines import perpendicular_bases
 from massline.core.masslines import Masslines
 from massline.core.methods import starting_body
 from massline.core.model import RigidModel
@@ -97,14 +97,6 @@ class Estimate:
     weighed: WeighedMass | None = None
     weighed_z: float = np.nan
     riding: np.ndarray | None = None
-
-
-def perpendicular_bases(directions: np.ndarray) -> np.ndarray:
-    """T_i (n, 3, 2): two unit vectors ⊥ each direction d_i, the axes a sensor's transverse reading lies on."""
-    helper = np.eye(3)[np.argmin(np.abs(directions), axis=1)]
-    t1 = cross(directions, helper)
-    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return np.stack([t1, cross(directions, t1)], axis=2)
 
 
 def damped(trial, theta, dtheta, tilt, dtilt, before: float, halvings: int = 40):

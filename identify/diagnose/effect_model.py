@@ -36,7 +36,7 @@ import numpy as np
 
 from massline.identify.diagnose.effects import modelled, named
 from massline.identify.diagnose.effects.base import MISALIGNMENT, Block, MeasuredLines
-from massline.identify.estimator import perpendicular_bases
+from massline.core.lines import perpendicular_bases
 from massline.identify.tails import Reduced
 from massline.core.lines import Lines, cross
 from massline.core.model import RigidModel
