@@ -75,9 +75,9 @@ def test_plan_json_marks_the_first_runs_lines_and_the_addition(after, first_plan
 def test_the_addition_cuts_the_target_as_predicted_when_both_runs_are_identified(after, first_plan, first_run,
                                                                                  tmp_path):  # fmt: skip
     """The second run (the first's lines and the addition, on the first run's support) simulated, both runs
-    identified together over the first run's band: the target's statistical 1-σ (the estimator's information;
-    identify adds the tails' truncation, which the plan does not predict) within 25 % of the plan's, and below
-    the first run's."""
+    identified together over the first run's band: the target's 1-σ from the estimator's information within 25 %
+    of the plan's, and below half the first run's. (identify scales it by √χ²_red where that is above 1, which
+    with 24 masslines for 22 unknowns scatters widely, and adds the tails' truncation: neither is predicted.)"""
     doc = json.loads((after / "out" / "plan.json").read_text())
     first = json.loads(first_plan.read_text())
     second = tmp_path / "second.json"
@@ -88,9 +88,9 @@ def test_the_addition_cuts_the_target_as_predicted_when_both_runs_are_identified
     found = identify_recording([first_run, tmp_path / "second.uff"], band, draws=0)
     index, target = TARGETS[doc["after"]["target"]], doc["after"]["target"]
     model = found.best.model
-    std = covariance_std(model, found.best.covariance)
+    std = covariance_std(model, found.best.covariance)  # shown on failure
     j = gradients(model)[index]
-    measured = float(np.sqrt(j @ found.best.covariance @ j))
+    measured = float(np.sqrt(j @ found.best.covariance @ j / max(found.best.chi2, 1.0)))
     predicted = doc["after"]["proposals"][0]["std_after"] / (1e3 if target.startswith("cog") else 1.0)
     assert abs(measured / predicted - 1) < 0.25, (target, measured, predicted, std)
     assert measured < 0.5 * doc["after"]["std_before"] / (1e3 if target.startswith("cog") else 1.0)
