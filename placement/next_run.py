@@ -77,15 +77,17 @@ def transverse_masslines(model: RigidModel, sensors: Lines, exciters: Lines) -> 
     )  # fmt: skip
 
 
-def pair_rows(model: RigidModel, sensors: Lines, exciters: Lines, sigma: np.ndarray) -> np.ndarray:
-    """g̃_ij / σ_ij (n_s, n_e, p + 2 n_s): each pair's row in the augmented parameters (θ̃, τ_1, …, τ_n_s); zero
-    where σ_ij is inf (a pair not measured)."""
+def pair_rows(model: RigidModel, sensors: Lines, exciters: Lines, sigma: np.ndarray, per: int = 2) -> np.ndarray:
+    """g̃_ij / σ_ij (n_s, n_e, p + per·n_s): each pair's row in the augmented parameters (θ̃, τ_1, …, τ_n_s), ``per``
+    transverse components a sensor (2, or 0 where identify fits none: a plate); zero where σ_ij is inf (a pair
+    not measured)."""
     G, _ = sensitivities(model, model.coordinates(sensors), model.coordinates(exciters))
     n_s, n_e = len(sensors), len(exciters)
-    tau = np.zeros((n_s, n_e, 2 * n_s))
-    Ht = transverse_masslines(model, sensors, exciters)
-    for i in range(n_s):
-        tau[i, :, 2 * i : 2 * i + 2] = Ht[i]
+    tau = np.zeros((n_s, n_e, per * n_s))
+    if per:
+        Ht = transverse_masslines(model, sensors, exciters)
+        for i in range(n_s):
+            tau[i, :, 2 * i : 2 * i + 2] = Ht[i]
     return np.concatenate([G, tau], axis=2) / sigma[..., None]
 
 
@@ -103,17 +105,23 @@ class Runs:
     first: Measured
     noise: NoiseModel
 
+    @property
+    def per(self) -> int:
+        """Transverse components fitted a sensor: 2, none on a plate (§2.3: identify fits its z-lines as given)."""
+        return 0 if self.model.planar or self.first.transverse <= 0 else 2
+
     def information(self, sensors: Lines, exciters: Lines, second: bool = True) -> np.ndarray:
         """F in (θ̃, τ) of the first run and (``second``) a second run of ``sensors`` × ``exciters`` (the first's
         lines first), τ of every sensor line of ``sensors``."""
         n1s, n1e, n = len(self.first.sensors), len(self.first.exciters), len(sensors)
         sigma1 = np.full((n, len(exciters)), np.inf)
         sigma1[:n1s, :n1e] = self.first.sigma
-        rows = pair_rows(self.model, sensors, exciters, sigma1).reshape(-1, self.model.p + 2 * n)
+        rows = pair_rows(self.model, sensors, exciters, sigma1, self.per).reshape(-1, self.model.p + self.per * n)
         if second:
             sigma2 = run_sigma(self.model, sensors, exciters, self.noise)
-            rows = np.vstack([rows, pair_rows(self.model, sensors, exciters, sigma2).reshape(rows.shape[0], -1)])
-        prior = np.r_[np.zeros(self.model.p), np.full(2 * n, 1 / self.first.transverse**2)]
+            more = pair_rows(self.model, sensors, exciters, sigma2, self.per)
+            rows = np.vstack([rows, more.reshape(rows.shape[0], -1)])
+        prior = np.r_[np.zeros(self.model.p), np.full(self.per * n, 1 / max(self.first.transverse, 1e-300) ** 2)]
         return rows.T @ rows + np.diag(prior)
 
 
@@ -188,7 +196,7 @@ def hit_blocks(runs: Runs, sensors: Lines, candidates: Lines) -> np.ndarray:
     """Each candidate hit's rows (n, n_s, dim) in the augmented parameters of ``sensors``: its column in both
     runs' second (the first did not measure it)."""
     sigma = run_sigma(runs.model, sensors, candidates, runs.noise)
-    return pair_rows(runs.model, sensors, candidates, sigma).transpose(1, 0, 2)
+    return pair_rows(runs.model, sensors, candidates, sigma, runs.per).transpose(1, 0, 2)
 
 
 def sensor_blocks(runs: Runs, exciters: Lines, candidates: Lines, dim: int) -> np.ndarray:
@@ -197,6 +205,8 @@ def sensor_blocks(runs: Runs, exciters: Lines, candidates: Lines, dim: int) -> n
     model = runs.model
     sigma = run_sigma(model, candidates, exciters, runs.noise)
     G, _ = sensitivities(model, model.coordinates(candidates), model.coordinates(exciters))
+    if not runs.per:
+        return np.concatenate([G / sigma[..., None], np.zeros((len(candidates), len(exciters), dim - model.p))], 2)
     D = transverse_masslines(model, candidates, exciters) / sigma[..., None]
     inner = np.linalg.inv(D.transpose(0, 2, 1) @ D + np.eye(2) / runs.first.transverse**2)
     P = np.eye(len(exciters)) - D @ inner @ D.transpose(0, 2, 1)
