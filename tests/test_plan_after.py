@@ -121,3 +121,28 @@ def test_a_recording_off_the_mesh_and_an_unknown_target_are_refused(first_run, t
     for run, words in ((off, "from the mesh's surface"), (unknown, "--target J4"), (alone, "--after")):
         assert run.returncode == 2 and words in run.stderr, run.stderr
         assert len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
+
+
+def test_the_target_criterion_scores_each_block_as_its_direct_value():
+    """The Woodbury scores of the target's criterion equal −jᵀ(M + AᵀA)⁻¹j evaluated directly."""
+    from massline.placement.next_run import c_criterion
+
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(12, 5))
+    M, j, blocks = X.T @ X, rng.normal(size=5), rng.normal(size=(7, 3, 5))
+    criterion = c_criterion(j)
+    direct = [criterion.value(M + b.T @ b) for b in blocks]
+    assert np.allclose(criterion.scores(blocks, M), direct, rtol=1e-10)
+
+
+def test_the_noise_model_is_fitted_to_the_first_runs_sigma():
+    """σ = √((r|H|)² + (f/m)²) recovered from masslines that follow it exactly."""
+    from massline.core.lines import Lines
+    from massline.placement.next_run import Measured
+
+    H = np.geomspace(0.01, 10.0, 18).reshape(6, 3)
+    sigma = np.sqrt((0.003 * H) ** 2 + (0.02 / 2.0) ** 2)
+    lines = Lines(np.zeros((6, 3)), np.tile([0.0, 0.0, 1.0], (6, 1)))
+    first = Measured(sensors=lines, exciters=lines[:3], magnitude=H, sigma=sigma, transverse=0.03)
+    noise = first.noise(2.0)
+    assert noise.relative == pytest.approx(0.003, rel=1e-6) and noise.floor == pytest.approx(0.02, rel=1e-6)
