@@ -35,6 +35,7 @@ from massline.core.model import RigidModel
 from massline.core.properties import property_vector
 from massline.placement.admissible import regular
 from massline.placement.criteria import Criterion
+from massline.placement.footprints import Footprint, Sites, accelerometers, hits_blocked, sensors_blocked
 from massline.placement.mountable import SNAP_TOLERANCE, closest_on_surface
 from massline.placement.selection import BlockProblem, swap
 
@@ -66,6 +67,30 @@ class Measured:
         design = np.column_stack([self.magnitude[ok] ** 2, np.full(ok.sum(), 1.0 / mass**2)])
         (r2, f2), _ = nnls(design / self.sigma[ok, None] ** 2, np.ones(ok.sum()))  # relative misfit of σ²
         return NoiseModel(float(np.sqrt(r2)), float(np.sqrt(f2)))
+
+
+@dataclass(frozen=True, eq=False)
+class Room:
+    """Where additions fit (:mod:`.footprints`): the body's mesh (m), the base and tip, and each candidate
+    accelerometer's and hit's site (its point and outward normal)."""
+
+    mesh: object
+    footprint: Footprint
+    sensors: Sites
+    hits: Sites
+
+    def sites(self, lines: Lines) -> Sites:
+        """The sites of ``lines`` already placed: each point with its nearest face's outward normal."""
+        faces = [closest_on_surface(self.mesh, p)[1] for p in lines.points]
+        return Sites(lines.points.reshape(-1, 3), self.mesh.face_normals[faces].reshape(-1, 3))
+
+    def free(self, side: str, S: Lines, E: Lines) -> np.ndarray:
+        """(n,) bool: the candidates of ``side`` that clear the footprints of the accelerometers ``S`` (and, for
+        an accelerometer, the hits ``E``)."""
+        placed = accelerometers(self.sites(S))
+        if side == "hits":
+            return ~hits_blocked(self.hits, placed, self.footprint)
+        return ~sensors_blocked(self.sensors, placed, self.sites(E), self.footprint)
 
 
 def transverse_masslines(model: RigidModel, sensors: Lines, exciters: Lines) -> np.ndarray:
@@ -240,7 +265,9 @@ class Proposal:
         return len(self.sensors) + len(self.exciters)
 
 
-def proposals(runs: Runs, index: int, sensor_candidates: Lines, hit_candidates: Lines, most: int) -> list[Proposal]:
+def proposals(
+    runs: Runs, index: int, sensor_candidates: Lines, hit_candidates: Lines, most: int, room: Room | None = None
+) -> list[Proposal]:
     """The best addition of each shape of at most ``most`` items, by the 1-σ of property ``index`` after both
     runs, best first (those after which the paper's equations still cannot solve the layout last: a first run that
     lost a line is restored first). One kind is searched as one selection problem; a mixed one adds the
@@ -251,26 +278,32 @@ def proposals(runs: Runs, index: int, sensor_candidates: Lines, hit_candidates: 
     for n_s, n_e in (s for s in SHAPES if sum(s) <= most):
         S, E = first.sensors, first.exciters
         if n_s:
-            S = S + select(runs, index, S, E, sensor_candidates, n_s, "sensors")
+            S = S + select(runs, index, S, E, sensor_candidates, n_s, "sensors", room)
         if n_e:
-            E = E + select(runs, index, S, E, hit_candidates, n_e, "hits")
+            E = E + select(runs, index, S, E, hit_candidates, n_e, "hits", room)
         std = target_std(runs.model, runs.information(S, E), index)
         found.append(Proposal(sensors=S[len(first.sensors):], exciters=E[len(first.exciters):], std_after=std))
     return sorted(found, key=lambda p: (not regular(runs.model, first.sensors + p.sensors, first.exciters + p.exciters),
                                         p.std_after, p.items))  # fmt: skip
 
 
-def select(runs: Runs, index: int, S: Lines, E: Lines, candidates: Lines, count: int, side: str) -> Lines:
-    """The ``count`` candidate lines of ``side`` that most cut property ``index``'s 1-σ, added to S × E."""
+def select(
+    runs: Runs, index: int, S: Lines, E: Lines, candidates: Lines, count: int, side: str, room: Room | None = None
+) -> Lines:
+    """The ``count`` candidate lines of ``side`` that most cut property ``index``'s 1-σ, added to S × E, clear of
+    the footprints of what is placed and of each other (``room``; None: anywhere)."""
     F = runs.information(S, E)
     dim = len(F)
     blocks = hit_blocks(runs, S, candidates) if side == "hits" else sensor_blocks(runs, E, candidates, dim)
     j = np.r_[gradients(runs.model)[index], np.zeros(dim - runs.model.p)]
-    allowed = None
+    allowed = np.ones(len(candidates), bool) if room is None else room.free(side, S, E)
     if side == "sensors" and not regular(runs.model, S, E):  # a lost line: only those that restore the layout
-        allowed = np.array([regular(runs.model, S + candidates[[k]], E) for k in range(len(candidates))])
-        allowed = allowed if allowed.any() else None
-    problem = BlockProblem(blocks, np.zeros(len(blocks), int), (count,), F, criterion=c_criterion(j), allowed=allowed)
+        restoring = allowed & [regular(runs.model, S + candidates[[k]], E) if ok else False
+                               for k, ok in enumerate(allowed)]  # fmt: skip
+        allowed = restoring if restoring.any() else allowed
+    spread = {} if room is None or side == "hits" else {"sites": candidates.points, "spacing": room.footprint.sensor_base}
+    problem = BlockProblem(blocks, np.zeros(len(blocks), int), (count,), F, criterion=c_criterion(j), allowed=allowed,
+                           **spread)  # fmt: skip
     return candidates[np.array(chosen(problem, count))]
 
 
@@ -323,11 +356,13 @@ def identifies(model: RigidModel, F: np.ndarray) -> bool:
 
 
 def plan_next_run(
-    model: RigidModel, first: Measured, candidates: tuple[Lines, Lines], target: str | None = None, most: int = 2
+    model: RigidModel, first: Measured, candidates: tuple[Lines, Lines], target: str | None = None, most: int = 2,
+    room: Room | None = None,
 ) -> NextRun:
-    """The additions (accelerometer and hit ``candidates`` (m, mesh frame), at most ``most`` items) that most
-    cut the 1-σ of ``target`` (a :data:`TARGETS` name; None: the property of largest relative 1-σ after the
-    first run) when a second run repeats the ``first`` with them (module docstring)."""
+    """The additions (accelerometer and hit ``candidates`` (m, mesh frame), at most ``most`` items, clear of the
+    footprints ``room`` says) that most cut the 1-σ of ``target`` (a :data:`TARGETS` name; None: the property of
+    largest relative 1-σ after the first run) when a second run repeats the ``first`` with them (module
+    docstring)."""  # fmt: skip
     check_target(model, target)
     runs = Runs(model=model, first=first, noise=first.noise(model.nominal.mass))
     S, E = first.sensors, first.exciters
@@ -336,5 +371,5 @@ def plan_next_run(
     index = TARGETS[target]
     before = target_std(model, prior, index) if regular(model, S, E) and identifies(model, prior) else float("inf")
     repeated = target_std(model, runs.information(S, E), index)
-    found = proposals(runs, index, *candidates, most)
+    found = proposals(runs, index, *candidates, most, room)
     return NextRun(runs=runs, target=target, std_before=before, std_repeated=repeated, proposals=found)

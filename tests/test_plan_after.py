@@ -146,3 +146,21 @@ def test_the_noise_model_is_fitted_to_the_first_runs_sigma():
     first = Measured(sensors=lines, exciters=lines[:3], magnitude=H, sigma=sigma, transverse=0.03)
     noise = first.noise(2.0)
     assert noise.relative == pytest.approx(0.003, rel=1e-6) and noise.floor == pytest.approx(0.02, rel=1e-6)
+
+
+def test_additions_keep_clear_of_the_first_runs_accelerometers():
+    """A hit on a mounted accelerometer's base, or an accelerometer on it, is not a candidate; one a base away is."""
+    import trimesh
+
+    from massline.core.lines import Lines
+    from massline.placement.footprints import Footprint, Sites
+    from massline.placement.next_run import Room
+
+    box = trimesh.creation.box(extents=(0.2, 0.2, 0.2))
+    up = np.tile([0.0, 0.0, 1.0], (2, 1))
+    candidates = Sites(np.array([[0.0, 0.0, 0.1], [0.05, 0.0, 0.1]]), up)
+    room = Room(box, Footprint(0.01, 0.006), candidates, candidates)
+    mounted = Lines([[0.002, 0.0, 0.1]], [[0.0, 0.0, 1.0]])
+    hits = Lines([[-0.05, 0.0, 0.1]], [[0.0, 0.0, -1.0]])
+    assert room.free("hits", mounted, hits).tolist() == [False, True]
+    assert room.free("sensors", mounted, hits).tolist() == [False, True]

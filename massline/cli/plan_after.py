@@ -21,7 +21,16 @@ from massline.core.numbers import formatted, vector_text
 from massline.identify.measured_layout import measured_layout
 from massline.meshes.loader import BodyMesh
 from massline.placement.candidates import CandidateOptions, candidate_lines, candidate_points
-from massline.placement.next_run import Measured, NextRun, Proposal, check_on_surface, check_target, plan_next_run
+from massline.placement.footprints import Footprint, Sites
+from massline.placement.next_run import (
+    Measured,
+    NextRun,
+    Proposal,
+    Room,
+    check_on_surface,
+    check_target,
+    plan_next_run,
+)
 from massline.placement.on_surface import is_plate
 
 UNIT = {"mass": ("kg", 1.0), "cog": ("mm", 1e3), "J": ("kg·m²", 1.0)}
@@ -84,7 +93,11 @@ def run_after(
     )  # fmt: skip
     points = candidate_points(body.mesh, options)
     sensor_side, hit_side = candidate_lines(points, options.axes, model.planar, False)
-    result = plan_next_run(model, first, (sensor_side.lines, hit_side.lines), args.target, args.additions)
+    room = Room(
+        body.mesh, Footprint(options.sensor_base, options.hammer_tip),
+        *(Sites(points.points[side.node], points.normals[side.node]) for side in (sensor_side, hit_side)),
+    )  # fmt: skip
+    result = plan_next_run(model, first, (sensor_side.lines, hit_side.lines), args.target, args.additions, room)
     say(console, result, layout)
     doc = next_run_doc(result, layout, args, body) | {"mesh": mesh}
     out.mkdir(parents=True, exist_ok=True)
