@@ -41,8 +41,9 @@ def add_after_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--after",
         metavar="RECORDING.uff",
-        help="plan the next run from this first run's recording: its layout fixed, its information the prior; "
-        "the additions that most cut a property's 1-σ are proposed",
+        help="plan the next run from this first run's recording: its layout fixed, its information the prior (the "
+        "recording's noise and band, not --noise-relative and --noise-floor); the additions that most cut a "
+        "property's 1-σ are proposed (default: plan from nothing)",
     )
     parser.add_argument(
         "--target",
@@ -61,7 +62,7 @@ def add_after_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def check_alone(args: argparse.Namespace) -> None:
-    """--after plans additions only: refuse the budget options, and --target / --additions without it."""
+    """--after plans additions only: refuse the budget options with it, and --target without it."""
     if args.after is None:
         if args.target is not None:
             raise MasslineError("--target names the property a next run cuts: give --after RECORDING.uff with it")
@@ -72,6 +73,7 @@ def check_alone(args: argparse.Namespace) -> None:
 
 
 def unit_of(target: str) -> tuple[str, float]:
+    """The unit a target's 1-σ is printed in, and its factor from SI."""
     return UNIT["mass" if target == "mass" else "cog" if target.startswith("cog") else "J"]
 
 
@@ -107,12 +109,14 @@ def run_after(
 
 
 def what(proposal: Proposal) -> str:
+    """'2 hits', '1 accelerometer + 1 hit'."""
     parts = [f"{n} {word}{'s' if n > 1 else ''}" for n, word in
              ((len(proposal.sensors), "accelerometer"), (len(proposal.exciters), "hit")) if n]  # fmt: skip
     return " + ".join(parts)
 
 
 def where(proposal: Proposal) -> str:
+    """Each added line's point (mm) and direction, one a line."""
     lines = [(f"acc {vector_text(1e3 * p, 4)} along {vector_text(d, 3)}") for p, d in
              zip(proposal.sensors.points, proposal.sensors.directions)]  # fmt: skip
     lines += [f"hit {vector_text(1e3 * p, 4)} along {vector_text(d, 3)}" for p, d in
@@ -147,6 +151,7 @@ def say(console: Console, result: NextRun, layout) -> None:
 
 
 def entries(lines: Lines, labels, added: np.ndarray) -> list:
+    """plan.json's lines: the first run's ``"run": 1`` (fixed), the additions ``"run": 2, "added": true``."""
     return [
         {"node": int(label), "candidate": None, "point": p.tolist(), "direction": d.tolist(), "triaxial": None,
          "run": 2 if a else 1, "added": bool(a)} | ({} if a else {"fixed": True})
