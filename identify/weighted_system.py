@@ -176,7 +176,7 @@ class WeightedProblem:
     sensors, exciters : (n_s, q), (n_e, q) arrays
         The lines' coordinates in the model (:meth:`RigidModel.coordinates`).
     axes : (n_s, 3, 2) array or None
-        Each channel's transverse axes T_i (:func:`.estimator.perpendicular_bases`); None: the axes taken as exact.
+        Each channel's transverse axes T_i (:func:`massline.core.lines.perpendicular_bases`); None: the axes taken as exact.
     transverse : float
         The prior 1-σ t of each transverse component τ_ik (a fraction of the axial reading).
     weighed : WeighedMass or None

@@ -30,7 +30,7 @@ th { background: #f0f0f0; } td.l, th.l { text-align: left; }
 img, canvas { max-width: 100%; height: auto; display: block; }
 .views { display: grid; grid-template-columns: 1fr 1fr; gap: 3mm; }
 figure { margin: 0; break-inside: avoid; } figcaption { font-size: 8.5pt; color: #444; }
-.sensor { color: #1f5fb4; font-weight: bold; } .hit { color: #c8281e; font-weight: bold; }
+.sensor { color: #1f5fb4; font-weight: bold; } .hit { color: #c8281e; font-weight: bold; } .added { color: #9628aa; font-weight: bold; }
 .note { font-size: 8.5pt; color: #444; } .warnings { border-left: 3px solid #c60; padding-left: 8px; } section { break-inside: avoid; }
 canvas { border: 1px solid #ccc; cursor: grab; touch-action: none; }
 @media print { .screen { display: none; } body { padding: 0; } }

@@ -20,7 +20,7 @@ from massline.core.errors import MasslineError
 from massline.meshes.loader import BodyMesh
 from massline.placement.plan_file import read_plan
 from massline.reports.html import Report
-from massline.reports.placement_report import BandRow, report_html
+from massline.reports.placement_report import BandRow, marked_added, report_html
 from massline.reports.plan_scene import rig_segments, scene_of
 from massline.reports.rendering import render_views
 from massline.virtual.band_prediction import predict_band
@@ -126,6 +126,7 @@ def build_placement_report(plan_path: str | Path, progress=None) -> PlacementRep
         *planned, fe = predicted_bands(body, doc.get("mesh"), sensors, exciters, progress)
     bands, fe_note = planned
     scene = replace(scene_of(body.mesh, sensors, exciters, nominal.cog), rig=rig_segments(doc.get("rig"), body.mesh))
+    scene = marked_added(doc, scene)
     if progress is not None:
         progress("rendering the views", 0, None)  # a stage of unknown length
     renderings = render_views(scene)

@@ -9,7 +9,7 @@ mm; plan.json holds them in m.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +20,7 @@ from massline.placement.mountable import SHARP_EDGE_DEG
 from massline.placement.mounts import Mount
 from massline.placement.reach import reach_sentence
 from massline.reports.html import STYLE, escape, html_table, num, rendering_figure
-from massline.reports.plan_scene import HIT, SENSOR, Scene, face_name
+from massline.reports.plan_scene import ADDED, HIT, SENSOR, Scene, face_name
 from massline.reports.rendering import Rendering
 from massline.reports.viewer3d import viewer_html
 from massline.virtual.housing_loading import assumed_sentence, loading_sentence
@@ -80,7 +80,7 @@ def points_table(scene: Scene, fixed: set = frozenset(), mounted: dict | None = 
     mounted = mounted or {}
     rows = []
     for m, n, f in zip(scene.markers, scene.normals, scene.faces):
-        css = "sensor" if m.kind == SENSOR else "hit"
+        css = {SENSOR: "sensor", ADDED: "added"}.get(m.kind, "hit")
         what = "triaxial: " + ", ".join(_direction(d) for d in m.directions) if len(m.directions) == 3 else ""
         face = face_name(n)
         face = f"oblique, n = {_direction(n)}" if face == "oblique" else face
@@ -333,7 +333,7 @@ def report_html(
         How the first elastic frequency was found.
     """
     markers = scene.markers
-    n_acc = sum(m.kind == SENSOR for m in markers)
+    n_acc = sum(m.kind == SENSOR or (m.kind == ADDED and m.label.isdigit() and int(m.label) < 100) for m in markers)
     title = f"Test plan: {escape(Path(doc.get('mesh') or 'mesh').name)}"
     legend = (
         '<p class="note"><span class="sensor">A1 …</span> accelerometers, arrow along the measuring direction '
@@ -358,7 +358,10 @@ def report_html(
         "numbers them.</p></section>",
         "<section><h2>Predicted accuracy (1-σ)</h2>" + accuracy_table(doc) + budget_note(doc) + housings_html(doc)
         + "</section>",
-        "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>",
+        next_run_html(doc),
+        "<section><h2>Conditioning and optimality</h2>" + criterion_html(doc) + "</section>"
+        if doc.get("criterion")
+        else "",
         "<section><h2>Diagnosability</h2>" + diagnosability_html(doc) + "</section>"
         if doc.get("diagnosability")
         else "",
@@ -370,3 +373,35 @@ def report_html(
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         f"<title>{title}</title><style>{STYLE}</style></head>\n<body>\n" + "\n".join(parts) + "\n</body></html>\n"
     )
+
+
+def marked_added(doc: dict, scene: Scene) -> Scene:
+    """The scene with the markers of the lines a next run adds (plan.json's ``"added": true``) of kind ``ADDED``:
+    the first run's points and the additions in two colours."""
+    added = {kind: {i for i, e in enumerate(doc[key]) if e.get("added")} for kind, key in ((SENSOR, "sensors"),
+             (HIT, "exciters"))}  # fmt: skip
+    markers = [replace(m, kind=ADDED) if added.get(m.kind, set()) & set(m.lines) else m for m in scene.markers]
+    return replace(scene, markers=markers)
+
+
+def next_run_html(doc: dict) -> str:
+    """The next run's proposals (plan.json's ``after``), '' for a plan made from nothing."""
+    after = doc.get("after")
+    if not after:
+        return ""
+    unit, before = escape(after["unit"]), _float(after["std_before"])  # null: the first run identified nothing
+    rows = [
+        [str(k), escape(p["what"]), num(p["std_after"], ".3g"),
+         (num(before / p["std_after"], ".3g") + "×" if np.isfinite(before) else "—")
+         + (" (restores identifiability)" if p["restores_identifiability"] else "")]
+        for k, p in enumerate(after["proposals"], 1)
+    ]  # fmt: skip
+    note = (
+        f'<p class="note">After the first run ({escape(Path(after["recording"]).name)}, band '
+        f'{num(after["band_hz"][0], ".4g")}–{num(after["band_hz"][1], ".4g")} Hz, noise '
+        f'{num(100 * after["noise_relative"], ".3g")} %), the 1-σ of {escape(after["target"])} is '
+        f'{num(before, ".3g") if np.isfinite(before) else "unbounded (the layout is not solvable)"} {unit}. The second run repeats the first with addition 1: its points are '
+        '<span class="added">drawn in purple</span>, the first run\'s in blue (accelerometers) and red (hits).</p>'
+    )
+    head = ["#", "addition", f"1-σ after both runs ({unit})", "gain"]
+    return "<section><h2>Next run</h2>" + note + html_table(head, rows, "llrl", [6, 40, 27, 27]) + "</section>"

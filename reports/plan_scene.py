@@ -19,7 +19,10 @@ from massline.core.lines import Lines
 ARROW = 0.16  # arrow length, fraction of the body's largest extent
 SENSOR, HIT = "sensor", "hit"
 AXIS, FLAGGED = "axis", "flagged"  # the identification report's principal axes, and a channel a finding names
-COLOURS = {SENSOR: (31, 95, 180), HIT: (200, 40, 30), AXIS: (20, 135, 60), FLAGGED: (225, 110, 0)}  # RGB
+ADDED = "added"  # an accelerometer or hit a next run adds to the first run's
+COLOURS = {
+    SENSOR: (31, 95, 180), HIT: (200, 40, 30), AXIS: (20, 135, 60), FLAGGED: (225, 110, 0), ADDED: (150, 40, 170),
+}  # RGB  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)

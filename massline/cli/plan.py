@@ -12,6 +12,7 @@ from rich.console import Console
 
 from massline.cli.meshargs import add_mesh_arguments, body_from_arguments
 from massline.cli.budget_console import budget_table
+from massline.cli.plan_after import add_after_arguments, check_alone, run_after
 from massline.cli.options import SEED, add_calibration_argument, add_sensor_mass_argument, count, finite, fraction, real
 from massline.core.calibration import Calibration
 from massline.core.uncertainty_budget import UncertaintyBudget, limits
@@ -151,6 +152,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     _repeatable_six(parser, "--fixed-exciter", LINE, "a hit already decided, snapped onto the surface")
     add_criterion_arguments(parser)
     add_budget_arguments(parser)
+    add_after_arguments(parser)
     parser.add_argument("--seed", type=SEED, default=0, metavar="N", help="seed of the surface sampling (default 0)")
     parser.add_argument("--out", default="plan", metavar="DIR", help="output folder (default ./plan)")
     parser.add_argument("--force", action="store_true", help="overwrite DIR/plan.json and DIR/report.html")
@@ -302,6 +304,7 @@ def mesh_entry(mesh: str, folder: Path) -> str:
 
 
 def run(args: argparse.Namespace, console: Console) -> None:
+    check_alone(args)
     out = Path(args.out)
     target, report = claim_folder(out, ("plan.json", "report.html"), args.force)
     check_memory(args.candidates, args.axes)
@@ -321,6 +324,8 @@ def run(args: argparse.Namespace, console: Console) -> None:
         edge_keepout=args.edge_keepout * scale,
         seed=args.seed,
     )
+    if args.after is not None:
+        return run_after(args, console, body, options, mesh_entry(str(args.mesh), out))
     noise = NoiseModel(args.noise_relative, args.noise_floor)
     budget = chosen_budget(args, is_plate(body))
     fixed = {
