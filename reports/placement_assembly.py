@@ -20,7 +20,8 @@ from massline.core.errors import MasslineError
 from massline.meshes.loader import BodyMesh
 from massline.placement.plan_file import read_plan
 from massline.reports.html import Report
-from massline.reports.placement_report import BandRow, marked_added, report_html
+from massline.reports.next_run_section import marked_added
+from massline.reports.placement_report import BandRow, report_html
 from massline.reports.plan_scene import rig_segments, scene_of
 from massline.reports.rendering import render_views
 from massline.virtual.band_prediction import predict_band

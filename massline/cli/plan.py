@@ -11,13 +11,10 @@ import numpy as np
 from rich.console import Console
 
 from massline.cli.meshargs import add_mesh_arguments, body_from_arguments
-from massline.cli.budget_console import budget_table
+from massline.cli.plan_budget import add_budget_arguments, budget_entries, band_lines, predicted_accuracy, print_accuracy
 from massline.cli.plan_after import add_after_arguments, check_alone, run_after
-from massline.cli.options import SEED, add_calibration_argument, add_sensor_mass_argument, count, finite, fraction, real
+from massline.cli.options import SEED, add_sensor_mass_argument, count, finite, fraction, real
 from massline.core.calibration import Calibration
-from massline.core.uncertainty_budget import UncertaintyBudget, limits
-from massline.placement.predicted_budget import predicted_budget
-from massline.virtual.acquisition import LINES
 from massline.cli.output import build_report, progress_bar, say_fe_model, say_material, write_report
 from massline.placement.candidates import HAMMER_TIP, SENSOR_BASE, CandidateOptions
 from massline.placement.reach import CABLE_RUN, HAMMER_HEAD, HAMMER_SWING, SENSOR_HEIGHT
@@ -40,7 +37,6 @@ from massline.cli.plan_console import (
     layout_table,
     reach_note,
     sliding_line,
-    std_table,
 )
 from massline.placement.planner import Budget
 from massline.virtual.acquisition import accelerometer_masses
@@ -48,7 +44,6 @@ from massline.virtual.fe_process import FEInProcess
 from massline.virtual.housing_loading import assumed_loading, assumed_sentence, loading, loading_sentence
 from massline.virtual.planned_test import band_phrase, plan_test, planned_band
 
-LINE_NOISE = 0.01  # assumed relative noise of each FRF line: the virtual test's default (simulate --noise)
 LINE = ("X", "Y", "Z", "DX", "DY", "DZ")
 MAX_LINES = 1000  # accelerometers or hits in one plan
 MAX_FOOTPRINT_MM = 1000.0  # an accelerometer base or a hammer tip, across
@@ -174,20 +169,6 @@ def add_reach_arguments(parser: argparse.ArgumentParser) -> None:
     for flag, default, text in sizes:
         parser.add_argument(flag, type=real(0, MAX_FOOTPRINT_MM * 10, "mm"), default=default * 1e3, metavar="MM",
                             help=text)  # fmt: skip
-
-
-def add_budget_arguments(parser: argparse.ArgumentParser) -> None:
-    """What the predicted accuracy (the uncertainty budget) assumes of the test: each line's noise, the chain's
-    calibration."""
-    parser.add_argument(
-        "--line-noise",
-        type=fraction(low_open=True),
-        default=LINE_NOISE,
-        metavar="REL",
-        help=f"assumed noise of each FRF on each spectral line, a fraction of it, after averaging (default "
-        f"{LINE_NOISE:g}: the virtual test's --noise; a coherence γ² = 1/(1 + REL²))",
-    )
-    add_calibration_argument(parser, "the predicted accuracy's type-B sources")
 
 
 def add_criterion_arguments(parser: argparse.ArgumentParser) -> None:
@@ -370,46 +351,6 @@ def run(args: argparse.Namespace, console: Console) -> None:
     write_atomic(target, to_json(doc), args.force)
     console.print(f"wrote {target}")
     write_report(console, report, lambda: build_report(target, console), args.force, status=None)
-
-
-def predicted_accuracy(result, doc: dict, line_noise: float, calibration: Calibration) -> UncertaintyBudget | None:
-    """The budget identify will state of this layout's test (:mod:`massline.placement.predicted_budget`) over the
-    band plan.json predicts, at the virtual test's analyser (``band_lines``); None without a band."""
-    frequencies = band_lines(planned_band(doc))
-    if len(frequencies) <= 4:
-        return None
-    return predicted_budget(result.model, result.sensors, result.exciters, line_noise=line_noise,
-                            frequencies=frequencies, calibration=calibration)  # fmt: skip
-
-
-def budget_entries(budget: UncertaintyBudget, result, doc: dict, line_noise: float) -> dict:
-    """plan.json's ``predicted_std`` (the budget's total) and ``uncertainty_budget`` (identify's keys, with the
-    noise assumed and the band's lines)."""
-    payload = budget.payload() | {"limits": limits(budget, result.model.nominal)}
-    payload |= {"line_noise": line_noise, "band_lines": len(band_lines(planned_band(doc)))}
-    return {"predicted_std": budget.std(), "uncertainty_budget": payload}
-
-
-def band_lines(band) -> np.ndarray:
-    """The spectral lines (Hz) of the band ``band`` at the virtual test's analyser: LINES lines to 1.5 × the first
-    elastic mode (40 × the top support mode for a rigid body)."""
-    if band is None or not band.exists:
-        return np.zeros(0)
-    fmax = 1.5 * band.first_elastic if np.isfinite(band.first_elastic) else 40 * max(band.suspension_top, 1.0)
-    f = fmax / LINES * np.arange(1, LINES + 1)
-    return f[(f >= band.low) & (f <= band.high)]
-
-
-def print_accuracy(console: Console, result, budget: UncertaintyBudget | None, lines: int) -> None:
-    """The predicted accuracy: the budget's table and what limits each property, or (no band) the Cramér–Rao
-    table of the criterion's noise model."""
-    if budget is None:
-        console.print(std_table(result))
-        return
-    title = f"Predicted accuracy: the uncertainty budget over the band's {lines} lines"
-    console.print(budget_table(budget, result.model.nominal, result.model.planar, title))
-    for sentence in limits(budget, result.model.nominal):
-        console.print(f"budget: {sentence}")
 
 
 def searched(args, body, options, noise, budget, fixed: dict, console, check=lambda: None):
