@@ -8,7 +8,8 @@ from conftest import bundled
 from test_cli import massline
 from test_uff_reader import assert_command_refuses
 
-from massline.identify.diagnose.diagnosis import base_fit, diagnose
+from massline.identify.diagnose.diagnosis import diagnose
+from massline.identify.diagnose.effect_fit import base_fit
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout, line_coordinates
 from massline.identify.diagnose.pipeline import diagnose_recording

@@ -21,7 +21,7 @@ from massline.identify.zones import given_band
 from massline.identify.band_choice import choose_band
 from massline.identify.diagnose.corrected_file import write_corrected, written_faults
 from massline.identify.diagnose.corrections import corrected
-from massline.identify.diagnose.diagnosis import Diagnosis, diagnose, roomy
+from massline.identify.diagnose.diagnosis import Diagnosis, diagnose
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import held
 from massline.identify.diagnose.effects.excitation_mass_loading import ExcitationMassLoading
@@ -29,7 +29,7 @@ from massline.identify.diagnose.effects.mains_interference import MainsInterfere
 from massline.identify.diagnose.finding import faults_first, finding_payload, mains_finding
 from massline.identify.diagnose.gauge_mass import GaugeMass, gauge_mass, gauge_pattern
 from massline.identify.diagnose.mass_loading import MassLoading, mass_loading, weighed
-from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, screen
+from massline.identify.diagnose.screens import kinematic_matrix, rigid_subspace_residual, roomy, screen
 from massline.identify.diagnose.targeted import at_place
 from massline.identify.diagnose.misfit_signatures import signed
 from massline.identify.diagnose.row_factors import chains_undone

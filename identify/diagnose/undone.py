@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from massline.identify.diagnose.corrections import corrected
-from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
+from massline.identify.diagnose.criterion import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import held, named
 from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.offsets import read_offset

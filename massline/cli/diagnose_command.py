@@ -8,7 +8,7 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from massline.identify.diagnose.diagnosis import roomy
+from massline.identify.diagnose.screens import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.corrected_file import corrected_paths, written_faults
 from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
