@@ -19,7 +19,8 @@ from massline.core.band import Band
 from massline.core.files import claim_folder, to_json, write_atomic
 from massline.core.rigid_body import RigidBody
 from massline.identify.diagnose.effects import BY_NAME
-from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
+from massline.identify.diagnose.diagnosis_run import DiagnosisRun
+from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.pipeline import Identification, identify_recording
 from massline.meshes import BUNDLED
 from massline.meshes.loader import BodyMesh, load_body

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from massline.identify.diagnose.diagnosis import roomy
+from massline.identify.diagnose.screens import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
-from massline.identify.diagnose.pipeline import DiagnosisRun
+from massline.identify.diagnose.diagnosis_run import DiagnosisRun
 from massline.meshes.loader import BodyMesh
 from massline.core.numbers import number
 from massline.core.properties import SUMMARY

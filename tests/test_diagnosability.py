@@ -23,7 +23,7 @@ from blind_measures import placed
 from test_diagnose_blind import BENCHES
 
 from massline.identify.diagnose.effects import BY_NAME
-from massline.identify.diagnose.diagnosis import roomy
+from massline.identify.diagnose.screens import roomy
 from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.meshes import BUNDLED
 from massline.placement.diagnosability import diagnosability

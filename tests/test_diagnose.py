@@ -8,7 +8,8 @@ from conftest import bundled
 from test_cli import massline
 from test_uff_reader import assert_command_refuses
 
-from massline.identify.diagnose.diagnosis import base_fit, diagnose
+from massline.identify.diagnose.diagnosis import diagnose
+from massline.identify.diagnose.effect_fit import base_fit
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Block, Layout, line_coordinates
 from massline.identify.diagnose.pipeline import diagnose_recording
@@ -289,7 +290,7 @@ def test_the_fits_covariance_survives_columns_of_every_scale():
 def test_drive_points_that_cannot_be_weighed_leave_the_housings_weighed(structure, monkeypatch):
     """The bracket's default plan, a faulty channel: the fit with gauges riding at the drive points diverged and
     diagnose crashed (blind table, seeds 0–9). Now the drive points are not weighed and the diagnosis goes on."""
-    import massline.identify.diagnose.pipeline as pipeline
+    import massline.identify.diagnose.against_mesh as against_mesh
 
     tried = []
 
@@ -297,7 +298,17 @@ def test_drive_points_that_cannot_be_weighed_leave_the_housings_weighed(structur
         tried.append(True)
         raise MasslineError(DIVERGED)
 
-    monkeypatch.setattr(pipeline, "gauge_pattern", diverges)
+    monkeypatch.setattr(against_mesh, "gauge_pattern", diverges)
     rec, _ = run(structure, twelve_lines(), structure_exciters(), setup=Acquisition(100.0, 400), seed=1)
     found = diagnose_recording(rec, None, structure)
     assert tried and [f for f in found.findings if f.kind == "fault"] == [] and found.after is not None
+
+
+def test_the_one_criterion_states_its_false_alarm_rate():
+    """``EVIDENCE``: on noise alone a χ² drops by more than it for one added value with probability 0.16 %
+    (docs/diagnosing.md, criterion.py), for two values 0.67 %, for three 1.9 %."""
+    from scipy.stats import chi2
+
+    from massline.identify.diagnose.criterion import EVIDENCE
+
+    assert [round(100 * chi2.sf(EVIDENCE, k), 2) for k in (1, 2, 3)] == [0.16, 0.67, 1.86]

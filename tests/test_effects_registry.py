@@ -21,7 +21,7 @@ from massline.core.effect_names import KINDS, PERTURBS
 from massline.core.files import to_json
 from massline.core.lines import Lines
 from massline.core.model import RigidModel
-from massline.identify.diagnose.diagnosis import base_fit, plausible, refit
+from massline.identify.diagnose.effect_fit import base_fit, plausible, refit
 from massline.identify.diagnose.effect_fit import fit
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.effects import BY_NAME, EFFECTS, effect_help, parse_effect, simulated

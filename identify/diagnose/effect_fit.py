@@ -3,7 +3,8 @@
 ``fit`` is Levenberg–Marquardt on :class:`~.effect_model.Problem`'s weighted residual with its
 analytic Jacobian; ``score`` is Rao's score statistic of a block not yet in the model (mismatch
 notes §5.4), and ``penalty`` what the block costs in BIC: k ln n, or the Occam factor of a widened
-axis prior.
+axis prior. ``base_fit`` is the nominal model (no effects) from a starting body, ``refit`` a model with other
+tail laws or blocks started from a fit, ``plausible`` whether a block's fitted values are a technician's.
 """
 
 from __future__ import annotations
@@ -13,9 +14,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Problem, jacobian
+from massline.identify.diagnose.effect_model import MISALIGNMENT, Block, Layout, Problem, jacobian
 from massline.identify.diagnose.effects import named
-from massline.core.errors import MasslineError
+from massline.identify.estimator import estimate
+from massline.identify.tails import BandData
+from massline.core.errors import MasslineError, solver_errors
+from massline.core.masslines import Masslines
+from massline.core.methods import starting_body
+from massline.core.model import RigidModel
+from massline.core.rigid_body import RigidBody
 
 MAX_EVALUATIONS = 1000  # a fit still moving after this many steps is far from any model that could be accepted
 RCOND = 1e-10  # singular values of the column-scaled Jacobian below this share of the largest: unidentified
@@ -212,3 +219,57 @@ def with_model_form(result: Fit, other: Fit) -> Fit:
     spread = result.spread.copy()
     spread[: len(delta), : len(delta)] += np.outer(delta, delta)
     return replace(result, spread=spread)
+
+
+def rigid_tail(laws) -> bool:
+    """Whether one of the tail ``laws`` can be the rigid body's own, s_iᵀ X e_j (the support's)."""
+    return any(named(law).rigid_tail for law in laws)
+
+
+def problem_for(band: BandData, layout: Layout, laws, model: RigidModel, transverse: float, shared=False) -> Problem:
+    """The fit problem on ``band`` with the tail ``laws`` (or "free": identify's per-FRF tails); ``shared``: the
+    support's tail is the rigid body's, s_iᵀ X e_j, on the model's lines (:mod:`massline.identify.tails`)."""
+    if laws == "free":
+        data = band.free
+    else:
+        data = band.shared_support(laws) if shared and rigid_tail(laws) else band.reduced(laws)
+    return Problem(layout, data, band.noise, model, transverse, band.n_values, band.energy)
+
+
+def starting_point(masslines: Masslines, sigma: np.ndarray, layout: Layout, transverse: float) -> RigidBody:
+    """A body to start the fit from: the weighted estimate, else the paper's, else one of the data's scale
+    (data with a gross fault may admit no body at all)."""
+    for attempt in (
+        lambda: estimate(masslines, sigma, layout.planar, 0.0 if layout.planar else transverse).body,
+        lambda: starting_body(masslines, layout.planar),
+    ):
+        try:
+            with np.errstate(invalid="ignore"):  # data with a gross fault can drive the estimate through no-bodies
+                body = attempt()
+            if is_body(body):
+                return body
+        except (np.linalg.LinAlgError, MasslineError, *solver_errors()):
+            continue
+    mass = 1 / np.median(np.abs(masslines.values))
+    return RigidBody(mass, layout.sensors.points.mean(axis=0), mass * layout.extent**2 * np.eye(3))
+
+
+def base_fit(band: BandData, layout: Layout, laws: frozenset, transverse: float) -> Fit:
+    """The nominal model fitted (no effects), started from ``starting_point``."""
+    data = band.reduced(laws)
+    masslines = Masslines(data.massline, layout.sensors, layout.exciters)
+    start = starting_point(masslines, band.noise / np.sqrt(data.kappa), layout, transverse)
+    return fit(problem_for(band, layout, laws, RigidModel(start, layout.planar), transverse))
+
+
+def refit(current: Fit, band: BandData, laws: frozenset, blocks, shared: bool = False) -> Fit:
+    """The model with ``laws`` and ``blocks`` (the support's tail ``shared`` or per FRF), started from ``current``."""
+    lay, model, transverse = current.problem.layout, current.problem.model, current.problem.transverse
+    return fit(problem_for(band, lay, laws, model, transverse, shared), blocks, current)
+
+
+def plausible(result: Fit, block: Block) -> bool:
+    """Fitted values a technician could have produced (notes §6: angles, gains, offsets within reason), as
+    the block's effect judges them."""
+    theta, tau, values = result.parts
+    return named(block.effect).plausible(result, block, values[result.blocks.index(block)], tau)

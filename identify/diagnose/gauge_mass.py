@@ -20,7 +20,7 @@ masslines (by the fitted model: ΔH_ij = ℓ_iᵀ (M⁻¹ − M_j⁻¹) ℓ_j) f
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -115,3 +115,9 @@ def gauge_pattern(data, sigma: np.ndarray, planar: bool, transverse: float, with
     riding = riding_masses(data.exciters, delta, planar)
     fitted = estimate(data, sigma, planar, transverse, iterations=20, riding=riding)
     return (without.model.theta - fitted.model.theta) / delta
+
+
+def shifted(recording, gauge: GaugeMass):
+    """The recording moved column by column onto the masslines of the bare body the gauge fit found."""
+    shift = gauge.column_shift(recording.sensors, recording.exciters)
+    return replace(recording, frf=recording.frf + shift[:, :, None])

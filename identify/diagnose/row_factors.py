@@ -30,6 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from massline.identify.diagnose.criterion import EVIDENCE  # the diagnosis's one criterion, on a channel's factor
 from massline.identify.diagnose.effect_model import Layout
 from massline.identify.diagnose.corrections import corrected
 from massline.identify.diagnose.effects import modelled, named
@@ -38,7 +39,6 @@ from massline.identify.diagnose.screens import kinematic_matrix
 from massline.identify.diagnose.signature import FREQUENCY_SHAPES
 from massline.identify.tails import BandData
 
-EVIDENCE = 10.0  # ΔBIC of very strong evidence, as the diagnosis's (Kass & Raftery 1995)
 GRID = 61  # values of p tried before polishing
 ZOOM, ZOOMS = 21, 3  # each polish's values between the best's neighbours, and how many polishes (step ÷ 1000)
 SIZED = 2.0  # a factor named must depart from 1 at the band's top by this many of its 1-σ (``with_spread``'s)

@@ -165,3 +165,8 @@ def screen(band: BandData, layout: Layout) -> dict:
         "tails_high": float(median_present(high)),
         "seventh_singular_value": singular_values(band.frf)[:, 6].tolist() if min(band.frf.shape[:2]) >= 7 else None,
     }
+
+
+def roomy(layout: Layout) -> bool:
+    """More channels than rigid motions plus one: only then can one channel be checked against the others."""
+    return len(layout.sensors) > (3 if layout.planar else 6) + 1

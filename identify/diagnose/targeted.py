@@ -10,7 +10,9 @@ proposed, to be proven on identify's χ² as every fault is (:mod:`.undone`).
 
 from __future__ import annotations
 
-from massline.identify.diagnose.diagnosis import EVIDENCE, Diagnosis, plausible, refit
+from massline.identify.diagnose.criterion import EVIDENCE
+from massline.identify.diagnose.diagnosis import Diagnosis
+from massline.identify.diagnose.effect_fit import plausible, refit
 from massline.identify.diagnose.effects import named
 from massline.identify.diagnose.finding import Finding, accepted_finding
 

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from massline.identify.diagnose.corrections import corrected
-from massline.identify.diagnose.diagnosis import EVIDENCE  # the same "very strong" evidence, on identify's χ²
+from massline.identify.diagnose.criterion import EVIDENCE  # the same "very strong" evidence, on identify's χ²
 from massline.identify.diagnose.effects import held, named
 from massline.identify.diagnose.finding import Finding
 from massline.identify.diagnose.offsets import read_offset
@@ -84,8 +84,26 @@ def identified_after(recording, findings: list, band, transverse: float, before:
     if after is None:  # identify refuses the corrected recording
         return before, findings, []
     findings, proof = stated, {id(f): without for f, without in zip(faults, withouts)}
-    marked, withdrawn, gains = [], [], set()
     sharing = shared_places(recording, faults, band, transverse, known)
+    marked, withdrawn = judged(findings, proof, after, before, sharing)
+    if withdrawn:
+        again, kept, more = identified_after(recording, marked, band, transverse, before, known)
+        return again, kept, withdrawn + more
+    stand_ins = [f for f in undoable(marked) if not proven_apart(f)]
+    if stand_ins and before is not None and not explains_the_misfit(before, after):
+        again, kept, _ = identified_after(recording, [f for f in marked if f not in stand_ins], band, transverse,
+                                          before, known)  # fmt: skip
+        return again, kept, stand_ins
+    return after, marked, []
+
+
+def judged(findings: list, proof: dict, after: Identification, before: Identification | None,
+           sharing: dict) -> tuple[list, list]:  # fmt: skip
+    """The findings kept, each fault's with its evidence on identify's χ² (``proof``: identify with all faults but
+    that one undone, by the finding's id), and those withdrawn: a fault that explains less than ``EVIDENCE``, one a
+    factor at its place explains as well (:func:`.shapes.outfits`; the factor named instead where it is a gain,
+    :func:`as_gain`), one whose size does not say it is one (:func:`sized`)."""
+    marked, withdrawn, gains = [], [], set()
     for finding in findings:
         if id(finding) in proof and before is not None:
             without = proof[id(finding)]
@@ -109,15 +127,7 @@ def identified_after(recording, findings: list, band, transverse: float, before:
             withdrawn.append(finding)
             continue
         marked.append(finding)
-    if withdrawn:
-        again, kept, more = identified_after(recording, marked, band, transverse, before, known)
-        return again, kept, withdrawn + more
-    stand_ins = [f for f in undoable(marked) if not proven_apart(f)]
-    if stand_ins and before is not None and not explains_the_misfit(before, after):
-        again, kept, _ = identified_after(recording, [f for f in marked if f not in stand_ins], band, transverse,
-                                          before, known)  # fmt: skip
-        return again, kept, stand_ins
-    return after, marked, []
+    return marked, withdrawn
 
 
 def mends(after: Identification | None) -> bool:

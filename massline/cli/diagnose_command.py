@@ -8,10 +8,11 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from massline.identify.diagnose.diagnosis import roomy
+from massline.identify.diagnose.screens import roomy
 from massline.identify.diagnose.notes import finding_note, fit_sentence, verdict
 from massline.identify.diagnose.corrected_file import corrected_paths, written_faults
-from massline.identify.diagnose.pipeline import DiagnosisRun, diagnose_recording
+from massline.identify.diagnose.diagnosis_run import DiagnosisRun
+from massline.identify.diagnose.pipeline import diagnose_recording
 from massline.identify.estimator import TRANSVERSE
 from massline.identify.pipeline import as_recording
 from massline.cli.meshargs import add_nominal_arguments, add_support_arguments, nominal_mesh, support_model, support_setup
