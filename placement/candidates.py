@@ -210,7 +210,7 @@ def candidate_points(
     normals = surface.surface_normal(points[thinned], faces[thinned])
     reached = reach(mesh, points[thinned], normals, options.reach_sizes)
     excluded |= unreachable_counts(reached)
-    if not reached.hit.any():
+    if len(thinned) and not reached.hit.any():  # none left before the reach: the budget's refusal says so
         raise MasslineError(
             f"the hammer reaches no place on the surface: a {1e3 * options.hammer_head:.3g} mm head needs "
             f"{1e3 * options.hammer_swing:.3g} mm clear along the normal: give a smaller "

@@ -61,7 +61,7 @@ def test_noiseless_masslines_give_the_bare_body_exactly(planned):
     found = estimate(data, sigma, planar, riding=riding)
     assert np.abs(found.model.theta - model.theta).max() < 1e-9 * np.abs(model.theta).max()
     left_out = estimate(data, sigma, planar).body
-    assert left_out.mass > body.nominal.mass * 1.01  # the gauges weighed as the body's
+    assert left_out.mass > body.nominal.mass + 0.02  # the gauges weighed as the body's: at least one of 20 g
 
 
 @pytest.mark.parametrize("gauge", GAUGES)
