@@ -24,6 +24,7 @@ Each source's δθ̃ is carried to the 25 entries of ``property_vector`` through
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import reduce
 
 import numpy as np
 
@@ -128,8 +129,9 @@ class UncertaintyBudget:
 
     @property
     def total(self) -> np.ndarray:
-        """The reported 1-σ: the sources in quadrature (25 entries, SI)."""
-        return np.sqrt(sum(np.asarray(v) ** 2 for v in self.parts.values()))
+        """The reported 1-σ: the sources in quadrature (25 entries, SI), as hypotenuses (no square overflows where a
+        band beside a resonance leaves a source's 1-σ near the float's range)."""
+        return reduce(np.hypot, (np.abs(np.asarray(v, dtype=float)) for v in self.parts.values()))
 
     @property
     def statistical(self) -> np.ndarray:
