@@ -27,7 +27,8 @@ from massline.identify.pipeline import identify_recording
 from massline.meshes import BUNDLED
 from massline.meshes.loader import load_body
 from massline.placement.candidates import CandidateOptions, candidate_lines, candidate_points
-from massline.placement.next_run import TARGETS, Measured, Runs, gradients, target_std
+from massline.core.accuracy import property_jacobian
+from massline.placement.next_run import TARGETS, Measured, Runs, target_std
 from massline.placement.on_surface import is_plate
 
 
@@ -60,7 +61,7 @@ def one_seed(body_name: str, seed: int, additions: int, draws: int, folder: Path
     massline("simulate", second, *rigid, "--seed", 1000 + seed, "--out", folder / f"second{seed}.uff", "--force")
     target, scale = doc["after"]["target"], 1e3 if doc["after"]["target"].startswith("cog") else 1.0
     found = identify_recording([first, folder / f"second{seed}.uff"], doc["after"]["band_hz"])
-    j = gradients(found.best.model)[TARGETS[target]]
+    j = property_jacobian(found.best.model)[TARGETS[target]]
     information = j @ found.best.covariance @ j / max(found.best.chi2, 1.0)  # the scaling by χ²_red undone
     statistical = scale * float(np.sqrt(information))
     reported = {"mass": found.std["mass"], **{f"cog_{a}": found.std["cog"][k] for k, a in enumerate("xyz")},

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from massline.core.accuracy import STEP, covariance_std
+from massline.core.accuracy import covariance_std, property_jacobian
 from massline.core.errors import MasslineError
 from massline.core.information import NoiseModel, sensitivities
 from massline.core.lines import Lines, perpendicular_bases
@@ -150,18 +150,6 @@ class Runs:
         return rows.T @ rows + np.diag(prior)
 
 
-def gradients(model: RigidModel) -> np.ndarray:
-    """∂(property_vector)/∂θ̃ (25, p) at the nominal body (central differences, as core.accuracy)."""
-    theta, columns = model.theta, []
-    for k in range(model.p):
-        step = np.zeros(model.p)
-        step[k] = STEP * model.scale[k]
-        plus = property_vector(model.body(theta + step), model.planar)
-        minus = property_vector(model.body(theta - step), model.planar)
-        columns.append((plus - minus) / (2 * STEP))
-    return np.array(columns).T
-
-
 def scales(model: RigidModel) -> np.ndarray:
     """What each property's 1-σ is relative to (25,): the mass, the radius of gyration, the largest moment."""
     b = model.nominal
@@ -177,7 +165,7 @@ def regularised(F: np.ndarray) -> np.ndarray:
 
 def target_std(model: RigidModel, F: np.ndarray, index: int) -> float:
     """1-σ of property ``index`` (its unit) from the augmented information F."""
-    j = np.r_[gradients(model)[index], np.zeros(len(F) - model.p)]
+    j = np.r_[property_jacobian(model)[index], np.zeros(len(F) - model.p)]
     return float(np.sqrt(max(j @ np.linalg.solve(regularised(F), j), 0.0)))
 
 
@@ -185,7 +173,7 @@ def worst_target(model: RigidModel, F: np.ndarray) -> str:
     """The name of the property of largest relative 1-σ (mass, CoG, principal moments) under F."""
     names = [n for n in ("mass", "cog_x", "cog_y", "cog_z", "J1", "J2", "J3") if n in allowed_targets(model)]
     C = np.linalg.inv(regularised(F))[: model.p, : model.p]
-    J, s = gradients(model), scales(model)
+    J, s = property_jacobian(model), scales(model)
     rel = [np.sqrt(max(J[TARGETS[n]] @ C @ J[TARGETS[n]], 0.0)) / s[TARGETS[n]] for n in names]
     return names[int(np.argmax(rel))]
 
@@ -295,7 +283,7 @@ def select(
     F = runs.information(S, E)
     dim = len(F)
     blocks = hit_blocks(runs, S, candidates) if side == "hits" else sensor_blocks(runs, E, candidates, dim)
-    j = np.r_[gradients(runs.model)[index], np.zeros(dim - runs.model.p)]
+    j = np.r_[property_jacobian(runs.model)[index], np.zeros(dim - runs.model.p)]
     allowed = np.ones(len(candidates), bool) if room is None else room.free(side, S, E)
     if side == "sensors" and not regular(runs.model, S, E):  # a lost line: only those that restore the layout
         restoring = allowed & [regular(runs.model, S + candidates[[k]], E) if ok else False

@@ -20,7 +20,8 @@ import pytest
 from massline.core.accuracy import covariance_std
 from massline.identify.measured_layout import measured_layout
 from massline.identify.pipeline import identify_recording
-from massline.placement.next_run import TARGETS, gradients
+from massline.core.accuracy import property_jacobian
+from massline.placement.next_run import TARGETS
 from massline.uff.reader import read_uff
 from massline.uff.grid import to_recording
 from massline.uff.writer import write_uff
@@ -89,7 +90,7 @@ def test_the_addition_cuts_the_target_as_predicted_when_both_runs_are_identified
     index, target = TARGETS[doc["after"]["target"]], doc["after"]["target"]
     model = found.best.model
     std = covariance_std(model, found.best.covariance)  # shown on failure
-    j = gradients(model)[index]
+    j = property_jacobian(model)[index]
     measured = float(np.sqrt(j @ found.best.covariance @ j / max(found.best.chi2, 1.0)))
     predicted = doc["after"]["proposals"][0]["std_after"] / (1e3 if target.startswith("cog") else 1.0)
     assert abs(measured / predicted - 1) < 0.25, (target, measured, predicted, std)
