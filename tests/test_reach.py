@@ -32,21 +32,27 @@ SETTLE = 0.5e-3  # m: surface samples this close to a point's own surface (along
 
 
 @lru_cache(maxsize=None)
+def part(path: Path = HUB):
+    """A part of tests/fixtures/meshes in millimetres, aluminium (the hub by default)."""
+    return load_body(path, "mm", 2700)
+
+
 def hub():
-    return load_body(HUB, "mm", 2700)
+    return part(HUB)
 
 
 @lru_cache(maxsize=None)
-def samples() -> tuple[np.ndarray, cKDTree]:
-    """Dense surface samples of the hub (about 0.4 mm apart), m, and their k-d tree."""
-    points = trimesh.sample.sample_surface_even(hub().mesh, 200_000, seed=1)[0]
+def samples(path: Path = HUB, count: int = 200_000, seed: int = 1) -> tuple[np.ndarray, cKDTree]:
+    """Dense surface samples of the part (the hub's about 0.4 mm apart), m, and their k-d tree."""
+    points = trimesh.sample.sample_surface_even(part(path).mesh, count, seed=seed)[0]
     return points, cKDTree(points)
 
 
-def inside_cylinder(point: np.ndarray, axis: np.ndarray, radius: float, length: float) -> int:
-    """How many surface samples lie inside the cylinder of ``radius`` along ``axis`` from ``point`` (m), beyond
-    ``SETTLE`` along the axis (the face the point is on, curved under a base, stays below it)."""
-    points, tree = samples()
+def inside_cylinder(point: np.ndarray, axis: np.ndarray, radius: float, length: float, sampled=None) -> int:
+    """How many surface samples (``sampled``, default the hub's) lie inside the cylinder of ``radius`` along ``axis``
+    from ``point`` (m), beyond ``SETTLE`` along the axis (the face the point is on, curved under a base, stays
+    below it)."""
+    points, tree = sampled or samples()
     near = tree.query_ball_point(point + axis * length / 2, np.hypot(length / 2, radius))
     r = points[near] - point
     along = r @ axis
@@ -61,9 +67,9 @@ def in_a_hole(points: np.ndarray) -> np.ndarray:
     return (radius < BORE + 0.3e-3) | ((hole < HOLE + 0.3e-3) & (points[:, 2] < FLANGE_TOP + 1e-6))
 
 
-def outward_normal(point: np.ndarray) -> np.ndarray:
-    """The hub's outward normal at a surface point (m), from its nearest triangle."""
-    mesh = hub().mesh
+def outward_normal(point: np.ndarray, path: Path = HUB) -> np.ndarray:
+    """The part's (the hub's) outward normal at a surface point (m), from its nearest triangle."""
+    mesh = part(path).mesh
     near = trimesh.triangles.closest_point(mesh.triangles, np.tile(point, (len(mesh.faces), 1)))
     return mesh.face_normals[np.argmin(np.linalg.norm(near - point, axis=1))]
 
